@@ -1,0 +1,42 @@
+#pragma once
+
+#include <atomic>
+#include <functional>
+#include <mutex>
+#include <thread>
+
+#include "drivers/sim/simulator.hpp"
+
+namespace strata::sim {
+
+struct SimulatedRobotConfig {
+  double step_rate = 100.0;  ///< simulated steps per simulated second
+  double time_scale = 1.0;   ///< simulated seconds per wall-clock second (>1 runs faster than real time)
+};
+
+/// Runs a Simulator on its own thread, paced against the wall clock, and hands every new sample to
+/// a callback on that thread. This is the simulator's driver thread.
+class SimulatedRobot {
+ public:
+  using SampleCallback = std::function<void(const RobotSample&)>;
+
+  SimulatedRobot(Simulator simulator, SimulatedRobotConfig config, SampleCallback on_sample);
+  ~SimulatedRobot();
+  SimulatedRobot(const SimulatedRobot&) = delete;
+  SimulatedRobot& operator=(const SimulatedRobot&) = delete;
+
+  void start();
+  void stop();
+  [[nodiscard]] const World& world() const { return simulator_.world(); }
+
+ private:
+  void run();
+
+  Simulator simulator_;
+  SimulatedRobotConfig config_;
+  SampleCallback on_sample_;
+  std::atomic<bool> running_{false};
+  std::thread thread_;
+};
+
+}  // namespace strata::sim

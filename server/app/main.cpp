@@ -1,0 +1,70 @@
+// strata: the map server's command line. Each subcommand is one job a user or a script runs.
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
+#include <CLI/CLI.hpp>
+#include <cstdio>
+#include <exception>
+#include <string>
+
+#include "server/app/build_info.hpp"
+#include "server/app/serve.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "Strata: a map server for mobile robots on uneven, multi-level ground.\n"
+      "Registers 3D scans, builds a Multi-Level Surface map, plans and drives to goals, and serves\n"
+      "it all to a browser and to scripts over HTTP and WebSocket.",
+      "strata"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", strata::build_info::version());
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "Log verbosity: trace, debug, info, warn, error, off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"trace", "debug", "info", "warn", "error", "critical", "off"}));
+
+  strata::app::ServeOptions serve;
+  auto* serve_cmd = app.add_subcommand(
+      "serve",
+      "Run the server: web app, REST API under /api/v1 and WebSocket at /ws, with the simulated robot");
+  serve_cmd->add_option("-p,--port", serve.port, "TCP port to listen on (0 picks a free one)")
+      ->capture_default_str();
+  serve_cmd
+      ->add_option("--bind", serve.bind_address, "Address to listen on (127.0.0.1 for this machine only)")
+      ->capture_default_str();
+  serve_cmd->add_option("--web-root", serve.web_root,
+                        "Directory of the built web app (default: the bundle installed with strata)");
+  serve_cmd->add_option("--pose-rate", serve.pose_rate, "Pose stream rate to clients, Hz")
+      ->capture_default_str()
+      ->check(CLI::Range(1.0, 1000.0));
+  serve_cmd->add_option("--seed", serve.seed, "Simulator random seed (same seed, same run)")
+      ->capture_default_str();
+  serve_cmd->add_option("--time-scale", serve.time_scale, "Simulated seconds per real second")
+      ->capture_default_str()
+      ->check(CLI::Range(0.01, 100.0));
+  serve_cmd->add_option("--io-threads", serve.io_threads, "Threads serving network clients")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+
+  auto* version_cmd =
+      app.add_subcommand("version", "Print the version and the libraries Strata was built with");
+
+  CLI11_PARSE(app, argc, argv);
+  // Logs go to stderr; stdout carries only what scripts read (the "serving on" line, command output).
+  spdlog::set_default_logger(spdlog::stderr_color_mt("strata"));
+  spdlog::set_level(spdlog::level::from_str(log_level));
+
+  try {
+    if (*serve_cmd)
+      return strata::app::serve(serve);
+    if (*version_cmd) {
+      std::printf("strata %s\n%s\n", strata::build_info::version().c_str(),
+                  strata::build_info::libraries().dump(2).c_str());
+      return 0;
+    }
+  } catch (const std::exception& error) {
+    spdlog::error("{}", error.what());
+    return 1;
+  }
+  return 0;
+}

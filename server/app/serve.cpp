@@ -1,0 +1,94 @@
+#include "server/app/serve.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/signal_set.hpp>
+#include <csignal>
+#include <cstdio>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include "drivers/sim/simulated_robot.hpp"
+#include "server/net/listener.hpp"
+#include "server/net/server_context.hpp"
+#include "server/pipeline/pose_publisher.hpp"
+#include "server/state/robot_state.hpp"
+
+namespace strata::app {
+
+std::filesystem::path default_web_root() {
+  std::error_code error;
+  const auto exe = std::filesystem::read_symlink("/proc/self/exe", error);
+  if (error)
+    return "web";
+  const auto beside = exe.parent_path() / "web";
+  if (std::filesystem::exists(beside / "index.html", error))
+    return beside;
+  return exe.parent_path().parent_path() / "share" / "strata" / "web";
+}
+
+int serve(const ServeOptions& options) {
+  const std::filesystem::path web_root = options.web_root.empty() ? default_web_root() : options.web_root;
+  if (!std::filesystem::exists(web_root / "index.html")) {
+    spdlog::warn("no web app at {} (build it with the 'web' target); serving the API only",
+                 web_root.string());
+  }
+
+  RobotState robot_state;
+  sim::SimulatorConfig sim_config;
+  sim_config.seed = options.seed;
+  sim::SimulatedRobot robot(sim::Simulator::yard(sim_config),
+                            {.step_rate = 100.0, .time_scale = options.time_scale},
+                            [&robot_state](const sim::RobotSample& sample) { robot_state.publish(sample); });
+
+  boost::asio::io_context io(options.io_threads);
+  auto context = std::make_shared<net::ServerContext>(robot_state, web_root, &robot.world());
+  const boost::asio::ip::tcp::endpoint endpoint(boost::asio::ip::make_address(options.bind_address),
+                                                options.port);
+  std::shared_ptr<net::Listener> listener;
+  try {
+    listener = std::make_shared<net::Listener>(io, endpoint, context);
+  } catch (const boost::system::system_error& error) {
+    throw std::runtime_error("cannot listen on " + options.bind_address + ":" + std::to_string(options.port) +
+                             ": " + error.code().message());
+  }
+  auto pose_publisher =
+      std::make_shared<pipeline::PosePublisher>(io, robot_state, context->hub, options.pose_rate);
+
+  boost::asio::signal_set signals(io, SIGINT, SIGTERM);
+  signals.async_wait([&](const boost::system::error_code& error, int signal) {
+    if (error)
+      return;
+    spdlog::info("signal {}: shutting down", signal);
+    io.stop();
+  });
+
+  robot.start();
+  listener->run();
+  pose_publisher->start();
+
+  const auto bound = listener->local_endpoint();
+  spdlog::info("simulator: yard world, seed {}, time scale {}", options.seed, options.time_scale);
+  // A plain line on stdout that scripts and tests wait for; the port is the real one (--port 0 picks).
+  std::printf("strata: serving on http://%s:%u\n", bound.address().to_string().c_str(),
+              static_cast<unsigned>(bound.port()));
+  std::fflush(stdout);
+
+  std::vector<std::thread> threads;
+  for (int i = 1; i < options.io_threads; ++i)
+    threads.emplace_back([&io] { io.run(); });
+  io.run();
+  for (auto& thread : threads)
+    thread.join();
+
+  robot.stop();
+  spdlog::info("stopped");
+  return 0;
+}
+
+}  // namespace strata::app

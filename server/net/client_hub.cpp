@@ -1,0 +1,37 @@
+#include "server/net/client_hub.hpp"
+
+#include <vector>
+
+namespace strata::net {
+
+void ClientHub::join(const std::shared_ptr<ClientConnection>& client) {
+  std::lock_guard lock(mutex_);
+  clients_.emplace(client.get(), client);
+}
+
+void ClientHub::leave(const ClientConnection* client) {
+  std::lock_guard lock(mutex_);
+  clients_.erase(client);
+}
+
+void ClientHub::broadcast(const OutgoingMessage& message) {
+  // Copy the list under the lock and send outside it, so a client's send never holds up join/leave.
+  std::vector<std::weak_ptr<ClientConnection>> targets;
+  {
+    std::lock_guard lock(mutex_);
+    targets.reserve(clients_.size());
+    for (const auto& [key, client] : clients_)
+      targets.push_back(client);
+  }
+  for (const auto& weak : targets) {
+    if (auto client = weak.lock())
+      client->send(message);
+  }
+}
+
+std::size_t ClientHub::size() const {
+  std::lock_guard lock(mutex_);
+  return clients_.size();
+}
+
+}  // namespace strata::net

@@ -1,0 +1,101 @@
+#include "server/net/http_session.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <boost/asio/dispatch.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <utility>
+
+#include "server/net/websocket_session.hpp"
+#include "server/protocol/messages.hpp"
+#include "server/protocol/protocol.hpp"
+
+namespace strata::net {
+namespace {
+
+namespace beast = boost::beast;
+constexpr auto kRequestTimeout = std::chrono::seconds(30);
+constexpr std::uint64_t kMaxRequestBodyBytes = 1024 * 1024;
+
+}  // namespace
+
+HttpSession::HttpSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<ServerContext> context)
+    : stream_(std::move(socket)), context_(std::move(context)) {}
+
+void HttpSession::run() {
+  boost::asio::dispatch(stream_.get_executor(),
+                        beast::bind_front_handler(&HttpSession::read_next, shared_from_this()));
+}
+
+void HttpSession::read_next() {
+  parser_.emplace();
+  parser_->body_limit(kMaxRequestBodyBytes);
+  parser_->header_limit(16 * 1024);
+  stream_.expires_after(kRequestTimeout);
+  http::async_read(stream_, buffer_, *parser_,
+                   beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
+}
+
+void HttpSession::on_read(beast::error_code error, std::size_t /*bytes*/) {
+  if (error == http::error::end_of_stream)
+    return shutdown();
+  if (error) {
+    if (error != beast::error::timeout && error != boost::asio::error::operation_aborted &&
+        error != boost::asio::error::connection_reset) {
+      spdlog::debug("http read failed: {}", error.message());
+    }
+    return;
+  }
+  const HttpRequest& request = parser_->get();
+  if (beast::websocket::is_upgrade(request))
+    return upgrade_to_websocket();
+  write(context_->router.handle(request));
+}
+
+void HttpSession::upgrade_to_websocket() {
+  const HttpRequest& request = parser_->get();
+  const std::string_view target = request.target();
+  HttpResponse refusal;
+  if (target.substr(0, target.find('?')) != "/ws") {
+    refusal = HttpResponse{http::status::not_found, request.version()};
+    refusal.body() = protocol::rest_error(protocol::ErrorCode::kNotFound, "WebSocket endpoint is /ws");
+  } else if (!accepts_subprotocol(request[http::field::sec_websocket_protocol])) {
+    refusal = HttpResponse{http::status::bad_request, request.version()};
+    refusal.body() = protocol::rest_error(
+        protocol::ErrorCode::kBadRequest,
+        "unsupported subprotocol; this server speaks " + std::string(protocol::kSubprotocol));
+  } else {
+    stream_.expires_never();  // the WebSocket stream has its own timeouts
+    std::make_shared<WebSocketSession>(stream_.release_socket(), context_)->run(parser_->release());
+    return;
+  }
+  refusal.set(http::field::server, "strata");
+  refusal.set(http::field::content_type, "application/json");
+  refusal.keep_alive(false);
+  refusal.prepare_payload();
+  write(std::move(refusal));
+}
+
+void HttpSession::write(HttpResponse response) {
+  response_ = std::make_shared<HttpResponse>(std::move(response));
+  const bool keep_alive = response_->keep_alive();
+  http::async_write(stream_, *response_,
+                    beast::bind_front_handler(&HttpSession::on_write, shared_from_this(), keep_alive));
+}
+
+void HttpSession::on_write(bool keep_alive, beast::error_code error, std::size_t /*bytes*/) {
+  response_.reset();
+  if (error)
+    return;
+  if (!keep_alive)
+    return shutdown();
+  read_next();
+}
+
+void HttpSession::shutdown() {
+  beast::error_code ignored;
+  stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ignored);
+}
+
+}  // namespace strata::net

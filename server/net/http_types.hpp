@@ -1,0 +1,11 @@
+#pragma once
+
+#include <boost/beast/http.hpp>
+
+namespace strata::net {
+
+namespace http = boost::beast::http;
+using HttpRequest = http::request<http::string_body>;
+using HttpResponse = http::response<http::string_body>;
+
+}  // namespace strata::net

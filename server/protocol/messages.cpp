@@ -1,0 +1,98 @@
+#include "server/protocol/messages.hpp"
+
+#include "server/app/build_info.hpp"
+#include "server/protocol/protocol.hpp"
+
+namespace strata::protocol {
+namespace {
+
+nlohmann::json pose_json(const Pose3& pose) {
+  return {{"x", pose.position.x()}, {"y", pose.position.y()}, {"z", pose.position.z()},
+          {"roll", pose.roll},      {"pitch", pose.pitch},    {"yaw", pose.yaw}};
+}
+
+}  // namespace
+
+std::string_view to_string(ErrorCode code) {
+  switch (code) {
+    case ErrorCode::kBadJson:
+      return "bad_json";
+    case ErrorCode::kBadMessage:
+      return "bad_message";
+    case ErrorCode::kUnknownOp:
+      return "unknown_op";
+    case ErrorCode::kNotFound:
+      return "not_found";
+    case ErrorCode::kMethodNotAllowed:
+      return "method_not_allowed";
+    case ErrorCode::kBadRequest:
+      return "bad_request";
+    case ErrorCode::kUnavailable:
+      return "unavailable";
+  }
+  return "internal";
+}
+
+nlohmann::json pose_fields(const sim::RobotSample& sample) {
+  // Until registration exists the robot's best estimate is its wheel odometry.
+  nlohmann::json fields = pose_json(sample.odometry);
+  fields["stamp"] = sample.stamp;
+  fields["frame"] = "map";
+  fields["source"] = "odometry";
+  fields["truth"] = pose_json(sample.truth);
+  return fields;
+}
+
+std::string pose_message(const sim::RobotSample& sample) {
+  nlohmann::json message = pose_fields(sample);
+  message["op"] = "pose";
+  return message.dump();
+}
+
+nlohmann::json sim_world(const sim::World& world) {
+  nlohmann::json boxes = nlohmann::json::array();
+  for (const sim::Box& box : world.boxes()) {
+    boxes.push_back({{"name", box.name},
+                     {"min", {box.min.x(), box.min.y(), box.min.z()}},
+                     {"max", {box.max.x(), box.max.y(), box.max.z()}}});
+  }
+  return {{"half_extent", world.half_extent()}, {"boxes", std::move(boxes)}};
+}
+
+std::string sim_world_message(const sim::World& world) {
+  nlohmann::json message = sim_world(world);
+  message["op"] = "sim_world";
+  return message.dump();
+}
+
+std::string hello_message() {
+  return nlohmann::json{{"op", "hello"},
+                        {"server", "strata"},
+                        {"version", build_info::version()},
+                        {"protocol", kSubprotocol},
+                        {"protocol_version", kVersion}}
+      .dump();
+}
+
+std::string error_message(ErrorCode code, std::string_view message) {
+  return nlohmann::json{{"op", "error"}, {"code", to_string(code)}, {"message", message}}.dump();
+}
+
+std::string pong_message(const nlohmann::json& id) {
+  nlohmann::json message{{"op", "pong"}};
+  if (!id.is_null())
+    message["id"] = id;
+  return message.dump();
+}
+
+nlohmann::json info() {
+  return {{"name", "strata"},         {"version", build_info::version()},
+          {"protocol", kSubprotocol}, {"protocol_version", kVersion},
+          {"source", "simulator"},    {"libraries", build_info::libraries()}};
+}
+
+std::string rest_error(ErrorCode code, std::string_view message) {
+  return nlohmann::json{{"error", {{"code", to_string(code)}, {"message", message}}}}.dump();
+}
+
+}  // namespace strata::protocol

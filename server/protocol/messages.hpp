@@ -1,0 +1,42 @@
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <string_view>
+
+#include "drivers/sim/simulator.hpp"
+
+namespace strata::protocol {
+
+/// Error codes carried by `error` messages and REST error bodies (proto/PROTOCOL.md, "Errors").
+enum class ErrorCode {
+  kBadJson,
+  kBadMessage,
+  kUnknownOp,
+  kNotFound,
+  kMethodNotAllowed,
+  kBadRequest,
+  kUnavailable,
+};
+[[nodiscard]] std::string_view to_string(ErrorCode code);
+
+/// The pose fields shared by the `pose` WebSocket message and GET /api/v1/pose.
+[[nodiscard]] nlohmann::json pose_fields(const sim::RobotSample& sample);
+/// {"op":"pose", ...}: the live pose stream.
+[[nodiscard]] std::string pose_message(const sim::RobotSample& sample);
+/// The simulated world's geometry (boxes), for drawing it faintly: the body of GET /api/v1/sim/world.
+[[nodiscard]] nlohmann::json sim_world(const sim::World& world);
+/// {"op":"sim_world", ...}: the same, sent to late joiners when the robot is simulated.
+[[nodiscard]] std::string sim_world_message(const sim::World& world);
+/// {"op":"hello", ...}: the first message on every connection.
+[[nodiscard]] std::string hello_message();
+/// {"op":"error","code":...,"message":...}
+[[nodiscard]] std::string error_message(ErrorCode code, std::string_view message);
+/// {"op":"pong", "id": ...}
+[[nodiscard]] std::string pong_message(const nlohmann::json& id);
+/// The body of GET /api/v1/info.
+[[nodiscard]] nlohmann::json info();
+/// The REST error body {"error":{"code":...,"message":...}}.
+[[nodiscard]] std::string rest_error(ErrorCode code, std::string_view message);
+
+}  // namespace strata::protocol

@@ -1,0 +1,32 @@
+// Starts a real strata server process for a browser test and stops it afterwards.
+import { spawn } from 'node:child_process';
+import { once } from 'node:events';
+import { createInterface } from 'node:readline';
+
+export async function startServer(binary, args = [], { port = 0 } = {}) {
+  // Port 0 lets the server pick a free port; it prints the one it bound.
+  const child = spawn(binary, ['serve', '--bind', '127.0.0.1', '--port', String(port), ...args], {
+    stdio: ['ignore', 'pipe', 'inherit'],
+  });
+  const lines = createInterface({ input: child.stdout });
+  const exited = once(child, 'exit').then(([code]) => {
+    throw new Error(`strata exited with code ${code} before serving`);
+  });
+  const url = new Promise((resolve) => {
+    lines.on('line', (line) => {
+      const match = line.match(/^strata: serving on (http:\/\/\S+)$/);
+      if (match) resolve(match[1]);
+    });
+  });
+  const baseUrl = await Promise.race([url, exited]);
+  exited.catch(() => {}); // after startup, exit is expected when we stop it
+  return {
+    url: baseUrl,
+    async stop() {
+      if (child.exitCode !== null) return child.exitCode;
+      child.kill('SIGTERM');
+      const [code] = await once(child, 'exit');
+      return code;
+    },
+  };
+}

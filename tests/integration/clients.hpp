@@ -1,0 +1,145 @@
+#pragma once
+
+// Real clients for integration tests: a plain HTTP client and a WebSocket client over loopback TCP,
+// both from Boost.Beast, talking to the strata process exactly as a user's script would.
+
+#include <gtest/gtest.h>
+
+#include <boost/asio/connect.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core.hpp>
+#include <boost/beast/http.hpp>
+#include <boost/beast/websocket.hpp>
+#include <chrono>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <stdexcept>
+#include <string>
+
+#include "integration/protocol_schemas.hpp"
+
+namespace strata::testing {
+
+namespace beast = boost::beast;
+namespace http = beast::http;
+namespace websocket = beast::websocket;
+using tcp = boost::asio::ip::tcp;
+
+struct Timeout : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// The schemas of proto/, loaded once per test process.
+inline ProtocolSchemas& protocol_schemas() {
+  static ProtocolSchemas schemas;
+  return schemas;
+}
+
+/// Adds a test failure when `value` does not match `proto/schemas/<group>/<name>.schema.json`.
+inline void expect_schema(const std::string& group, const std::string& name, const nlohmann::json& value) {
+  const std::string violations = protocol_schemas().violations(group, name, value);
+  EXPECT_TRUE(violations.empty()) << group << "/" << name << " violated by " << value.dump() << ":\n"
+                                  << violations;
+}
+
+inline http::response<http::string_body> http_request(std::uint16_t port, http::verb method,
+                                                      const std::string& target, std::string body = {}) {
+  boost::asio::io_context io;
+  tcp::socket socket(io);
+  socket.connect({boost::asio::ip::make_address("127.0.0.1"), port});
+  http::request<http::string_body> request{method, target, 11};
+  request.set(http::field::host, "127.0.0.1");
+  request.body() = std::move(body);
+  request.prepare_payload();
+  http::write(socket, request);
+  beast::flat_buffer buffer;
+  http::response<http::string_body> response;
+  http::read(socket, buffer, response);
+  beast::error_code ignored;
+  socket.shutdown(tcp::socket::shutdown_both, ignored);
+  return response;
+}
+
+inline http::response<http::string_body> http_get(std::uint16_t port, const std::string& target) {
+  return http_request(port, http::verb::get, target);
+}
+
+/// A WebSocket client on /ws that reads JSON messages with a timeout.
+class WsClient {
+ public:
+  /// Throws beast::system_error when the handshake is refused.
+  explicit WsClient(std::uint16_t port, std::string subprotocol = "strata.v1", std::string target = "/ws")
+      : ws_(io_) {
+    ws_.next_layer().connect({boost::asio::ip::make_address("127.0.0.1"), port});
+    ws_.set_option(websocket::stream_base::decorator([subprotocol](websocket::request_type& request) {
+      if (!subprotocol.empty())
+        request.set(http::field::sec_websocket_protocol, subprotocol);
+    }));
+    ws_.handshake(response_, "127.0.0.1", target);
+  }
+
+  [[nodiscard]] const websocket::response_type& handshake_response() const { return response_; }
+
+  /// The next message as JSON, checked against its schema in proto/ (a mismatch fails the test);
+  /// throws beast::system_error on close or error, Timeout on timeout.
+  nlohmann::json read(std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
+    // Asio's blocking reads ignore SO_RCVTIMEO, so read asynchronously and bound the wait.
+    beast::flat_buffer buffer;
+    std::optional<beast::error_code> result;
+    ws_.async_read(buffer, [&result](beast::error_code error, std::size_t) { result = error; });
+    io_.restart();
+    io_.run_for(timeout);
+    if (!result) {
+      beast::error_code ignored;
+      ws_.next_layer().close(ignored);
+      io_.restart();
+      io_.run();
+      throw Timeout("no WebSocket message within the timeout");
+    }
+    if (*result)
+      throw beast::system_error(*result);
+    nlohmann::json message = nlohmann::json::parse(beast::buffers_to_string(buffer.data()));
+    const std::string violations = protocol_schemas().server_message_violations(message);
+    EXPECT_TRUE(violations.empty()) << "server sent " << message.dump() << ":\n" << violations;
+    return message;
+  }
+
+  /// Reads until a message with `op` arrives (at most `limit` messages).
+  nlohmann::json read_op(const std::string& op, int limit = 200) {
+    for (int i = 0; i < limit; ++i) {
+      nlohmann::json message = read();
+      if (message.value("op", "") == op)
+        return message;
+    }
+    throw std::runtime_error("no '" + op + "' message within " + std::to_string(limit) + " messages");
+  }
+
+  void send_text(const std::string& text) {
+    ws_.text(true);
+    ws_.write(boost::asio::buffer(text));
+  }
+  void send_binary(const std::string& bytes) {
+    ws_.binary(true);
+    ws_.write(boost::asio::buffer(bytes));
+  }
+
+  /// Whether the server has closed the connection (reads until an error, at most `limit` messages).
+  bool closed_by_server(int limit = 1000) {
+    try {
+      for (int i = 0; i < limit; ++i)
+        read();
+    } catch (const beast::system_error&) {
+      return true;
+    }
+    return false;
+  }
+
+ private:
+  boost::asio::io_context io_;
+  websocket::stream<tcp::socket> ws_;
+  websocket::response_type response_;
+};
+
+}  // namespace strata::testing

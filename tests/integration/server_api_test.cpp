@@ -1,0 +1,138 @@
+// The real strata process over real HTTP: health, info, pose, static files, errors, lifecycle.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <thread>
+
+#include "integration/clients.hpp"
+#include "integration/server_process.hpp"
+
+namespace strata::testing {
+namespace {
+
+class ServerApi : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { server_ = new ServerProcess({"--time-scale", "4"}); }
+  static void TearDownTestSuite() {
+    delete server_;
+    server_ = nullptr;
+  }
+  static std::uint16_t port() { return server_->port(); }
+  static ServerProcess* server_;
+};
+ServerProcess* ServerApi::server_ = nullptr;
+
+TEST_F(ServerApi, HealthzIsOk) {
+  const auto response = http_get(port(), "/healthz");
+  EXPECT_EQ(response.result(), http::status::ok);
+  expect_schema("rest", "health", nlohmann::json::parse(response.body()));
+}
+
+TEST_F(ServerApi, InfoNamesServerAndProtocol) {
+  const auto response = http_get(port(), "/api/v1/info");
+  ASSERT_EQ(response.result(), http::status::ok);
+  EXPECT_EQ(response[http::field::content_type], "application/json");
+  const auto info = nlohmann::json::parse(response.body());
+  expect_schema("rest", "info", info);
+  EXPECT_EQ(info["name"], "strata");
+  EXPECT_EQ(info["protocol"], "strata.v1");
+  EXPECT_EQ(info["protocol_version"], 1);
+  EXPECT_FALSE(info["version"].get<std::string>().empty());
+}
+
+TEST_F(ServerApi, PoseChangesOverTime) {
+  const auto first = nlohmann::json::parse(http_get(port(), "/api/v1/pose").body());
+  expect_schema("rest", "pose", first);
+  for (const char* key : {"x", "y", "z", "roll", "pitch", "yaw", "stamp"}) {
+    ASSERT_TRUE(first.contains(key) && first[key].is_number()) << key;
+  }
+  // The simulated robot drives its loop; poll until its pose has moved (bounded, not timed).
+  nlohmann::json later = first;
+  for (int attempt = 0; attempt < 200; ++attempt) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    later = nlohmann::json::parse(http_get(port(), "/api/v1/pose").body());
+    if (later["stamp"] > first["stamp"] && (later["x"] != first["x"] || later["y"] != first["y"]))
+      break;
+  }
+  EXPECT_GT(later["stamp"].get<double>(), first["stamp"].get<double>());
+  EXPECT_TRUE(later["x"] != first["x"] || later["y"] != first["y"]) << later.dump();
+}
+
+TEST_F(ServerApi, ServesTheWebApp) {
+  const auto response = http_get(port(), "/");
+  if (response.result() == http::status::not_found)
+    GTEST_SKIP() << "web bundle not built (STRATA_BUILD_WEB=OFF)";
+  ASSERT_EQ(response.result(), http::status::ok);
+  EXPECT_EQ(response[http::field::content_type], "text/html; charset=utf-8");
+  EXPECT_NE(response.body().find("<title>Strata</title>"), std::string::npos);
+}
+
+TEST_F(ServerApi, SimWorldMatchesItsSchema) {
+  const auto response = http_get(port(), "/api/v1/sim/world");
+  ASSERT_EQ(response.result(), http::status::ok);
+  expect_schema("rest", "sim_world", nlohmann::json::parse(response.body()));
+}
+
+TEST_F(ServerApi, UnknownEndpointIsA404WithACode) {
+  const auto response = http_get(port(), "/api/v1/does-not-exist");
+  EXPECT_EQ(response.result(), http::status::not_found);
+  expect_schema("rest", "error", nlohmann::json::parse(response.body()));
+  EXPECT_EQ(nlohmann::json::parse(response.body())["error"]["code"], "not_found");
+}
+
+TEST_F(ServerApi, WrongMethodIsA405WithACode) {
+  const auto response = http_request(port(), http::verb::post, "/api/v1/pose", R"({"x":1})");
+  EXPECT_EQ(response.result(), http::status::method_not_allowed);
+  EXPECT_EQ(response[http::field::allow], "GET, HEAD");
+  expect_schema("rest", "error", nlohmann::json::parse(response.body()));
+  EXPECT_EQ(nlohmann::json::parse(response.body())["error"]["code"], "method_not_allowed");
+}
+
+TEST_F(ServerApi, PathTraversalIsRefused) {
+  for (const char* target : {"/../CMakeCache.txt", "/web/../../CMakeCache.txt", "/%2e%2e/CMakeCache.txt"}) {
+    EXPECT_EQ(http_get(port(), target).result(), http::status::not_found) << target;
+  }
+}
+
+TEST_F(ServerApi, GarbageRequestDoesNotHurtTheServer) {
+  boost::asio::io_context io;
+  tcp::socket socket(io);
+  socket.connect({boost::asio::ip::make_address("127.0.0.1"), port()});
+  boost::asio::write(socket, boost::asio::buffer(std::string("\x01\x02 NOT HTTP\r\n\r\n", 16)));
+  beast::error_code error;
+  socket.shutdown(tcp::socket::shutdown_send, error);
+  char sink[256];
+  while (!error)
+    socket.read_some(boost::asio::buffer(sink), error);  // the server closes it
+  EXPECT_EQ(http_get(port(), "/healthz").result(), http::status::ok);
+}
+
+TEST(ServerLifecycle, StopsCleanlyOnSigterm) {
+  ServerProcess server;
+  EXPECT_EQ(http_get(server.port(), "/healthz").result(), http::status::ok);
+  EXPECT_EQ(server.stop(), 0);
+}
+
+TEST(ServerLifecycle, PortInUseFailsWithAClearError) {
+  ServerProcess first;
+  const auto result = run_strata({"serve", "--bind", "127.0.0.1", "--port", std::to_string(first.port())});
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("in use"), std::string::npos) << result.output;
+}
+
+TEST(ServerLifecycle, BadOptionsAreRefused) {
+  const auto result = run_strata({"serve", "--port", "70000"});
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("--port"), std::string::npos) << result.output;
+}
+
+TEST(ServerLifecycle, HelpDescribesServe) {
+  const auto result = run_strata({"serve", "--help"});
+  EXPECT_EQ(result.exit_code, 0);
+  for (const char* option : {"--port", "--bind", "--web-root", "--pose-rate", "--seed", "--time-scale"}) {
+    EXPECT_NE(result.output.find(option), std::string::npos) << option;
+  }
+}
+
+}  // namespace
+}  // namespace strata::testing

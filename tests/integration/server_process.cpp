@@ -1,0 +1,128 @@
+#include "integration/server_process.hpp"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstring>
+#include <regex>
+#include <stdexcept>
+#include <thread>
+
+namespace strata::testing {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd) {
+  std::vector<std::string> argv_storage{STRATA_BINARY};
+  argv_storage.insert(argv_storage.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (auto& arg : argv_storage)
+    argv.push_back(arg.data());
+  argv.push_back(nullptr);
+  const pid_t pid = fork();
+  if (pid < 0)
+    throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
+  if (pid == 0) {
+    dup2(stdout_fd, STDOUT_FILENO);
+    if (stderr_fd >= 0)
+      dup2(stderr_fd, STDERR_FILENO);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+int exit_status(int status) {
+  if (WIFEXITED(status))
+    return WEXITSTATUS(status);
+  if (WIFSIGNALED(status))
+    return 128 + WTERMSIG(status);
+  return -1;
+}
+
+// Reads what is available from `fd` into `out` until `deadline`; false at EOF or timeout.
+bool read_some(int fd, std::string& out, Clock::time_point deadline) {
+  const auto remaining = std::chrono::duration_cast<std::chrono::milliseconds>(deadline - Clock::now());
+  if (remaining.count() <= 0)
+    return false;
+  pollfd pfd{fd, POLLIN, 0};
+  if (poll(&pfd, 1, static_cast<int>(remaining.count())) <= 0)
+    return false;
+  char buffer[4096];
+  const ssize_t n = read(fd, buffer, sizeof buffer);
+  if (n <= 0)
+    return false;
+  out.append(buffer, static_cast<std::size_t>(n));
+  return true;
+}
+
+}  // namespace
+
+ServerProcess::ServerProcess(std::vector<std::string> extra_args) {
+  int pipe_fds[2];
+  if (pipe2(pipe_fds, O_CLOEXEC) != 0)
+    throw std::runtime_error("pipe failed");
+  std::vector<std::string> args{"serve", "--bind", "127.0.0.1", "--port", "0"};
+  args.insert(args.end(), extra_args.begin(), extra_args.end());
+  pid_ = spawn(args, pipe_fds[1], -1);  // stderr (the log) goes to the test's output
+  close(pipe_fds[1]);
+
+  // The server prints one line on stdout once it listens; wait for it and read the real port.
+  const std::regex serving(R"(strata: serving on http://127\.0\.0\.1:(\d+))");
+  std::string output;
+  std::smatch match;
+  const auto deadline = Clock::now() + std::chrono::seconds(60);
+  while (!std::regex_search(output, match, serving)) {
+    if (!read_some(pipe_fds[0], output, deadline)) {
+      close(pipe_fds[0]);
+      stop();
+      throw std::runtime_error("strata did not start serving; stdout was: " + output);
+    }
+  }
+  close(pipe_fds[0]);  // nothing else is printed on stdout
+  port_ = static_cast<std::uint16_t>(std::stoi(match[1]));
+}
+
+ServerProcess::~ServerProcess() {
+  stop();
+}
+
+int ServerProcess::stop() {
+  if (pid_ <= 0)
+    return -1;
+  kill(pid_, SIGTERM);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+  pid_ = -1;
+  return exit_status(status);
+}
+
+CommandResult run_strata(const std::vector<std::string>& args, std::chrono::seconds timeout) {
+  int pipe_fds[2];
+  if (pipe2(pipe_fds, O_CLOEXEC) != 0)
+    throw std::runtime_error("pipe failed");
+  const pid_t pid = spawn(args, pipe_fds[1], pipe_fds[1]);
+  close(pipe_fds[1]);
+  CommandResult result;
+  const auto deadline = Clock::now() + timeout;
+  while (read_some(pipe_fds[0], result.output, deadline)) {
+  }
+  close(pipe_fds[0]);
+  int status = 0;
+  while (waitpid(pid, &status, WNOHANG) == 0) {
+    if (Clock::now() > deadline) {
+      kill(pid, SIGKILL);  // over its time: a hang shows up as exit code 137
+      waitpid(pid, &status, 0);
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  result.exit_code = exit_status(status);
+  return result;
+}
+
+}  // namespace strata::testing

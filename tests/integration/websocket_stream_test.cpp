@@ -1,0 +1,135 @@
+// The real strata process over a real WebSocket: the hello, the late joiner's state, the live pose
+// stream, and the handling of bad client input.
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <vector>
+
+#include "integration/clients.hpp"
+#include "integration/server_process.hpp"
+
+namespace strata::testing {
+namespace {
+
+class WebSocketStream : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { server_ = new ServerProcess({"--time-scale", "4", "--pose-rate", "25"}); }
+  static void TearDownTestSuite() {
+    delete server_;
+    server_ = nullptr;
+  }
+  static std::uint16_t port() { return server_->port(); }
+  static ServerProcess* server_;
+};
+ServerProcess* WebSocketStream::server_ = nullptr;
+
+TEST(ProtocolSchemas, RejectWhatTheyShould) {
+  // The schema checks in every read are only worth something if they can fail.
+  EXPECT_FALSE(protocol_schemas().violations("ws-server", "pose", {{"op", "pose"}}).empty());
+  EXPECT_FALSE(protocol_schemas().server_message_violations({{"op", "hello"}, {"server", "other"}}).empty());
+  EXPECT_FALSE(protocol_schemas().violations("rest", "error", {{"error", {{"code", "made_up"}}}}).empty());
+  EXPECT_THROW(protocol_schemas().server_message_violations({{"op", "no_such_op"}}), std::runtime_error);
+}
+
+TEST_F(WebSocketStream, HandshakeEchoesTheSubprotocol) {
+  WsClient client(port());
+  EXPECT_EQ(client.handshake_response()[http::field::sec_websocket_protocol], "strata.v1");
+}
+
+TEST_F(WebSocketStream, HelloComesFirst) {
+  WsClient client(port());
+  const auto hello = client.read();
+  EXPECT_EQ(hello["op"], "hello");
+  EXPECT_EQ(hello["protocol"], "strata.v1");
+  EXPECT_EQ(hello["protocol_version"], 1);
+}
+
+TEST_F(WebSocketStream, LateJoinerGetsTheWorldAndPoseAtOnce) {
+  WsClient client(port());
+  std::vector<std::string> ops;
+  for (int i = 0; i < 3; ++i)
+    ops.push_back(client.read()["op"]);
+  EXPECT_EQ(ops, (std::vector<std::string>{"hello", "sim_world", "pose"}));
+}
+
+TEST_F(WebSocketStream, PosesArriveAndChange) {
+  WsClient client(port());
+  const auto first = client.read_op("pose");
+  double last_stamp = first["stamp"];
+  bool moved = false;
+  for (int i = 0; i < 40; ++i) {
+    const auto pose = client.read_op("pose");
+    for (const char* key : {"x", "y", "z", "roll", "pitch", "yaw", "stamp"}) {
+      ASSERT_TRUE(pose[key].is_number()) << key;
+    }
+    EXPECT_GT(pose["stamp"].get<double>(), last_stamp);  // each frame is a newer pose
+    last_stamp = pose["stamp"];
+    moved = moved || pose["x"] != first["x"] || pose["y"] != first["y"];
+  }
+  EXPECT_TRUE(moved);
+}
+
+TEST_F(WebSocketStream, WorldDescribesBoxes) {
+  WsClient client(port());
+  const auto world = client.read_op("sim_world");
+  ASSERT_TRUE(world["boxes"].is_array());
+  ASSERT_FALSE(world["boxes"].empty());
+  for (const auto& box : world["boxes"]) {
+    for (int axis = 0; axis < 3; ++axis)
+      EXPECT_LE(box["min"][axis], box["max"][axis]);
+  }
+}
+
+TEST_F(WebSocketStream, BadMessagesGetCodedErrorsAndTheStreamGoesOn) {
+  WsClient client(port());
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"this is not json", "bad_json"},
+      {"[1,2,3]", "bad_message"},
+      {R"({"op": 5})", "bad_message"},
+      {R"({"no_op": true})", "bad_message"},
+      {R"({"op": "fly_to_the_moon"})", "unknown_op"},
+  };
+  for (const auto& [text, code] : cases) {
+    client.send_text(text);
+    const auto error = client.read_op("error");
+    EXPECT_EQ(error["code"], code) << text;
+    EXPECT_FALSE(error["message"].get<std::string>().empty());
+  }
+  client.send_binary(std::string("\x00\x01\x02", 3));
+  EXPECT_EQ(client.read_op("error")["code"], "bad_message");
+  client.send_text(R"({"op":"ping","id":7})");
+  EXPECT_EQ(client.read_op("pong")["id"], 7);
+  EXPECT_EQ(client.read_op("pose")["op"], "pose");  // still streaming
+}
+
+TEST_F(WebSocketStream, OversizedMessageClosesOnlyThatClient) {
+  WsClient other(port());
+  WsClient client(port());
+  client.send_text(std::string(200 * 1024, 'x'));
+  EXPECT_TRUE(client.closed_by_server());
+  EXPECT_EQ(other.read_op("pose")["op"], "pose");
+}
+
+TEST_F(WebSocketStream, UnsupportedSubprotocolIsRefused) {
+  EXPECT_THROW(WsClient(port(), "strata.v999"), beast::system_error);
+  EXPECT_NO_THROW(WsClient(port(), "something.else, strata.v1"));
+  EXPECT_NO_THROW(WsClient(port(), ""));  // plain clients get v1
+}
+
+TEST_F(WebSocketStream, UpgradeElsewhereIsRefused) {
+  EXPECT_THROW(WsClient(port(), "strata.v1", "/api/v1/pose"), beast::system_error);
+}
+
+TEST_F(WebSocketStream, ManyClientsAllReceivePoses) {
+  std::vector<std::unique_ptr<WsClient>> clients;
+  for (int i = 0; i < 20; ++i)
+    clients.push_back(std::make_unique<WsClient>(port()));
+  for (auto& client : clients) {
+    client->read_op("pose");
+    const auto live = client->read_op("pose");
+    EXPECT_TRUE(live["stamp"].is_number());
+  }
+}
+
+}  // namespace
+}  // namespace strata::testing

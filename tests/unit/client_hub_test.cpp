@@ -1,0 +1,71 @@
+#include "server/net/client_hub.hpp"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace strata::net {
+namespace {
+
+// A client that records what it is sent (the hub's contract is only "send must not block").
+class RecordingClient : public ClientConnection {
+ public:
+  void send(OutgoingMessage message) override { received.push_back(*message.payload); }
+  std::vector<std::string> received;
+};
+
+TEST(ClientHub, BroadcastReachesEveryJoinedClient) {
+  ClientHub hub;
+  auto a = std::make_shared<RecordingClient>();
+  auto b = std::make_shared<RecordingClient>();
+  hub.join(a);
+  hub.join(b);
+  hub.broadcast(OutgoingMessage::text("x"));
+  EXPECT_EQ(a->received, std::vector<std::string>{"x"});
+  EXPECT_EQ(b->received, std::vector<std::string>{"x"});
+  EXPECT_EQ(hub.size(), 2u);
+}
+
+TEST(ClientHub, LeftClientsGetNothing) {
+  ClientHub hub;
+  auto a = std::make_shared<RecordingClient>();
+  hub.join(a);
+  hub.leave(a.get());
+  hub.broadcast(OutgoingMessage::text("x"));
+  EXPECT_TRUE(a->received.empty());
+  EXPECT_EQ(hub.size(), 0u);
+}
+
+TEST(ClientHub, ExpiredClientsAreSkipped) {
+  ClientHub hub;
+  auto a = std::make_shared<RecordingClient>();
+  hub.join(a);
+  a.reset();  // destroyed without leaving: broadcasting must not touch it
+  hub.broadcast(OutgoingMessage::text("x"));
+  SUCCEED();
+}
+
+TEST(ClientHub, PayloadIsSharedNotCopied) {
+  ClientHub hub;
+  std::vector<const std::string*> seen;
+  class PointerClient : public ClientConnection {
+   public:
+    explicit PointerClient(std::vector<const std::string*>& out) : out_(out) {}
+    void send(OutgoingMessage message) override { out_.push_back(message.payload.get()); }
+
+   private:
+    std::vector<const std::string*>& out_;
+  };
+  auto a = std::make_shared<PointerClient>(seen);
+  auto b = std::make_shared<PointerClient>(seen);
+  hub.join(a);
+  hub.join(b);
+  hub.broadcast(OutgoingMessage::text("payload"));
+  ASSERT_EQ(seen.size(), 2u);
+  EXPECT_EQ(seen[0], seen[1]);
+}
+
+}  // namespace
+}  // namespace strata::net

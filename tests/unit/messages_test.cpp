@@ -1,0 +1,57 @@
+#include "server/protocol/messages.hpp"
+
+#include <gtest/gtest.h>
+
+#include "server/protocol/protocol.hpp"
+
+namespace strata::protocol {
+namespace {
+
+TEST(Messages, PoseCarriesTheEstimateAndTheTruth) {
+  sim::RobotSample sample;
+  sample.stamp = 3.25;
+  sample.odometry.position = {1.0, -2.0, 0.1};
+  sample.odometry.roll = 0.01;
+  sample.odometry.pitch = -0.02;
+  sample.odometry.yaw = 1.5;
+  sample.truth.position = {1.1, -2.1, 0.1};
+  const auto message = nlohmann::json::parse(pose_message(sample));
+  EXPECT_EQ(message["op"], "pose");
+  EXPECT_DOUBLE_EQ(message["stamp"], 3.25);
+  EXPECT_DOUBLE_EQ(message["x"], 1.0);
+  EXPECT_DOUBLE_EQ(message["y"], -2.0);
+  EXPECT_DOUBLE_EQ(message["z"], 0.1);
+  EXPECT_DOUBLE_EQ(message["roll"], 0.01);
+  EXPECT_DOUBLE_EQ(message["pitch"], -0.02);
+  EXPECT_DOUBLE_EQ(message["yaw"], 1.5);
+  EXPECT_DOUBLE_EQ(message["truth"]["x"], 1.1);
+}
+
+TEST(Messages, HelloNamesTheProtocol) {
+  const auto hello = nlohmann::json::parse(hello_message());
+  EXPECT_EQ(hello["op"], "hello");
+  EXPECT_EQ(hello["protocol"], kSubprotocol);
+  EXPECT_EQ(hello["protocol_version"], kVersion);
+}
+
+TEST(Messages, ErrorsCarryCodes) {
+  const auto error = nlohmann::json::parse(error_message(ErrorCode::kUnknownOp, "what"));
+  EXPECT_EQ(error["op"], "error");
+  EXPECT_EQ(error["code"], "unknown_op");
+  EXPECT_EQ(error["message"], "what");
+  const auto rest = nlohmann::json::parse(rest_error(ErrorCode::kNotFound, "gone"));
+  EXPECT_EQ(rest["error"]["code"], "not_found");
+}
+
+TEST(Messages, SimWorldListsTheBoxes) {
+  const sim::World world(5.0, {{"b", {0, 1, 2}, {3, 4, 5}}});
+  const auto message = nlohmann::json::parse(sim_world_message(world));
+  EXPECT_EQ(message["op"], "sim_world");
+  EXPECT_EQ(message["half_extent"], 5.0);
+  ASSERT_EQ(message["boxes"].size(), 1u);
+  EXPECT_EQ(message["boxes"][0]["name"], "b");
+  EXPECT_EQ(message["boxes"][0]["max"], nlohmann::json::array({3.0, 4.0, 5.0}));
+}
+
+}  // namespace
+}  // namespace strata::protocol
