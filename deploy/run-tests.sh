@@ -7,7 +7,7 @@ root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
 
 jobs="$(nproc)"
-timer() { local start=$SECONDS; "$@"; echo "run-tests: '$*' took $((SECONDS - start)) s"; }
+timer() { local start=$SECONDS; "$@"; echo "run-tests: '$*' took $((SECONDS - start)) s" >&2; }
 
 timer deploy/install-deps.sh
 for preset in release asan; do

@@ -6,8 +6,12 @@
 
 namespace strata::sim {
 
-SimulatedRobot::SimulatedRobot(Simulator simulator, SimulatedRobotConfig config, SampleCallback on_sample)
-    : simulator_(std::move(simulator)), config_(config), on_sample_(std::move(on_sample)) {
+SimulatedRobot::SimulatedRobot(Simulator simulator, SimulatedRobotConfig config, SampleCallback on_sample,
+                               ScanCallback on_scan)
+    : simulator_(std::move(simulator)),
+      config_(config),
+      on_sample_(std::move(on_sample)),
+      on_scan_(std::move(on_scan)) {
   if (!(config_.step_rate > 0.0) || !(config_.time_scale > 0.0)) {
     throw std::invalid_argument("simulator step rate and time scale must be positive");
   }
@@ -39,6 +43,10 @@ void SimulatedRobot::run() {
   while (running_) {
     simulator_.step(dt);
     on_sample_(simulator_.sample());
+    for (ScanEvent& scan : simulator_.take_scans()) {
+      if (on_scan_)
+        on_scan_(std::move(scan));
+    }
     // Pace on an absolute schedule so the simulated clock does not drift from the wall clock;
     // if we fall behind (a slow machine, a debugger), skip ahead instead of bursting.
     next += wall_period;

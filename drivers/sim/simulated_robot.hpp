@@ -14,13 +14,15 @@ struct SimulatedRobotConfig {
   double time_scale = 1.0;   ///< simulated seconds per wall-clock second (>1 runs faster than real time)
 };
 
-/// Runs a Simulator on its own thread, paced against the wall clock, and hands every new sample to
-/// a callback on that thread. This is the simulator's driver thread.
+/// Runs a Simulator on its own thread, paced against the wall clock, and hands every new sample and
+/// every completed scan to callbacks on that thread. This is the simulator's driver thread.
 class SimulatedRobot {
  public:
   using SampleCallback = std::function<void(const RobotSample&)>;
+  using ScanCallback = std::function<void(ScanEvent)>;
 
-  SimulatedRobot(Simulator simulator, SimulatedRobotConfig config, SampleCallback on_sample);
+  SimulatedRobot(Simulator simulator, SimulatedRobotConfig config, SampleCallback on_sample,
+                 ScanCallback on_scan = {});
   ~SimulatedRobot();
   SimulatedRobot(const SimulatedRobot&) = delete;
   SimulatedRobot& operator=(const SimulatedRobot&) = delete;
@@ -35,6 +37,7 @@ class SimulatedRobot {
   Simulator simulator_;
   SimulatedRobotConfig config_;
   SampleCallback on_sample_;
+  ScanCallback on_scan_;
   std::atomic<bool> running_{false};
   std::thread thread_;
 };

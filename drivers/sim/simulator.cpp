@@ -1,42 +1,78 @@
 #include "drivers/sim/simulator.hpp"
 
+#include <cmath>
 #include <utility>
 
 namespace strata::sim {
 
-Simulator::Simulator(World world, LoopDriver driver, SimulatorConfig config)
+Simulator::Simulator(std::shared_ptr<const World> world, SimulatorConfig config)
     : world_(std::move(world)),
-      driver_(std::move(driver)),
-      base_(config.base, config.start),
-      odometry_(config.base.wheel_separation, config.odometry, config.seed, config.start) {}
-
-Simulator Simulator::yard(SimulatorConfig config) {
-  return Simulator(World::yard(), LoopDriver::yard_loop(), config);
-}
+      config_(config),
+      placer_(*world_, config_.geometry),
+      base_(config_.limits, world_->description().spawn),
+      stance_(placer_.spawn(world_->description().spawn, world_->description().spawn_z)),
+      odometry_(config_.limits.wheel_separation, config_.odometry, config_.seed, world_->description().spawn),
+      driver_(world_->description().route, config_.cruise_speed),
+      tilting_(config_.tilting, config_.seed),
+      lidar_(config_.lidar, config_.seed),
+      since_last_scan_(config_.scan_spacing) {}  // the first stop-and-go scan is taken at the start
 
 void Simulator::step(double dt) {
-  const VelocityCommand command = driver_.command(base_.pose());
+  const bool stop_and_go = config_.scanner == ScannerKind::kTilting;
+  VelocityCommand command = driver_.command(base_.pose());
+  if (stop_and_go && (tilting_.scanning() || since_last_scan_ >= config_.scan_spacing)) {
+    command = {};  // stand still to scan (thesis section 3.1)
+    const bool stopped = base_.velocity().v == 0.0 && base_.velocity().w == 0.0;
+    if (stopped && !tilting_.scanning())
+      tilting_.begin(time_);
+  }
+
   const DiffDriveBase::Step next = base_.preview(command, dt);
-  const DiffDriveLimits& limits = base_.limits();
-  bumped_ = world_.collides(next.pose.x, next.pose.y, limits.radius, limits.height);
-  if (bumped_) {
-    base_.halt();  // a bumper stop: wheels do not turn, odometry sees nothing
-  } else {
+  const bool standing = next.velocity.v == 0.0 && next.velocity.w == 0.0;
+  const auto placed = standing ? TerrainPlacer::Result{true, stance_, {}} : placer_.move(stance_, next.pose);
+  if (placed.ok) {
     base_.apply(next);
+    stance_ = placed.stance;
     odometry_.integrate(next.wheels);
+    since_last_scan_ += std::abs(next.velocity.v) * dt;
+    blocked_by_.clear();
+  } else {
+    base_.halt();  // a bumper stop: the wheels do not turn, odometry sees nothing
+    blocked_by_ = placed.blocked_by;
+  }
+
+  const Eigen::Isometry3d base_in_world = stance_.pose.to_isometry();
+  if (stop_and_go) {
+    if (auto scan = tilting_.advance(*world_, base_in_world, time_, time_ + dt)) {
+      since_last_scan_ = 0.0;
+      finish_scan(std::move(*scan));
+    }
+  } else if (config_.scanner == ScannerKind::kLidar) {
+    if (auto scan = lidar_.advance(*world_, base_in_world, time_, time_ + dt))
+      finish_scan(std::move(*scan));
   }
   time_ += dt;
 }
 
+void Simulator::finish_scan(ScanEvent scan) {
+  scan.odometry = Pose3::from_pose2(odometry_.pose());
+  scan.truth = stance_.pose;
+  finished_scans_.push_back(std::move(scan));
+}
+
 RobotSample Simulator::sample() const {
-  const Pose2& truth = base_.pose();
   RobotSample sample;
   sample.stamp = time_;
-  sample.truth = Pose3::from_pose2(truth, world_.ground_height(truth.x, truth.y));
+  sample.truth = stance_.pose;
   sample.odometry = Pose3::from_pose2(odometry_.pose());
   sample.velocity = base_.velocity();
-  sample.bumped = bumped_;
+  sample.scanning = tilting_.scanning();
+  sample.blocked_by = blocked_by_;
   return sample;
+}
+
+std::vector<ScanEvent> Simulator::take_scans() {
+  return std::exchange(finished_scans_, {});
 }
 
 }  // namespace strata::sim

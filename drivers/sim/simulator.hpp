@@ -1,51 +1,82 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include "core/geometry/pose.hpp"
+#include "drivers/scan_event.hpp"
 #include "drivers/sim/diff_drive_base.hpp"
-#include "drivers/sim/loop_driver.hpp"
+#include "drivers/sim/route_driver.hpp"
+#include "drivers/sim/scanners/spinning_lidar.hpp"
+#include "drivers/sim/scanners/tilting_scanner.hpp"
+#include "drivers/sim/terrain_base.hpp"
 #include "drivers/sim/wheel_odometry.hpp"
-#include "drivers/sim/world.hpp"
+#include "drivers/sim/world/world.hpp"
 
 namespace strata::sim {
 
+enum class ScannerKind {
+  kTilting,  ///< the thesis robot's rotating 2D laser, stop-and-go
+  kLidar,    ///< a spinning multi-beam lidar, scanning while driving
+  kNone,
+};
+
 struct SimulatorConfig {
   std::uint64_t seed = 1;
-  DiffDriveLimits base;
+  DiffDriveLimits limits;
+  BaseGeometry geometry;
   OdometryNoise odometry;
-  Pose2 start{2.0, -3.5, 0.0};
+  ScannerKind scanner = ScannerKind::kTilting;
+  TiltingScannerConfig tilting;
+  SpinningLidarConfig lidar;
+  double scan_spacing = 2.0;  ///< m driven between stop-and-go scans
+  double cruise_speed = 0.6;  ///< m/s along the demo route
 };
 
 /// What the robot knows and what is true at one instant of simulated time.
 struct RobotSample {
   double stamp = 0.0;  ///< simulated seconds since the start
-  Pose3 odometry;      ///< what the wheels report: drifts
+  Pose3 odometry;      ///< what the wheels report: planar, and it drifts
   Pose3 truth;         ///< the ground truth, for display and evaluation only
   VelocityCommand velocity;
-  bool bumped = false;  ///< the last step was blocked by an obstacle
+  bool scanning = false;   ///< standing still for a stop-and-go scan
+  std::string blocked_by;  ///< why the last step could not move ("step", "slope", ...), or empty
 };
 
 /// The simulated robot in its world, advanced in fixed steps of simulated time. Pure and
-/// single-threaded: the same seed and the same steps give the same samples.
+/// single-threaded: the same seed and the same steps give the same samples and scans.
 class Simulator {
  public:
-  Simulator(World world, LoopDriver driver, SimulatorConfig config);
-  /// The default demo: the yard world, driving its loop.
-  [[nodiscard]] static Simulator yard(SimulatorConfig config = {});
+  Simulator(std::shared_ptr<const World> world, SimulatorConfig config);
 
   void step(double dt);
   [[nodiscard]] RobotSample sample() const;
-  [[nodiscard]] const World& world() const { return world_; }
-  [[nodiscard]] const DiffDriveBase& base() const { return base_; }
+  /// Scans completed since the last call, oldest first.
+  [[nodiscard]] std::vector<ScanEvent> take_scans();
+
+  [[nodiscard]] const World& world() const { return *world_; }
+  [[nodiscard]] const Stance& stance() const { return stance_; }
+  [[nodiscard]] const SimulatorConfig& config() const { return config_; }
 
  private:
-  World world_;
-  LoopDriver driver_;
+  void finish_scan(ScanEvent scan);
+
+  std::shared_ptr<const World> world_;
+  SimulatorConfig config_;
+  TerrainPlacer placer_;
   DiffDriveBase base_;
+  Stance stance_;
   WheelOdometry odometry_;
+  RouteDriver driver_;
+  TiltingScanner tilting_;
+  SpinningLidar lidar_;
+  std::vector<ScanEvent> finished_scans_;
   double time_ = 0.0;
-  bool bumped_ = false;
+  double since_last_scan_ = 0.0;  // m driven since the last stop-and-go scan
+  std::string blocked_by_;
 };
 
 }  // namespace strata::sim

@@ -42,6 +42,17 @@ int main(int argc, char** argv) {
   serve_cmd->add_option("--time-scale", serve.time_scale, "Simulated seconds per real second")
       ->capture_default_str()
       ->check(CLI::Range(0.01, 100.0));
+  serve_cmd
+      ->add_option("--world", serve.world,
+                   "Simulated world: a built-in name (campus, yard) or a world file (JSON, see "
+                   "drivers/sim/worlds/README.md)")
+      ->capture_default_str();
+  serve_cmd
+      ->add_option("--scanner", serve.scanner,
+                   "Simulated 3D sensor: tilting (the thesis robot's rotating laser, stop-and-go), lidar "
+                   "(VLP-16-like, scans while driving), none")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"tilting", "lidar", "none"}));
   serve_cmd->add_option("--io-threads", serve.io_threads, "Threads serving network clients")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <algorithm>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
@@ -14,6 +15,7 @@
 #include <vector>
 
 #include "drivers/sim/simulated_robot.hpp"
+#include "drivers/sim/world/world_file.hpp"
 #include "server/net/listener.hpp"
 #include "server/net/server_context.hpp"
 #include "server/pipeline/pose_publisher.hpp"
@@ -32,6 +34,29 @@ std::filesystem::path default_web_root() {
   return exe.parent_path().parent_path() / "share" / "strata" / "web";
 }
 
+sim::WorldDescription load_world(const std::string& name_or_path) {
+  if (std::filesystem::exists(name_or_path))
+    return sim::load_world_file(name_or_path);
+  const auto names = sim::builtin_world_names();
+  if (std::find(names.begin(), names.end(), name_or_path) != names.end())
+    return sim::builtin_world(name_or_path);
+  std::string known;
+  for (const auto& name : names)
+    known += (known.empty() ? "" : ", ") + name;
+  throw std::runtime_error("no world file '" + name_or_path +
+                           "' and no built-in world of that name (built-in: " + known + ")");
+}
+
+sim::ScannerKind parse_scanner(const std::string& name) {
+  if (name == "tilting")
+    return sim::ScannerKind::kTilting;
+  if (name == "lidar")
+    return sim::ScannerKind::kLidar;
+  if (name == "none")
+    return sim::ScannerKind::kNone;
+  throw std::runtime_error("unknown scanner '" + name + "' (tilting, lidar, none)");
+}
+
 int serve(const ServeOptions& options) {
   const std::filesystem::path web_root = options.web_root.empty() ? default_web_root() : options.web_root;
   if (!std::filesystem::exists(web_root / "index.html")) {
@@ -40,11 +65,14 @@ int serve(const ServeOptions& options) {
   }
 
   RobotState robot_state;
+  auto world = std::make_shared<const sim::World>(load_world(options.world));
   sim::SimulatorConfig sim_config;
   sim_config.seed = options.seed;
-  sim::SimulatedRobot robot(sim::Simulator::yard(sim_config),
-                            {.step_rate = 100.0, .time_scale = options.time_scale},
-                            [&robot_state](const sim::RobotSample& sample) { robot_state.publish(sample); });
+  sim_config.scanner = parse_scanner(options.scanner);
+  sim::SimulatedRobot robot(
+      sim::Simulator(world, sim_config), {.step_rate = 100.0, .time_scale = options.time_scale},
+      [&robot_state](const sim::RobotSample& sample) { robot_state.publish(sample); },
+      [&robot_state](ScanEvent scan) { robot_state.publish_scan(scan); });
 
   boost::asio::io_context io(options.io_threads);
   auto context = std::make_shared<net::ServerContext>(robot_state, web_root, &robot.world());
@@ -73,7 +101,8 @@ int serve(const ServeOptions& options) {
   pose_publisher->start();
 
   const auto bound = listener->local_endpoint();
-  spdlog::info("simulator: yard world, seed {}, time scale {}", options.seed, options.time_scale);
+  spdlog::info("simulator: world '{}', {} scanner, seed {}, time scale {}", world->description().name,
+               options.scanner, options.seed, options.time_scale);
   // A plain line on stdout that scripts and tests wait for; the port is the real one (--port 0 picks).
   std::printf("strata: serving on http://%s:%u\n", bound.address().to_string().c_str(),
               static_cast<unsigned>(bound.port()));

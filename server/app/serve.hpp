@@ -4,6 +4,9 @@
 #include <filesystem>
 #include <string>
 
+#include "drivers/sim/simulator.hpp"
+#include "drivers/sim/world/world_file.hpp"
+
 namespace strata::app {
 
 struct ServeOptions {
@@ -13,11 +16,17 @@ struct ServeOptions {
   double pose_rate = 25.0;         ///< Hz
   std::uint64_t seed = 1;
   double time_scale = 1.0;
+  std::string world = "campus";     ///< a built-in world's name or a world file's path
+  std::string scanner = "tilting";  ///< tilting (stop-and-go, the thesis robot), lidar, none
   int io_threads = 2;
 };
 
 /// Runs the server with the simulated robot until SIGINT or SIGTERM. Returns the process exit code.
 int serve(const ServeOptions& options);
+
+/// A built-in world by name, or a world file by path; throws with the choices when neither exists.
+[[nodiscard]] sim::WorldDescription load_world(const std::string& name_or_path);
+[[nodiscard]] sim::ScannerKind parse_scanner(const std::string& name);
 
 /// Where the web bundle is when none is given: `web/` next to the executable (a build tree), or
 /// `../share/strata/web` from it (an installed package).

@@ -3,7 +3,7 @@
 #include <filesystem>
 #include <string>
 
-#include "drivers/sim/world.hpp"
+#include "drivers/sim/world/world.hpp"
 #include "server/api/http_router.hpp"
 #include "server/net/client_hub.hpp"
 #include "server/protocol/messages.hpp"

@@ -40,6 +40,7 @@ nlohmann::json pose_fields(const sim::RobotSample& sample) {
   fields["frame"] = "map";
   fields["source"] = "odometry";
   fields["truth"] = pose_json(sample.truth);
+  fields["mode"] = !sample.blocked_by.empty() ? "blocked" : sample.scanning ? "scanning" : "driving";
   return fields;
 }
 
@@ -50,13 +51,52 @@ std::string pose_message(const sim::RobotSample& sample) {
 }
 
 nlohmann::json sim_world(const sim::World& world) {
+  const sim::WorldDescription& d = world.description();
+  auto vec = [](const auto& v) {
+    nlohmann::json array = nlohmann::json::array();
+    for (Eigen::Index k = 0; k < v.size(); ++k)
+      array.push_back(v[k]);
+    return array;
+  };
   nlohmann::json boxes = nlohmann::json::array();
-  for (const sim::Box& box : world.boxes()) {
-    boxes.push_back({{"name", box.name},
-                     {"min", {box.min.x(), box.min.y(), box.min.z()}},
-                     {"max", {box.max.x(), box.max.y(), box.max.z()}}});
+  for (const auto& box : d.boxes) {
+    boxes.push_back(
+        {{"name", box.name}, {"center", vec(box.center)}, {"size", vec(box.size)}, {"yaw", box.yaw}});
   }
-  return {{"half_extent", world.half_extent()}, {"boxes", std::move(boxes)}};
+  nlohmann::json ramps = nlohmann::json::array();
+  for (const auto& ramp : d.ramps) {
+    ramps.push_back({{"name", ramp.name},
+                     {"center", vec(ramp.center)},
+                     {"length", ramp.length},
+                     {"width", ramp.width},
+                     {"yaw", ramp.yaw},
+                     {"base_z", ramp.base_z},
+                     {"height_start", ramp.height_start},
+                     {"height_end", ramp.height_end}});
+  }
+  nlohmann::json cylinders = nlohmann::json::array();
+  for (const auto& c : d.cylinders) {
+    cylinders.push_back(
+        {{"center", vec(c.center)}, {"radius", c.radius}, {"z_min", c.z_min}, {"z_max", c.z_max}});
+  }
+  nlohmann::json spheres = nlohmann::json::array();
+  for (const auto& s : d.spheres)
+    spheres.push_back({{"center", vec(s.center)}, {"radius", s.radius}});
+  nlohmann::json result{{"name", d.name},
+                        {"summary", d.summary},
+                        {"bounds", {{"min", vec(world.bounds().min)}, {"max", vec(world.bounds().max)}}},
+                        {"boxes", std::move(boxes)},
+                        {"ramps", std::move(ramps)},
+                        {"cylinders", std::move(cylinders)},
+                        {"spheres", std::move(spheres)}};
+  if (d.terrain) {
+    result["terrain"] = {{"origin", vec(d.terrain->origin())},
+                         {"cell", d.terrain->cell()},
+                         {"nx", d.terrain->nx()},
+                         {"ny", d.terrain->ny()},
+                         {"heights", d.terrain->heights()}};
+  }
+  return result;
 }
 
 std::string sim_world_message(const sim::World& world) {

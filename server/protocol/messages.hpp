@@ -5,6 +5,7 @@
 #include <string_view>
 
 #include "drivers/sim/simulator.hpp"
+#include "drivers/sim/world/world.hpp"
 
 namespace strata::protocol {
 
@@ -24,7 +25,8 @@ enum class ErrorCode {
 [[nodiscard]] nlohmann::json pose_fields(const sim::RobotSample& sample);
 /// {"op":"pose", ...}: the live pose stream.
 [[nodiscard]] std::string pose_message(const sim::RobotSample& sample);
-/// The simulated world's geometry (boxes), for drawing it faintly: the body of GET /api/v1/sim/world.
+/// The simulated world's geometry (boxes, ramps, cylinders, spheres, terrain), for drawing it faintly: the
+/// body of GET /api/v1/sim/world.
 [[nodiscard]] nlohmann::json sim_world(const sim::World& world);
 /// {"op":"sim_world", ...}: the same, sent to late joiners when the robot is simulated.
 [[nodiscard]] std::string sim_world_message(const sim::World& world);

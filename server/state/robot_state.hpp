@@ -3,6 +3,7 @@
 #include <mutex>
 #include <optional>
 
+#include "drivers/scan_event.hpp"
 #include "drivers/sim/simulator.hpp"
 
 namespace strata {
@@ -20,9 +21,20 @@ class RobotState {
     return latest_;
   }
 
+  /// Counts completed scans (the mapping pipeline consumes them in a later step).
+  void publish_scan(const ScanEvent& /*scan*/) {
+    std::lock_guard lock(mutex_);
+    ++scans_;
+  }
+  [[nodiscard]] std::size_t scans() const {
+    std::lock_guard lock(mutex_);
+    return scans_;
+  }
+
  private:
   mutable std::mutex mutex_;
   std::optional<sim::RobotSample> latest_;
+  std::size_t scans_ = 0;
 };
 
 }  // namespace strata

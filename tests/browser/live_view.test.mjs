@@ -34,7 +34,7 @@ test('page shows the robot moving with a live connection', async () => {
 
   await page.locator('#connection[data-state="connected"]').waitFor({ timeout: 15000 });
   await page.waitForFunction(() => window.strata?.robotVisible(), null, { timeout: 15000 });
-  assert.ok((await page.evaluate(() => window.strata.worldBoxes())) > 0, 'the world geometry is drawn');
+  assert.ok((await page.evaluate(() => window.strata.worldShapes())) > 0, 'the world geometry is drawn');
 
   const first = await page.evaluate(() => window.strata.robotPosition());
   const firstReadout = await page.locator('#pose-x').textContent();

@@ -1,7 +1,10 @@
 // The real strata process over real HTTP: health, info, pose, static files, errors, lifecycle.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <chrono>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "integration/clients.hpp"
@@ -124,6 +127,38 @@ TEST(ServerLifecycle, BadOptionsAreRefused) {
   const auto result = run_strata({"serve", "--port", "70000"});
   EXPECT_NE(result.exit_code, 0);
   EXPECT_NE(result.output.find("--port"), std::string::npos) << result.output;
+}
+
+TEST(ServerLifecycle, PicksABuiltInWorldAndScanner) {
+  ServerProcess server({"--world", "yard", "--scanner", "lidar"});
+  const auto world = nlohmann::json::parse(http_get(server.port(), "/api/v1/sim/world").body());
+  EXPECT_EQ(world["name"], "yard");
+  EXPECT_EQ(server.stop(), 0);
+}
+
+TEST(ServerLifecycle, LoadsAWorldFile) {
+  const auto path =
+      std::filesystem::path(::testing::TempDir()) / ("world-" + std::to_string(::getpid()) + ".json");
+  std::ofstream(path)
+      << R"({"name": "mine", "shapes": [{"type": "box", "min": [-5, -5, -1], "max": [5, 5, 0]}]})";
+  ServerProcess server({"--world", path.string()});
+  const auto world = nlohmann::json::parse(http_get(server.port(), "/api/v1/sim/world").body());
+  EXPECT_EQ(world["name"], "mine");
+  EXPECT_EQ(world["boxes"].size(), 1u);
+  std::filesystem::remove(path);
+}
+
+TEST(ServerLifecycle, BadWorldFileIsAClearError) {
+  const auto path =
+      std::filesystem::path(::testing::TempDir()) / ("bad-" + std::to_string(::getpid()) + ".json");
+  std::ofstream(path) << R"({"shapes": [{"type": "box", "min": [0, 0, 0], "max": [1, 1, -1]}]})";
+  const auto result = run_strata({"serve", "--port", "0", "--world", path.string()});
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("shapes[0]"), std::string::npos) << result.output;
+  const auto unknown = run_strata({"serve", "--port", "0", "--world", "atlantis"});
+  EXPECT_NE(unknown.exit_code, 0);
+  EXPECT_NE(unknown.output.find("campus"), std::string::npos) << unknown.output;  // lists the built-ins
+  std::filesystem::remove(path);
 }
 
 TEST(ServerLifecycle, HelpDescribesServe) {

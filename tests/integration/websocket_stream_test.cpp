@@ -69,14 +69,16 @@ TEST_F(WebSocketStream, PosesArriveAndChange) {
   EXPECT_TRUE(moved);
 }
 
-TEST_F(WebSocketStream, WorldDescribesBoxes) {
+TEST_F(WebSocketStream, DefaultWorldIsTheCampus) {
   WsClient client(port());
-  const auto world = client.read_op("sim_world");
-  ASSERT_TRUE(world["boxes"].is_array());
-  ASSERT_FALSE(world["boxes"].empty());
+  const auto world = client.read_op("sim_world");  // read() checks it against its schema
+  EXPECT_EQ(world["name"], "campus");
+  EXPECT_GT(world["boxes"].size(), 10u);
+  EXPECT_GE(world["ramps"].size(), 2u);  // the entrance ramp and the bridge ramp
+  EXPECT_TRUE(world.contains("terrain"));
   for (const auto& box : world["boxes"]) {
     for (int axis = 0; axis < 3; ++axis)
-      EXPECT_LE(box["min"][axis], box["max"][axis]);
+      EXPECT_GT(box["size"][axis], 0.0);
   }
 }
 

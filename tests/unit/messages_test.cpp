@@ -43,14 +43,26 @@ TEST(Messages, ErrorsCarryCodes) {
   EXPECT_EQ(rest["error"]["code"], "not_found");
 }
 
-TEST(Messages, SimWorldListsTheBoxes) {
-  const sim::World world(5.0, {{"b", {0, 1, 2}, {3, 4, 5}}});
-  const auto message = nlohmann::json::parse(sim_world_message(world));
+TEST(Messages, SimWorldListsEveryShape) {
+  sim::WorldDescription d;
+  d.name = "w";
+  d.boxes.push_back({"b", {0, 1, 2}, {1, 2, 3}, 0.5});
+  d.ramps.push_back({"r", {4, 4}, 2, 1, 0.0, 0.0, 0.0, 0.2});
+  d.cylinders.push_back({{1, 1}, 0.1, 0, 2});
+  d.spheres.push_back({{0, 0, 3}, 1});
+  d.terrain = sim::HeightField({-5, -5}, 1.0, 11, 11, std::vector<double>(121, 0.0));
+  const auto message = nlohmann::json::parse(sim_world_message(sim::World(d)));
   EXPECT_EQ(message["op"], "sim_world");
-  EXPECT_EQ(message["half_extent"], 5.0);
+  EXPECT_EQ(message["name"], "w");
   ASSERT_EQ(message["boxes"].size(), 1u);
-  EXPECT_EQ(message["boxes"][0]["name"], "b");
-  EXPECT_EQ(message["boxes"][0]["max"], nlohmann::json::array({3.0, 4.0, 5.0}));
+  EXPECT_EQ(message["boxes"][0]["size"], nlohmann::json::array({1.0, 2.0, 3.0}));
+  EXPECT_DOUBLE_EQ(message["boxes"][0]["yaw"], 0.5);
+  EXPECT_EQ(message["ramps"][0]["height_end"], 0.2);
+  EXPECT_EQ(message["cylinders"].size(), 1u);
+  EXPECT_EQ(message["spheres"].size(), 1u);
+  EXPECT_EQ(message["terrain"]["nx"], 11);
+  EXPECT_EQ(message["terrain"]["heights"].size(), 121u);
+  EXPECT_EQ(message["bounds"]["min"][0], -5.0);
 }
 
 }  // namespace

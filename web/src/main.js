@@ -6,7 +6,7 @@ const view = new SceneView(document.getElementById('view'));
 const badge = document.getElementById('connection');
 const sourceLabel = document.getElementById('source');
 const fields = Object.fromEntries(
-  ['x', 'y', 'z', 'yaw', 'stamp'].map((name) => [name, document.getElementById(`pose-${name}`)]),
+  ['x', 'y', 'z', 'yaw', 'stamp', 'mode'].map((name) => [name, document.getElementById(`pose-${name}`)]),
 );
 
 const stateText = { connecting: 'connecting…', connected: 'live', disconnected: 'disconnected: retrying' };
@@ -18,6 +18,7 @@ function showPose(pose) {
   fields.z.textContent = `${pose.z.toFixed(2)} m`;
   fields.yaw.textContent = `${degrees(pose.yaw).toFixed(1)}°`;
   fields.stamp.textContent = `${pose.stamp.toFixed(1)} s`;
+  fields.mode.textContent = pose.mode ?? '–';
   view.setPose(pose);
 }
 
@@ -43,5 +44,5 @@ connection.open();
 window.strata = {
   robotPosition: () => view.robot.position.toArray(),
   robotVisible: () => view.robot.visible,
-  worldBoxes: () => view.worldGroup.children.length,
+  worldShapes: () => view.worldGroup.children[0]?.children.length ?? 0,
 };

@@ -3,6 +3,7 @@
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
 import { applyPose, createRobotModel } from './robot_model.js';
+import { buildWorld, fadeAbove } from './world_view.js';
 
 export class SceneView {
   constructor(container) {
@@ -26,7 +27,6 @@ export class SceneView {
 
     this.worldGroup = new THREE.Group();
     this.scene.add(this.worldGroup);
-    this.setGround(12);
 
     this.robot = createRobotModel();
     this.truth = createRobotModel({ color: 0xffffff, opacity: 0.25 });
@@ -46,6 +46,7 @@ export class SceneView {
     this.camera.updateProjectionMatrix();
   }
 
+  /** A flat ground with a 1 m grid, for worlds without terrain. */
   setGround(halfExtent) {
     this.ground?.removeFromParent();
     const size = 2 * halfExtent;
@@ -64,15 +65,12 @@ export class SceneView {
   /** The simulator's ground-truth geometry, drawn faintly for orientation. */
   setWorld(world) {
     this.worldGroup.clear();
-    this.setGround(world.half_extent);
-    const material = new THREE.MeshStandardMaterial({ color: 0xb08d57, transparent: true, opacity: 0.55 });
-    for (const b of world.boxes) {
-      const size = [0, 1, 2].map((i) => b.max[i] - b.min[i]);
-      const mesh = new THREE.Mesh(new THREE.BoxGeometry(...size), material);
-      mesh.position.set(...[0, 1, 2].map((i) => (b.max[i] + b.min[i]) / 2));
-      mesh.name = b.name;
-      this.worldGroup.add(mesh);
+    this.ground?.removeFromParent();
+    if (!world.terrain) {
+      const size = Math.max(world.bounds.max[0] - world.bounds.min[0], world.bounds.max[1] - world.bounds.min[1]);
+      this.setGround(Math.ceil(size / 2));
     }
+    this.worldGroup.add(buildWorld(world));
   }
 
   setPose(pose) {
@@ -82,6 +80,8 @@ export class SceneView {
     if (this.robot.visible) {
       const delta = this.robot.position.clone().sub(previous);
       this.camera.position.add(delta);
+    } else {
+      this.camera.position.copy(this.robot.position).add(new THREE.Vector3(-4, -6, 9)); // behind, above
     }
     this.controls.target.copy(this.robot.position);
     this.robot.visible = true;
@@ -89,6 +89,8 @@ export class SceneView {
       applyPose(this.truth, pose.truth);
       this.truth.visible = true;
     }
+    const world = this.worldGroup.children[0];
+    if (world) fadeAbove(world, (pose.truth ?? pose).z + 1.6);
   }
 
   render() {

@@ -1,0 +1,25 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/geometry/pose.hpp"
+
+namespace strata {
+
+/// One full 3D scan as a driver hands it to the pipeline (ARCHITECTURE.md section 3).
+struct ScanEvent {
+  double stamp = 0.0;                   ///< seconds; when the scan completed
+  double duration = 0.0;                ///< seconds the scan took to take
+  std::string sensor;                   ///< which sensor, e.g. "tilting-laser", "vlp16"
+  std::vector<Eigen::Vector3f> points;  ///< in the sensor frame, as measured (no motion compensation)
+  Eigen::Isometry3d sensor_to_base = Eigen::Isometry3d::Identity();  ///< the sensor's mounting
+  Pose3 odometry;                                                    ///< the base's odometry pose at `stamp`
+  std::optional<Pose3> truth;  ///< the base's true pose at `stamp`, when simulated
+  std::size_t rays = 0;        ///< beams fired, returns or not
+};
+
+}  // namespace strata

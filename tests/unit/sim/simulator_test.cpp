@@ -1,0 +1,141 @@
+#include "drivers/sim/simulator.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
+#include "drivers/sim/world/world_file.hpp"
+
+namespace strata::sim {
+namespace {
+
+std::shared_ptr<const World> builtin(const char* name) {
+  return std::make_shared<const World>(builtin_world(name));
+}
+
+TEST(Simulator, SameSeedSameRunAndScans) {
+  auto world = builtin("yard");
+  Simulator a(world, {.seed = 7});
+  Simulator b(world, {.seed = 7});
+  std::vector<ScanEvent> scans_a, scans_b;
+  for (int i = 0; i < 2000; ++i) {
+    a.step(0.01);
+    b.step(0.01);
+    for (auto& s : a.take_scans())
+      scans_a.push_back(std::move(s));
+    for (auto& s : b.take_scans())
+      scans_b.push_back(std::move(s));
+  }
+  EXPECT_EQ(a.sample().odometry.position, b.sample().odometry.position);
+  EXPECT_EQ(a.sample().truth.position, b.sample().truth.position);
+  EXPECT_NEAR(a.sample().stamp, 20.0, 1e-9);
+  ASSERT_FALSE(scans_a.empty());
+  ASSERT_EQ(scans_a.size(), scans_b.size());
+  for (std::size_t i = 0; i < scans_a.size(); ++i)
+    EXPECT_EQ(scans_a[i].points, scans_b[i].points);
+}
+
+TEST(Simulator, YardRouteWithoutGettingStuck) {
+  Simulator sim(builtin("yard"), {.scanner = ScannerKind::kNone});
+  const Eigen::Vector3d start = sim.sample().truth.position;
+  double farthest = 0.0;
+  double highest = 0.0;
+  for (int i = 0; i < 24000; ++i) {  // four simulated minutes: more than two laps
+    sim.step(0.01);
+    const RobotSample s = sim.sample();
+    ASSERT_TRUE(s.blocked_by.empty())
+        << s.blocked_by << " at t=" << s.stamp << " (" << s.truth.position.transpose() << ")";
+    farthest = std::max(farthest, (s.truth.position - start).norm());
+    highest = std::max(highest, s.truth.position.z());
+  }
+  EXPECT_GT(farthest, 10.0);
+  EXPECT_NEAR(highest, 0.4, 1e-6);  // it drove over the platform
+}
+
+TEST(Simulator, CampusLapGoesOverAndUnderTheBridge) {
+  Simulator sim(builtin("campus"), {.scanner = ScannerKind::kNone});
+  bool on_deck = false;
+  bool under_deck = false;
+  bool in_hallway = false;
+  double steepest = 0.0;
+  for (int i = 0; i < 90000; ++i) {  // 15 simulated minutes: one lap is about 13
+    sim.step(0.01);
+    const RobotSample s = sim.sample();
+    ASSERT_TRUE(s.blocked_by.empty())
+        << s.blocked_by << " at t=" << s.stamp << " (" << s.truth.position.transpose() << ")";
+    const Eigen::Vector3d& p = s.truth.position;
+    const bool below_bridge = p.x() > 76 && p.x() < 92 && p.y() > -30 && p.y() < -27.5;
+    on_deck = on_deck || (below_bridge && p.z() > 2.9);
+    under_deck = under_deck || (below_bridge && p.z() < 0.1);
+    in_hallway =
+        in_hallway || (p.x() > 20 && p.x() < 40 && p.y() > 4 && p.y() < 6.5 && std::abs(p.z() - 0.45) < 1e-6);
+    steepest = std::max(steepest, std::abs(s.truth.pitch));
+  }
+  EXPECT_TRUE(on_deck);
+  EXPECT_TRUE(under_deck);
+  EXPECT_TRUE(in_hallway);
+  EXPECT_GT(steepest, 0.09);  // it tilted on the ramps (1:10 is 5.7 degrees)
+}
+
+TEST(Simulator, OdometryDriftsFromTheTruth) {
+  Simulator sim(builtin("yard"), {.seed = 3, .scanner = ScannerKind::kNone});
+  double travelled = 0.0;
+  Eigen::Vector3d last = sim.sample().truth.position;
+  for (int i = 0; i < 6000; ++i) {
+    sim.step(0.01);
+    travelled += (sim.sample().truth.position - last).norm();
+    last = sim.sample().truth.position;
+  }
+  const RobotSample s = sim.sample();
+  const double error = (s.odometry.position.head<2>() - s.truth.position.head<2>()).norm();
+  EXPECT_GT(travelled, 20.0);
+  EXPECT_GT(error, 1e-3);
+  EXPECT_LT(error, 0.15 * travelled);       // an uncalibrated wheelchair: percents of the distance
+  EXPECT_EQ(s.odometry.position.z(), 0.0);  // wheel odometry is planar
+}
+
+TEST(Simulator, StopAndGoStandsStillWhileScanning) {
+  Simulator sim(builtin("yard"), {.seed = 2, .scanner = ScannerKind::kTilting});
+  std::vector<ScanEvent> scans;
+  Eigen::Vector3d scan_start_position;
+  bool was_scanning = false;
+  for (int i = 0; i < 6000 && scans.size() < 3; ++i) {
+    sim.step(0.01);
+    const RobotSample s = sim.sample();
+    if (s.scanning && !was_scanning)
+      scan_start_position = s.truth.position;
+    if (s.scanning) {
+      EXPECT_EQ(s.velocity.v, 0.0);
+      EXPECT_EQ(s.truth.position, scan_start_position);
+    }
+    was_scanning = s.scanning;
+    for (auto& scan : sim.take_scans())
+      scans.push_back(std::move(scan));
+  }
+  ASSERT_EQ(scans.size(), 3u);
+  for (const auto& scan : scans) {
+    EXPECT_EQ(scan.sensor, "tilting-laser");
+    EXPECT_GT(scan.points.size(), scan.rays / 2);
+    ASSERT_TRUE(scan.truth);
+  }
+  // The robot moved about the scan spacing between scans.
+  const double moved = (scans[2].truth->position - scans[1].truth->position).norm();
+  EXPECT_NEAR(moved, 2.0, 0.3);
+}
+
+TEST(Simulator, LidarScansWhileDriving) {
+  Simulator sim(builtin("yard"), {.scanner = ScannerKind::kLidar});
+  std::vector<ScanEvent> scans;
+  for (int i = 0; i < 300; ++i) {
+    sim.step(0.01);
+    for (auto& scan : sim.take_scans())
+      scans.push_back(std::move(scan));
+  }
+  EXPECT_EQ(scans.size(), 30u);  // 10 Hz for 3 s, the first revolution starting at once
+  EXPECT_GT(sim.sample().velocity.v, 0.1);
+  EXPECT_EQ(scans.back().sensor, "vlp16");
+}
+
+}  // namespace
+}  // namespace strata::sim
