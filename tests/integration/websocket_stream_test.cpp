@@ -57,7 +57,8 @@ TEST_F(WebSocketStream, PosesArriveAndChange) {
   const auto first = client.read_op("pose");
   double last_stamp = first["stamp"];
   bool moved = false;
-  for (int i = 0; i < 40; ++i) {
+  // The robot may be standing for a stop-and-go scan: read until it has moved (bounded, not timed).
+  for (int i = 0; i < 1500 && !moved; ++i) {
     const auto pose = client.read_op("pose");
     for (const char* key : {"x", "y", "z", "roll", "pitch", "yaw", "stamp"}) {
       ASSERT_TRUE(pose[key].is_number()) << key;
