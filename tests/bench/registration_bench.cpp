@@ -38,6 +38,10 @@ struct Pair {
   Eigen::Isometry3d reference;   ///< the published registration (pcl_room: our own converged result)
   double max_translation_error;  ///< the issue's accuracy target, metres
   double max_rotation_error;     ///< radians
+  /// pcl_room has no ground truth, only the README's yaw and translation from an independent ICP. Accuracy
+  /// is checked against those; robustness is then measured around this program's own converged result
+  /// (the README value leaves out roll and pitch, which are ~1 degree here).
+  bool reference_is_sanity_value = false;
 };
 
 struct Error {
@@ -100,7 +104,8 @@ std::vector<Pair> load_pairs(const fs::path& data) {
     sanity.translate(Eigen::Vector3d(1.975, 0.059, 0.027));
     sanity.rotate(Eigen::AngleAxisd(40.8 * kDeg, Eigen::Vector3d::UnitZ()));
     pairs.push_back({"room_2_to_1", read_point_cloud(room / "room_scan2.pcd").points,
-                     read_point_cloud(room / "room_scan1.pcd").points, guess, sanity, 0.05, 0.5 * kDeg});
+                     read_point_cloud(room / "room_scan1.pcd").points, guess, sanity, 0.05, 0.5 * kDeg,
+                     true});
   }
   return pairs;
 }
@@ -115,7 +120,17 @@ RegistrationResult accuracy_and_speed(Pair& pair, const RegistrationOptions& opt
     times.push_back(result.seconds);
   }
   std::sort(times.begin(), times.end());
-  const Error e = error_between(pair.reference, result.refined);
+  Error e = error_between(pair.reference, result.refined);
+  if (pair.reference_is_sanity_value) {
+    const Eigen::Vector3d ypr_ref = pair.reference.rotation().eulerAngles(2, 1, 0);
+    const Eigen::Vector3d ypr_got = result.refined.rotation().eulerAngles(2, 1, 0);
+    e = {(pair.reference.translation() - result.refined.translation()).norm(),
+         std::abs(ypr_ref.x() - ypr_got.x())};
+    if (variant == "default") {
+      pair.reference = result.refined;
+      pair.reference_is_sanity_value = false;
+    }
+  }
   const bool pass = e.translation <= pair.max_translation_error && e.rotation <= pair.max_rotation_error;
   const Eigen::Vector3d t = result.refined.translation();
   const Eigen::Vector3d ypr = result.refined.rotation().eulerAngles(2, 1, 0) / kDeg;
