@@ -8,6 +8,7 @@
 #include <string>
 
 #include "server/app/build_info.hpp"
+#include "server/app/register_command.hpp"
 #include "server/app/serve.hpp"
 
 int main(int argc, char** argv) {
@@ -57,6 +58,9 @@ int main(int argc, char** argv) {
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
 
+  strata::app::RegisterOptions register_options;
+  auto* register_cmd = strata::app::add_register_command(app, register_options);
+
   auto* version_cmd =
       app.add_subcommand("version", "Print the version and the libraries Strata was built with");
 
@@ -68,6 +72,8 @@ int main(int argc, char** argv) {
   try {
     if (*serve_cmd)
       return strata::app::serve(serve);
+    if (*register_cmd)
+      return strata::app::run_register(register_options);
     if (*version_cmd) {
       std::printf("strata %s\n%s\n", strata::build_info::version().c_str(),
                   strata::build_info::libraries().dump(2).c_str());

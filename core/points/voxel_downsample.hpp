@@ -1,0 +1,12 @@
+#pragma once
+
+#include "core/points/point_cloud.hpp"
+
+namespace strata {
+
+/// Keeps one point per cubic voxel of edge `voxel_size` (metres): the first point seen in each. Keeping a
+/// measured point rather than the voxel's centroid avoids inventing points between two surfaces that share
+/// a voxel; order is preserved. Non-positive `voxel_size` returns the cloud unchanged.
+[[nodiscard]] PointCloud voxel_downsample(const PointCloud& points, double voxel_size);
+
+}  // namespace strata

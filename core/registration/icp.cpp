@@ -1,0 +1,160 @@
+#include "core/registration/icp.hpp"
+
+#include <Eigen/Cholesky>
+#include <cmath>
+#include <limits>
+
+namespace strata {
+namespace {
+
+double kernel_weight(double residual, double scale) {
+  if (scale <= 0.0)
+    return 1.0;
+  const double s2 = scale * scale;
+  const double ratio = s2 / (s2 + residual * residual);
+  return ratio * ratio;
+}
+
+/// One point-to-point step (thesis eqs. 4.3-4.10): the rigid motion that best maps the moved source points
+/// onto their partners, by centroids (eq. 4.3), correlation (eq. 4.5) and the rotation solver (eq. 4.6).
+Eigen::Isometry3d point_to_point_step(const PointCloud& moved, const PointCloud& target,
+                                      const std::vector<Correspondence>& pairs, const IcpOptions& options) {
+  double total_weight = 0.0;
+  Eigen::Vector3d mean_d = Eigen::Vector3d::Zero();
+  Eigen::Vector3d mean_x = Eigen::Vector3d::Zero();
+  std::vector<double> weights(pairs.size());
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const Eigen::Vector3d& d = moved[pairs[i].source];
+    const Eigen::Vector3d& x = target[pairs[i].target];
+    weights[i] = kernel_weight((x - d).norm(), options.kernel_scale);
+    total_weight += weights[i];
+    mean_d += weights[i] * d;
+    mean_x += weights[i] * x;
+  }
+  mean_d /= total_weight;
+  mean_x /= total_weight;
+  Eigen::Matrix3d s = Eigen::Matrix3d::Zero();  // eq. 4.5 over centred pairs (eq. 4.4)
+  for (std::size_t i = 0; i < pairs.size(); ++i)
+    s += weights[i] * (moved[pairs[i].source] - mean_d) * (target[pairs[i].target] - mean_x).transpose();
+  Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+  step.linear() = solve_rotation(s, options.rotation_solver);
+  step.translation() = mean_x - step.linear() * mean_d;  // eq. 4.10's second term
+  return step;
+}
+
+/// One point-to-plane Gauss-Newton step, linearised at the moved points: residual n . (p + w x p + t - x)
+/// in the small rotation w and translation t.
+Eigen::Isometry3d point_to_plane_step(const PointCloud& moved, const PointCloud& target, LazyNormals& normals,
+                                      const std::vector<Correspondence>& pairs, const IcpOptions& options) {
+  Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
+  Eigen::Matrix<double, 6, 1> gradient = Eigen::Matrix<double, 6, 1>::Zero();
+  std::size_t used = 0;
+  for (const Correspondence& pair : pairs) {
+    const Eigen::Vector3d* n = normals.at(pair.target);
+    if (n == nullptr)
+      continue;
+    const Eigen::Vector3d& p = moved[pair.source];
+    const double residual = n->dot(p - target[pair.target]);
+    Eigen::Matrix<double, 6, 1> jacobian;
+    jacobian << *n, p.cross(*n);
+    const double w = kernel_weight(residual, options.kernel_scale);
+    hessian.noalias() += w * jacobian * jacobian.transpose();
+    gradient.noalias() += w * residual * jacobian;
+    ++used;
+  }
+  if (used < options.min_pairs)
+    return Eigen::Isometry3d::Identity();
+  const Eigen::Matrix<double, 6, 1> delta = hessian.ldlt().solve(-gradient);
+  if (!delta.allFinite())
+    return Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
+  const Eigen::Vector3d rotation = delta.tail<3>();
+  if (rotation.norm() > 0.0)
+    step.linear() = Eigen::AngleAxisd(rotation.norm(), rotation.normalized()).toRotationMatrix();
+  step.translation() = delta.head<3>();
+  return step;
+}
+
+/// Thesis eq. 4.12 over the given pairs, with the metric's own residual.
+double mean_squared_error(const PointCloud& moved, const PointCloud& target, LazyNormals* normals,
+                          const std::vector<Correspondence>& pairs, IcpMetric metric) {
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (const Correspondence& pair : pairs) {
+    const Eigen::Vector3d difference = moved[pair.source] - target[pair.target];
+    if (metric == IcpMetric::kPointToPlane) {
+      const Eigen::Vector3d* n = normals->at(pair.target);
+      if (n == nullptr)
+        continue;
+      const double r = n->dot(difference);
+      sum += r * r;
+    } else {
+      sum += difference.squaredNorm();
+    }
+    ++count;
+  }
+  return count == 0 ? 0.0 : sum / static_cast<double>(count);
+}
+
+}  // namespace
+
+std::vector<Correspondence> find_correspondences(const PointCloud& source, const Eigen::Isometry3d& transform,
+                                                 const KdTree& target, double max_distance) {
+  std::vector<Correspondence> pairs;
+  pairs.reserve(source.size());
+  for (std::size_t i = 0; i < source.size(); ++i) {
+    if (const std::optional<Neighbor> found = target.nearest(transform * source[i], max_distance))
+      pairs.push_back({i, found->index});
+  }
+  return pairs;
+}
+
+IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* normals,
+                const Eigen::Isometry3d& guess, const IcpOptions& options) {
+  IcpResult result;
+  result.transform = guess;
+  const IcpMetric metric = normals == nullptr ? IcpMetric::kPointToPoint : options.metric;
+  double previous_mse = std::numeric_limits<double>::infinity();
+  PointCloud moved(source.size());
+  for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
+    // 1. Find closest point-pairs within the bound (Algorithm 2, steps 1-2).
+    for (std::size_t i = 0; i < source.size(); ++i)
+      moved[i] = result.transform * source[i];
+    std::vector<Correspondence> pairs;
+    pairs.reserve(source.size());
+    for (std::size_t i = 0; i < source.size(); ++i) {
+      if (const std::optional<Neighbor> found = target.nearest(moved[i], options.max_correspondence_distance))
+        pairs.push_back({i, found->index});
+    }
+    if (pairs.size() < options.min_pairs)
+      break;
+    ++result.iterations;
+    // 2. The transform that minimises the error over these pairs.
+    const Eigen::Isometry3d step = metric == IcpMetric::kPointToPlane
+                                       ? point_to_plane_step(moved, target.points(), *normals, pairs, options)
+                                       : point_to_point_step(moved, target.points(), pairs, options);
+    // 3. Apply it. The step acts on already-moved points, so it composes on the left: R <- R^ R and
+    //    t <- R^ t + t^ (eqs. 4.9-4.10; eq. 4.9's printed order R R^ would not match eq. 4.10).
+    result.transform = step * result.transform;
+    for (const Correspondence& pair : pairs)
+      moved[pair.source] = step * moved[pair.source];
+    // 4. Stop when the error has settled (eq. 4.12 and tau).
+    const double mse = mean_squared_error(moved, target.points(), normals, pairs, metric);
+    if (std::abs(previous_mse - mse) < options.mse_change_threshold) {
+      result.converged = true;
+      break;
+    }
+    previous_mse = mse;
+  }
+  result.transform.makeAffine();
+  // Orthonormalise: many composed steps let rounding creep into the rotation.
+  result.transform.linear() = Eigen::Quaterniond(result.transform.rotation()).normalized().toRotationMatrix();
+  result.pairs = find_correspondences(source, result.transform, target, options.max_correspondence_distance);
+  double sum = 0.0;
+  for (const Correspondence& pair : result.pairs)
+    sum += (result.transform * source[pair.source] - target.points()[pair.target]).squaredNorm();
+  result.rmse = result.pairs.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(result.pairs.size()));
+  return result;
+}
+
+}  // namespace strata

@@ -1,0 +1,62 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <vector>
+
+#include "core/ann/kdtree.hpp"
+#include "core/points/normals.hpp"
+#include "core/points/point_cloud.hpp"
+#include "core/registration/rotation_solvers.hpp"
+
+namespace strata {
+
+/// What one ICP step minimises.
+enum class IcpMetric {
+  kPointToPoint,  ///< thesis eq. 4.2: sum |x_i - (R d_i + t)|^2, closed form per step
+  kPointToPlane,  ///< sum (n_i . (x_i - (R d_i + t)))^2, one Gauss-Newton step per pairing
+};
+
+struct IcpOptions {
+  /// Point-to-point (the thesis's metric) measured best over all the real pairs
+  /// (tests/bench/registration_bench.cpp --variants); point-to-plane needs normals that the sparse lines of a
+  /// pitching 2D scanner give poorly, and a fixed-scale kernel starves the coarse stages of pairs.
+  IcpMetric metric = IcpMetric::kPointToPoint;
+  RotationSolver rotation_solver = RotationSolver::kSvd;  ///< point-to-point only
+  /// Pairs farther apart than this are no correspondence (the thesis's trimming, 0.25 m).
+  double max_correspondence_distance = 0.25;
+  /// Stop when the mean squared error changes by less than this between iterations (thesis tau), m^2.
+  double mse_change_threshold = 1e-5;
+  int max_iterations = 30;
+  /// Geman-McClure kernel scale (m): pairs with residual r get weight (s^2 / (s^2 + r^2))^2. 0 = plain
+  /// least squares over the trimmed pairs, as in the thesis.
+  double kernel_scale = 0.0;
+  /// Fewer pairs than this and a step is not taken (three pairs fix a pose; a few more guard the noise).
+  std::size_t min_pairs = 6;
+};
+
+/// A source point paired with its closest target point.
+struct Correspondence {
+  std::size_t source = 0;
+  std::size_t target = 0;
+};
+
+struct IcpResult {
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();  ///< maps source points into the target frame
+  std::vector<Correspondence> pairs;  ///< the final pairing, within the last correspondence bound
+  double rmse = 0.0;                  ///< point-to-point distance over the final pairs, metres
+  int iterations = 0;                 ///< pairing + update rounds, over all stages
+  bool converged = false;             ///< the MSE settled before the iteration cap
+};
+
+/// Pairs each source point, moved by `transform`, with its closest target point within `max_distance`.
+[[nodiscard]] std::vector<Correspondence> find_correspondences(const PointCloud& source,
+                                                               const Eigen::Isometry3d& transform,
+                                                               const KdTree& target, double max_distance);
+
+/// ICP (thesis Algorithms 1 and 2): pair, solve for the transform, apply, until the MSE settles.
+/// `normals` serves the point-to-plane metric and may be null for point-to-point.
+[[nodiscard]] IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* normals,
+                              const Eigen::Isometry3d& guess, const IcpOptions& options);
+
+}  // namespace strata

@@ -1,0 +1,78 @@
+#include "core/registration/register_scan.hpp"
+
+#include <chrono>
+#include <limits>
+#include <stdexcept>
+
+#include "core/points/crop.hpp"
+#include "core/points/voxel_downsample.hpp"
+
+namespace strata {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+PointCloud preprocess(const PointCloud& scan, double min_range, double voxel_size) {
+  return voxel_downsample(crop_range(scan, min_range, std::numeric_limits<double>::infinity()), voxel_size);
+}
+
+}  // namespace
+
+ScanRegistration::ScanRegistration(RegistrationOptions options) : options_(std::move(options)) {}
+
+void ScanRegistration::set_target(const PointCloud& target) {
+  normals_.reset();
+  target_ = std::make_unique<KdTree>(preprocess(target, options_.min_range, options_.target_voxel_size));
+  normals_ = std::make_unique<LazyNormals>(*target_);
+}
+
+RegistrationResult ScanRegistration::register_scan(const PointCloud& source, const Eigen::Isometry3d& guess) {
+  if (!target_)
+    throw std::logic_error("ScanRegistration::register_scan called before set_target");
+  const auto start = std::chrono::steady_clock::now();
+  const PointCloud points = preprocess(source, options_.min_range, options_.source_voxel_size);
+
+  IcpResult icp;
+  icp.transform = guess;
+  for (const double bound : options_.correspondence_schedule) {
+    IcpOptions stage = options_.icp;
+    stage.max_correspondence_distance = bound;
+    const int iterations_so_far = icp.iterations;
+    icp = align(points, *target_, normals_.get(), icp.transform, stage);
+    icp.iterations += iterations_so_far;
+  }
+
+  RegistrationResult result;
+  result.refined = icp.transform;
+  result.pairs = icp.pairs.size();
+  result.source_points = points.size();
+  result.target_points = target_->size();
+  result.rmse = icp.rmse;
+  result.iterations = icp.iterations;
+  result.converged = icp.converged;
+  result.constraint = translation_constraint(icp.pairs, *normals_);
+  result.assessment = assess({.pairs = result.pairs,
+                              .source_points = result.source_points,
+                              .rmse = result.rmse,
+                              .guess = guess,
+                              .result = icp.transform,
+                              .constraint = result.constraint},
+                             options_.limits);
+  result.transform = result.accepted() ? icp.transform : guess;
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+RegistrationResult register_scan(const PointCloud& source, const PointCloud& target,
+                                 const Eigen::Isometry3d& guess, const RegistrationOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  ScanRegistration registration(options);
+  registration.set_target(target);
+  RegistrationResult result = registration.register_scan(source, guess);
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace strata

@@ -1,0 +1,67 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <memory>
+#include <vector>
+
+#include "core/ann/kdtree.hpp"
+#include "core/points/normals.hpp"
+#include "core/points/point_cloud.hpp"
+#include "core/registration/fault_check.hpp"
+#include "core/registration/icp.hpp"
+
+namespace strata {
+
+struct RegistrationOptions {
+  double source_voxel_size = 0.3;   ///< metres; the source is thinned harder than the target (speed)
+  double target_voxel_size = 0.05;  ///< metres
+  double min_range = 0.3;           ///< drop returns closer than this to the sensor (the robot itself)
+  /// Correspondence bounds, coarse to fine: ICP runs to convergence at each, so a guess that is off by more
+  /// than the final (thesis) 0.25 m still finds its surfaces.
+  std::vector<double> correspondence_schedule = {1.0, 0.25};
+  IcpOptions icp;
+  FaultLimits limits;
+};
+
+struct RegistrationResult {
+  /// What to use: the refined transform if accepted, the guess if not. Maps source points into the target.
+  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
+  Eigen::Isometry3d refined = Eigen::Isometry3d::Identity();  ///< ICP's answer, even when rejected
+  std::size_t pairs = 0;                                      ///< final pairs within the last bound
+  std::size_t source_points = 0;                              ///< after downsampling
+  std::size_t target_points = 0;                              ///< after downsampling
+  double rmse = 0.0;                                          ///< metres, over the final pairs
+  int iterations = 0;
+  bool converged = false;
+  double seconds = 0.0;  ///< wall time of this registration, including the preprocessing it did
+  TranslationConstraint constraint;
+  Assessment assessment;
+
+  [[nodiscard]] bool accepted() const { return assessment.verdict == Verdict::kAccepted; }
+};
+
+/// Scan-to-scan registration as a pipeline: preprocess the target once, then for each source scan
+/// downsample, align coarse to fine, and judge the result.
+class ScanRegistration {
+ public:
+  explicit ScanRegistration(RegistrationOptions options = {});
+
+  /// Downsamples and indexes the scan the next sources are registered onto.
+  void set_target(const PointCloud& target);
+  /// Registers `source` onto the target, starting from `guess` (source -> target). Needs set_target.
+  [[nodiscard]] RegistrationResult register_scan(const PointCloud& source, const Eigen::Isometry3d& guess);
+
+  [[nodiscard]] const RegistrationOptions& options() const { return options_; }
+
+ private:
+  RegistrationOptions options_;
+  std::unique_ptr<KdTree> target_;  // stable address: normals_ points into it
+  std::unique_ptr<LazyNormals> normals_;
+};
+
+/// One-off registration of `source` onto `target`; `seconds` covers both scans' preprocessing.
+[[nodiscard]] RegistrationResult register_scan(const PointCloud& source, const PointCloud& target,
+                                               const Eigen::Isometry3d& guess,
+                                               const RegistrationOptions& options = {});
+
+}  // namespace strata

@@ -1,0 +1,13 @@
+#pragma once
+
+#include <filesystem>
+
+#include "drivers/io/loaded_cloud.hpp"
+
+namespace strata::io {
+
+/// Reads the x, y, z fields of a PCL .pcd file (v0.5-0.7): DATA ascii, binary or binary_compressed (LZF,
+/// fields stored one after another). Other fields are skipped. Throws PointFileError.
+[[nodiscard]] LoadedCloud read_pcd(const std::filesystem::path& path);
+
+}  // namespace strata::io

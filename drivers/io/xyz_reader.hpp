@@ -1,0 +1,14 @@
+#pragma once
+
+#include <filesystem>
+
+#include "drivers/io/loaded_cloud.hpp"
+
+namespace strata::io {
+
+/// Reads a text table of points, comma- or whitespace-separated (.csv, .xyz, .txt). With a header line
+/// (e.g. "x,y,z,nx,ny,nz") the columns named x, y and z are used; without one, the first three columns.
+/// Lines starting with '#' are comments. Throws PointFileError.
+[[nodiscard]] LoadedCloud read_xyz(const std::filesystem::path& path);
+
+}  // namespace strata::io

@@ -1,0 +1,47 @@
+#include <gtest/gtest.h>
+
+#include <set>
+#include <tuple>
+
+#include "core/points/crop.hpp"
+#include "core/points/voxel_downsample.hpp"
+#include "core/points/voxel_key.hpp"
+#include "tests/unit/synthetic_scenes.hpp"
+
+namespace strata {
+namespace {
+
+TEST(VoxelDownsample, KeepsOneMeasuredPointPerVoxel) {
+  const PointCloud cloud = test::room_scene(0.02);
+  const double voxel = 0.2;
+  const PointCloud kept = voxel_downsample(cloud, voxel);
+  ASSERT_LT(kept.size(), cloud.size() / 10);
+  std::set<VoxelKey> cells;
+  for (const Eigen::Vector3d& p : kept)
+    EXPECT_TRUE(cells.insert(voxel_key(voxel_cell(p, 1.0 / voxel))).second) << "two points in one voxel";
+  // Every input voxel is still represented.
+  for (const Eigen::Vector3d& p : cloud)
+    EXPECT_TRUE(cells.contains(voxel_key(voxel_cell(p, 1.0 / voxel))));
+  // The kept points are input points, not averages.
+  EXPECT_EQ(kept.front(), cloud.front());
+}
+
+TEST(VoxelDownsample, NegativeCoordinatesFallIntoTheirOwnVoxel) {
+  // floor(), not truncation: -0.05 and +0.05 are in different 0.1 m voxels.
+  const PointCloud kept = voxel_downsample({{-0.05, 0, 0}, {0.05, 0, 0}, {0.07, 0, 0}}, 0.1);
+  EXPECT_EQ(kept.size(), 2U);
+}
+
+TEST(VoxelDownsample, NonPositiveVoxelKeepsEverything) {
+  const PointCloud cloud{{0, 0, 0}, {0, 0, 0}};
+  EXPECT_EQ(voxel_downsample(cloud, 0.0).size(), 2U);
+}
+
+TEST(CropRange, DropsTheRobotAndFarReturns) {
+  const PointCloud kept = crop_range({{0.1, 0, 0}, {1, 0, 0}, {0, 50, 0}}, 0.3, 30.0);
+  ASSERT_EQ(kept.size(), 1U);
+  EXPECT_EQ(kept[0], Eigen::Vector3d(1, 0, 0));
+}
+
+}  // namespace
+}  // namespace strata
