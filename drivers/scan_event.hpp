@@ -20,6 +20,7 @@ struct ScanEvent {
   Pose3 odometry;                                                    ///< the base's odometry pose at `stamp`
   std::optional<Pose3> truth;  ///< the base's true pose at `stamp`, when simulated
   std::size_t rays = 0;        ///< beams fired, returns or not
+  double max_range = 0.0;      ///< m; readings at this range mean "no return" (0: the sensor reports none)
 };
 
 }  // namespace strata

@@ -7,6 +7,10 @@ void GlobalPose::apply_correction(const Eigen::Isometry3d& correction) {
   Eigen::Isometry3d next = Eigen::Isometry3d::Identity();
   next.linear() = correction.linear() * correction_.linear();
   next.translation() = correction.linear() * correction_.translation() + correction.translation();
+  // Keep Rg a rotation: rounding in the product drifts it off SO(3), and because each new correction is
+  // computed through the inverse of the last pose (a transpose, exact only for rotations), the drift
+  // compounds geometrically; within 50 scans the map frame shrank to nothing before this renormalisation.
+  next.linear() = Eigen::Quaterniond(next.linear()).normalized().toRotationMatrix();
   correction_ = next;
 }
 

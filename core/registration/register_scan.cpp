@@ -52,7 +52,7 @@ RegistrationResult ScanRegistration::register_scan(const PointCloud& source, con
   result.rmse = icp.rmse;
   result.iterations = icp.iterations;
   result.converged = icp.converged;
-  result.constraint = translation_constraint(icp.pairs, *normals_);
+  result.constraint = translation_constraint(icp.pairs, *normals_, target_->points());
   result.assessment = assess({.pairs = result.pairs,
                               .source_points = result.source_points,
                               .rmse = result.rmse,

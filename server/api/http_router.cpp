@@ -45,8 +45,9 @@ bool is_read(const net::HttpRequest& request) {
 
 }  // namespace
 
-HttpRouter::HttpRouter(const RobotState& robot, std::filesystem::path web_root, std::string sim_world)
-    : robot_(robot), web_root_(std::move(web_root)), sim_world_(std::move(sim_world)) {}
+HttpRouter::HttpRouter(const RobotState& robot, const net::ClientHub& hub, std::filesystem::path web_root,
+                       std::string sim_world)
+    : robot_(robot), hub_(hub), web_root_(std::move(web_root)), sim_world_(std::move(sim_world)) {}
 
 net::HttpResponse HttpRouter::handle(const net::HttpRequest& request) const {
   const std::string_view target = request.target();
@@ -64,12 +65,16 @@ net::HttpResponse HttpRouter::handle(const net::HttpRequest& request) const {
   if (path == "/api/v1/info")
     return json_response(request, http::status::ok, protocol::info().dump());
   if (path == "/api/v1/pose") {
-    const auto sample = robot_.latest();
-    if (!sample) {
+    const auto robot = robot_.snapshot();
+    if (!robot) {
       return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
                             "no pose yet: the robot has not reported");
     }
-    return json_response(request, http::status::ok, protocol::pose_fields(*sample).dump());
+    return json_response(request, http::status::ok, protocol::pose_fields(*robot).dump());
+  }
+  if (path == "/api/v1/status") {
+    return json_response(request, http::status::ok,
+                         protocol::status_fields(robot_.registration(), hub_.size()).dump());
   }
   if (path == "/api/v1/sim/world" && !sim_world_.empty()) {
     return json_response(request, http::status::ok, sim_world_);

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <string>
 
+#include "server/net/client_hub.hpp"
 #include "server/net/http_types.hpp"
 #include "server/state/robot_state.hpp"
 
@@ -13,7 +14,8 @@ namespace strata::api {
 class HttpRouter {
  public:
   /// `sim_world` is the body of GET /api/v1/sim/world, empty when the robot is not simulated.
-  HttpRouter(const RobotState& robot, std::filesystem::path web_root, std::string sim_world);
+  HttpRouter(const RobotState& robot, const net::ClientHub& hub, std::filesystem::path web_root,
+             std::string sim_world);
 
   [[nodiscard]] net::HttpResponse handle(const net::HttpRequest& request) const;
 
@@ -21,6 +23,7 @@ class HttpRouter {
   [[nodiscard]] net::HttpResponse serve_static(const net::HttpRequest& request, std::string_view path) const;
 
   const RobotState& robot_;
+  const net::ClientHub& hub_;
   std::filesystem::path web_root_;
   std::string sim_world_;
 };

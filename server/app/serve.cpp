@@ -18,7 +18,9 @@
 #include "drivers/sim/world/world_file.hpp"
 #include "server/net/listener.hpp"
 #include "server/net/server_context.hpp"
-#include "server/pipeline/pose_publisher.hpp"
+#include "server/pipeline/localizer_worker.hpp"
+#include "server/pipeline/periodic_broadcast.hpp"
+#include "server/protocol/messages.hpp"
 #include "server/state/robot_state.hpp"
 
 namespace strata::app {
@@ -69,10 +71,15 @@ int serve(const ServeOptions& options) {
   sim::SimulatorConfig sim_config;
   sim_config.seed = options.seed;
   sim_config.scanner = parse_scanner(options.scanner);
+  sim::Simulator simulator(world, sim_config);
+  // The robot is told where it starts (as an operator sets an initial pose): the map frame is the world's.
+  const Eigen::Isometry3d start = simulator.sample().truth.to_isometry();
+  const Eigen::Isometry3d map_from_odom = start * simulator.sample().odometry.to_isometry().inverse();
+  pipeline::LocalizerWorker localizer(robot_state, LocalizerOptions{}, map_from_odom);
   sim::SimulatedRobot robot(
-      sim::Simulator(world, sim_config), {.step_rate = 100.0, .time_scale = options.time_scale},
+      std::move(simulator), {.step_rate = 100.0, .time_scale = options.time_scale},
       [&robot_state](const sim::RobotSample& sample) { robot_state.publish(sample); },
-      [&robot_state](ScanEvent scan) { robot_state.publish_scan(scan); });
+      [&localizer](ScanEvent scan) { localizer.submit(std::move(scan)); });
 
   boost::asio::io_context io(options.io_threads);
   auto context = std::make_shared<net::ServerContext>(robot_state, web_root, &robot.world());
@@ -85,8 +92,21 @@ int serve(const ServeOptions& options) {
     throw std::runtime_error("cannot listen on " + options.bind_address + ":" + std::to_string(options.port) +
                              ": " + error.code().message());
   }
-  auto pose_publisher =
-      std::make_shared<pipeline::PosePublisher>(io, robot_state, context->hub, options.pose_rate);
+  double last_pose_stamp = -1.0;
+  auto pose_stream = std::make_shared<pipeline::PeriodicBroadcast>(
+      io, context->hub, options.pose_rate,
+      [&robot_state, last_pose_stamp]() mutable -> std::optional<net::OutgoingMessage> {
+        const auto snapshot = robot_state.snapshot();
+        if (!snapshot || snapshot->sample.stamp == last_pose_stamp)
+          return std::nullopt;  // nothing new
+        last_pose_stamp = snapshot->sample.stamp;
+        return net::OutgoingMessage::text(protocol::pose_message(*snapshot), "pose");
+      });
+  auto status_stream = std::make_shared<pipeline::PeriodicBroadcast>(
+      io, context->hub, 1.0, [&robot_state, hub = &context->hub]() -> std::optional<net::OutgoingMessage> {
+        return net::OutgoingMessage::text(protocol::status_message(robot_state.registration(), hub->size()),
+                                          "status");
+      });
 
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& error, int signal) {
@@ -96,9 +116,11 @@ int serve(const ServeOptions& options) {
     io.stop();
   });
 
+  localizer.start();
   robot.start();
   listener->run();
-  pose_publisher->start();
+  pose_stream->start();
+  status_stream->start();
 
   const auto bound = listener->local_endpoint();
   spdlog::info("simulator: world '{}', {} scanner, seed {}, time scale {}", world->description().name,
@@ -116,6 +138,7 @@ int serve(const ServeOptions& options) {
     thread.join();
 
   robot.stop();
+  localizer.stop();
   spdlog::info("stopped");
   return 0;
 }

@@ -17,7 +17,7 @@ struct ServerContext {
   ServerContext(const RobotState& robot_state, std::filesystem::path web_root, const sim::World* sim_world)
       : robot(robot_state),
         sim_world_message(sim_world ? protocol::sim_world_message(*sim_world) : std::string()),
-        router(robot_state, std::move(web_root),
+        router(robot_state, hub, std::move(web_root),
                sim_world ? protocol::sim_world(*sim_world).dump() : std::string()) {}
 
   const RobotState& robot;

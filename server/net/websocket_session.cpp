@@ -81,8 +81,10 @@ void WebSocketSession::on_accept(beast::error_code error) {
   enqueue(OutgoingMessage::text(protocol::hello_message()));
   if (!context_->sim_world_message.empty())
     enqueue(OutgoingMessage::text(context_->sim_world_message));
-  if (const auto sample = context_->robot.latest()) {
-    enqueue(OutgoingMessage::text(protocol::pose_message(*sample), "pose"));
+  enqueue(OutgoingMessage::text(
+      protocol::status_message(context_->robot.registration(), context_->hub.size() + 1), "status"));
+  if (const auto robot = context_->robot.snapshot()) {
+    enqueue(OutgoingMessage::text(protocol::pose_message(*robot), "pose"));
   }
   context_->hub.join(shared_from_this());
   spdlog::info("websocket client joined ({} connected)", context_->hub.size());

@@ -33,20 +33,42 @@ std::string_view to_string(ErrorCode code) {
   return "internal";
 }
 
-nlohmann::json pose_fields(const sim::RobotSample& sample) {
-  // Until registration exists the robot's best estimate is its wheel odometry.
-  nlohmann::json fields = pose_json(sample.odometry);
+nlohmann::json pose_fields(const RobotSnapshot& robot) {
+  const sim::RobotSample& sample = robot.sample;
+  nlohmann::json fields = pose_json(robot.estimate);
   fields["stamp"] = sample.stamp;
   fields["frame"] = "map";
-  fields["source"] = "odometry";
+  fields["source"] = robot.localized ? "registration" : "odometry";
+  fields["odometry"] = pose_json(sample.odometry);
   fields["truth"] = pose_json(sample.truth);
   fields["mode"] = !sample.blocked_by.empty() ? "blocked" : sample.scanning ? "scanning" : "driving";
   return fields;
 }
 
-std::string pose_message(const sim::RobotSample& sample) {
-  nlohmann::json message = pose_fields(sample);
+std::string pose_message(const RobotSnapshot& robot) {
+  nlohmann::json message = pose_fields(robot);
   message["op"] = "pose";
+  return message.dump();
+}
+
+nlohmann::json status_fields(const RegistrationStatus& registration, std::size_t clients) {
+  nlohmann::json reg{{"scans", registration.scans},
+                     {"accepted", registration.accepted},
+                     {"rejected", registration.rejected},
+                     {"partial", registration.partial},
+                     {"dropped", registration.dropped}};
+  if (registration.last) {
+    const auto& last = *registration.last;
+    reg["last"] = {{"stamp", last.stamp},   {"verdict", last.verdict},       {"correction", last.correction},
+                   {"reason", last.reason}, {"message", last.message},       {"rmse", last.rmse},
+                   {"pairs", last.pairs},   {"iterations", last.iterations}, {"seconds", last.seconds}};
+  }
+  return {{"registration", std::move(reg)}, {"clients", clients}};
+}
+
+std::string status_message(const RegistrationStatus& registration, std::size_t clients) {
+  nlohmann::json message = status_fields(registration, clients);
+  message["op"] = "status";
   return message.dump();
 }
 

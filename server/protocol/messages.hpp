@@ -6,6 +6,7 @@
 
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world.hpp"
+#include "server/state/robot_state.hpp"
 
 namespace strata::protocol {
 
@@ -22,9 +23,13 @@ enum class ErrorCode {
 [[nodiscard]] std::string_view to_string(ErrorCode code);
 
 /// The pose fields shared by the `pose` WebSocket message and GET /api/v1/pose.
-[[nodiscard]] nlohmann::json pose_fields(const sim::RobotSample& sample);
+[[nodiscard]] nlohmann::json pose_fields(const RobotSnapshot& robot);
 /// {"op":"pose", ...}: the live pose stream.
-[[nodiscard]] std::string pose_message(const sim::RobotSample& sample);
+[[nodiscard]] std::string pose_message(const RobotSnapshot& robot);
+/// The body of GET /api/v1/status: registration quality and counts.
+[[nodiscard]] nlohmann::json status_fields(const RegistrationStatus& registration, std::size_t clients);
+/// {"op":"status", ...}: the status stream (1 Hz).
+[[nodiscard]] std::string status_message(const RegistrationStatus& registration, std::size_t clients);
 /// The simulated world's geometry (boxes, ramps, cylinders, spheres, terrain), for drawing it faintly: the
 /// body of GET /api/v1/sim/world.
 [[nodiscard]] nlohmann::json sim_world(const sim::World& world);

@@ -1,40 +1,81 @@
 #pragma once
 
+#include <Eigen/Geometry>
+#include <cstddef>
 #include <mutex>
 #include <optional>
+#include <string>
 
-#include "drivers/scan_event.hpp"
+#include "core/geometry/pose.hpp"
 #include "drivers/sim/simulator.hpp"
 
 namespace strata {
 
-/// The latest robot sample, written by the driver thread and read by the network side. A plain
-/// mutex-protected copy: the sample is small and readers want the newest, never a history.
+/// How scan registration has been going: what the status stream reports.
+struct RegistrationStatus {
+  std::size_t scans = 0;     ///< scans the localizer processed
+  std::size_t accepted = 0;  ///< registrations fault control accepted
+  std::size_t rejected = 0;  ///< registrations it rejected (the odometry guess was kept)
+  std::size_t partial = 0;   ///< corrections that took odometry along an unconstrained direction
+  std::size_t dropped = 0;   ///< scans skipped because the localizer was still busy
+  struct Last {
+    double stamp = 0.0;
+    std::string verdict;     ///< "accepted" or "rejected" (fault control's)
+    std::string correction;  ///< what was used: "full", "partial" (odometry along a corridor), "none"
+    std::string reason;      ///< why rejected ("degenerate_geometry", ...), "none" when accepted
+    std::string message;
+    double rmse = 0.0;
+    std::size_t pairs = 0;
+    int iterations = 0;
+    double seconds = 0.0;
+  };
+  std::optional<Last> last;
+};
+
+/// The robot's live state at one instant: the driver's sample and the localized estimate.
+struct RobotSnapshot {
+  sim::RobotSample sample;
+  Pose3 estimate;          ///< odometry carried into the map by the latest correction
+  bool localized = false;  ///< at least one scan registered: the estimate is no longer bare odometry
+};
+
+/// The latest robot state, written by the driver thread and the localizer, read by the network side.
+/// Plain mutex-protected copies: the data is small and readers want the newest, never a history.
 class RobotState {
  public:
   void publish(const sim::RobotSample& sample) {
     std::lock_guard lock(mutex_);
     latest_ = sample;
   }
-  [[nodiscard]] std::optional<sim::RobotSample> latest() const {
+  void set_correction(const Eigen::Isometry3d& map_from_odom, bool localized) {
     std::lock_guard lock(mutex_);
-    return latest_;
+    map_from_odom_ = map_from_odom;
+    localized_ = localized;
+  }
+  void set_registration(const RegistrationStatus& status) {
+    std::lock_guard lock(mutex_);
+    registration_ = status;
   }
 
-  /// Counts completed scans (the mapping pipeline consumes them in a later step).
-  void publish_scan(const ScanEvent& /*scan*/) {
+  [[nodiscard]] std::optional<RobotSnapshot> snapshot() const {
     std::lock_guard lock(mutex_);
-    ++scans_;
+    if (!latest_)
+      return std::nullopt;
+    RobotSnapshot snapshot{*latest_, {}, localized_};
+    snapshot.estimate = Pose3::from_isometry(map_from_odom_ * latest_->odometry.to_isometry());
+    return snapshot;
   }
-  [[nodiscard]] std::size_t scans() const {
+  [[nodiscard]] RegistrationStatus registration() const {
     std::lock_guard lock(mutex_);
-    return scans_;
+    return registration_;
   }
 
  private:
   mutable std::mutex mutex_;
   std::optional<sim::RobotSample> latest_;
-  std::size_t scans_ = 0;
+  Eigen::Isometry3d map_from_odom_ = Eigen::Isometry3d::Identity();
+  bool localized_ = false;
+  RegistrationStatus registration_;
 };
 
 }  // namespace strata

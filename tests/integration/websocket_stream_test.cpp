@@ -47,9 +47,9 @@ TEST_F(WebSocketStream, HelloComesFirst) {
 TEST_F(WebSocketStream, LateJoinerGetsTheWorldAndPoseAtOnce) {
   WsClient client(port());
   std::vector<std::string> ops;
-  for (int i = 0; i < 3; ++i)
+  for (int i = 0; i < 4; ++i)
     ops.push_back(client.read()["op"]);
-  EXPECT_EQ(ops, (std::vector<std::string>{"hello", "sim_world", "pose"}));
+  EXPECT_EQ(ops, (std::vector<std::string>{"hello", "sim_world", "status", "pose"}));
 }
 
 TEST_F(WebSocketStream, PosesArriveAndChange) {
@@ -68,6 +68,28 @@ TEST_F(WebSocketStream, PosesArriveAndChange) {
     moved = moved || pose["x"] != first["x"] || pose["y"] != first["y"];
   }
   EXPECT_TRUE(moved);
+}
+
+TEST_F(WebSocketStream, ScansAreRegisteredAndCorrectThePose) {
+  // The first stop-and-go scan is taken at the start; once one is registered, the pose rests on it.
+  WsClient client(port());
+  bool registered = false;
+  for (int i = 0; i < 3000 && !registered; ++i) {
+    const auto message = client.read();
+    registered = message["op"] == "pose" && message["source"] == "registration";
+  }
+  EXPECT_TRUE(registered);
+  // Status reports registrations once there have been two scans (the first only starts the map).
+  bool counted = false;
+  for (int i = 0; i < 6000 && !counted; ++i) {
+    const auto message = client.read();
+    counted = message["op"] == "status" && message["registration"]["scans"] >= 2 &&
+              message["registration"].contains("last");
+  }
+  EXPECT_TRUE(counted);
+  const auto status = nlohmann::json::parse(http_get(port(), "/api/v1/status").body());
+  expect_schema("rest", "status", status);
+  EXPECT_GE(status["registration"]["scans"], 2);
 }
 
 TEST_F(WebSocketStream, DefaultWorldIsTheCampus) {

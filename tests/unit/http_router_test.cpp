@@ -18,7 +18,8 @@ net::HttpRequest request(http::verb method, std::string target) {
 class Router : public ::testing::Test {
  protected:
   RobotState robot_;
-  HttpRouter router_{robot_, "/nonexistent-web-root", R"({"half_extent":10,"boxes":[]})"};
+  net::ClientHub hub_;
+  HttpRouter router_{robot_, hub_, "/nonexistent-web-root", R"({"name":"w","boxes":[]})"};
 };
 
 TEST_F(Router, HealthAndInfo) {
@@ -75,7 +76,7 @@ TEST_F(Router, HeadHasHeadersButNoBody) {
 TEST_F(Router, SimWorldIsServed) {
   auto world = router_.handle(request(http::verb::get, "/api/v1/sim/world"));
   ASSERT_EQ(world.result(), http::status::ok);
-  EXPECT_EQ(nlohmann::json::parse(world.body())["half_extent"], 10);
+  EXPECT_EQ(nlohmann::json::parse(world.body())["name"], "w");
 }
 
 TEST_F(Router, StaticFilesOutsideTheApiAre404WithoutABundle) {

@@ -15,7 +15,9 @@ TEST(Messages, PoseCarriesTheEstimateAndTheTruth) {
   sample.odometry.pitch = -0.02;
   sample.odometry.yaw = 1.5;
   sample.truth.position = {1.1, -2.1, 0.1};
-  const auto message = nlohmann::json::parse(pose_message(sample));
+  RobotSnapshot robot{sample, sample.odometry, false};
+  robot.estimate.position.x() = 1.0;
+  const auto message = nlohmann::json::parse(pose_message(robot));
   EXPECT_EQ(message["op"], "pose");
   EXPECT_DOUBLE_EQ(message["stamp"], 3.25);
   EXPECT_DOUBLE_EQ(message["x"], 1.0);
@@ -25,6 +27,9 @@ TEST(Messages, PoseCarriesTheEstimateAndTheTruth) {
   EXPECT_DOUBLE_EQ(message["pitch"], -0.02);
   EXPECT_DOUBLE_EQ(message["yaw"], 1.5);
   EXPECT_DOUBLE_EQ(message["truth"]["x"], 1.1);
+  EXPECT_DOUBLE_EQ(message["odometry"]["y"], -2.0);
+  EXPECT_EQ(message["source"], "odometry");
+  EXPECT_EQ(message["mode"], "driving");
 }
 
 TEST(Messages, HelloNamesTheProtocol) {

@@ -9,6 +9,10 @@ const fields = Object.fromEntries(
   ['x', 'y', 'z', 'yaw', 'stamp', 'mode'].map((name) => [name, document.getElementById(`pose-${name}`)]),
 );
 
+const localization = Object.fromEntries(
+  ['source', 'scans', 'last', 'fit', 'message'].map((name) => [name, document.getElementById(`loc-${name}`)]),
+);
+
 const stateText = { connecting: 'connecting…', connected: 'live', disconnected: 'disconnected: retrying' };
 const degrees = (radians) => (radians * 180) / Math.PI;
 
@@ -19,7 +23,18 @@ function showPose(pose) {
   fields.yaw.textContent = `${degrees(pose.yaw).toFixed(1)}°`;
   fields.stamp.textContent = `${pose.stamp.toFixed(1)} s`;
   fields.mode.textContent = pose.mode ?? '–';
+  localization.source.textContent = pose.source === 'registration' ? 'scan matching' : 'odometry only';
   view.setPose(pose);
+}
+
+function showStatus(status) {
+  const r = status.registration;
+  localization.scans.textContent = `${r.scans} (${r.accepted} ok, ${r.rejected} rejected)`;
+  if (!r.last) return;
+  const correction = { full: 'corrected', partial: 'partly corrected', none: 'kept odometry' };
+  localization.last.textContent = correction[r.last.correction] ?? r.last.correction;
+  localization.fit.textContent = `${(r.last.rmse * 100).toFixed(1)} cm, ${(r.last.seconds * 1000).toFixed(0)} ms`;
+  localization.message.textContent = r.last.verdict === 'rejected' ? r.last.message : '';
 }
 
 const handlers = {
@@ -28,6 +43,7 @@ const handlers = {
   },
   sim_world: (m) => view.setWorld(m),
   pose: showPose,
+  status: showStatus,
   error: (m) => console.warn(`strata: server error ${m.code}: ${m.message}`),
 };
 

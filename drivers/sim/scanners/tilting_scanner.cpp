@@ -30,6 +30,7 @@ ScanEvent TiltingScanner::empty_event() const {
   event.sensor = "tilting-laser";
   event.duration = duration();
   event.sensor_to_base.translation() = config_.mount;
+  event.max_range = config_.beam.no_return == NoReturn::kMaxRange ? config_.beam.max_range : 0.0;
   event.points.reserve(rays_per_scan());
   return event;
 }

@@ -1,0 +1,82 @@
+#include "core/localization/scan_to_map_localizer.hpp"
+
+#include <utility>
+
+#include "core/points/voxel_downsample.hpp"
+
+namespace strata {
+
+std::string_view to_string(Correction correction) {
+  switch (correction) {
+    case Correction::kNone:
+      return "none";
+    case Correction::kPartial:
+      return "partial";
+    case Correction::kFull:
+      return "full";
+  }
+  return "none";
+}
+
+ScanToMapLocalizer::ScanToMapLocalizer(LocalizerOptions options,
+                                       const Eigen::Isometry3d& initial_map_from_odom)
+    : options_(std::move(options)), registration_(options_.registration) {
+  global_.apply_correction(initial_map_from_odom);
+}
+
+LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const Pose2& odometry) {
+  // Guess: the last correction carried forward by the odometry since (ARCHITECTURE.md 3, step 2).
+  const Eigen::Isometry3d guess = global_.pose_isometry(odometry);
+  LocalizationUpdate update;
+  update.pose = guess;
+  if (!local_map_.empty()) {
+    PointCloud model;
+    for (const PointCloud& scan : local_map_)
+      model.insert(model.end(), scan.begin(), scan.end());
+    registration_.set_target(model);
+    RegistrationResult result = registration_.register_scan(points, guess);
+    const bool weak = result.constraint.weakest < options_.weak_direction_guard ||
+                      result.constraint.rotation_eigenvalues[0] < options_.weak_rotation_guard;
+    const bool only_degenerate = result.assessment.reason == RejectReason::kDegenerateGeometry;
+    if (weak && (result.accepted() || only_degenerate)) {
+      // Keep ICP's answer except along the directions no surface faces (a corridor's axis; both ways
+      // along an open plane): there, odometry knows better.
+      update.pose = result.refined;
+      // Rotation: remove the turn about weakly constrained axes from ICP's change to the guess.
+      Eigen::AngleAxisd change(result.refined.linear() * guess.linear().transpose());
+      Eigen::Vector3d turn = change.axis() * change.angle();
+      for (int k = 0; k < 3; ++k) {
+        if (result.constraint.rotation_eigenvalues[k] >= options_.weak_rotation_guard)
+          continue;
+        const Eigen::Vector3d axis = result.constraint.rotation_axes.col(k);
+        turn -= axis * axis.dot(turn);
+      }
+      const double angle = turn.norm();
+      const Eigen::Matrix3d kept = angle > 0.0 ? Eigen::AngleAxisd(angle, turn / angle).toRotationMatrix()
+                                               : Eigen::Matrix3d::Identity();
+      update.pose.linear() = kept * guess.linear();
+      const Eigen::Vector3d offset = guess.translation() - result.refined.translation();
+      for (int k = 0; k < 3; ++k) {
+        if (result.constraint.eigenvalues[k] >= options_.weak_direction_guard)
+          continue;
+        const Eigen::Vector3d d = result.constraint.directions.col(k);
+        update.pose.translation() += d * d.dot(offset);
+      }
+      update.correction = Correction::kPartial;
+    } else if (result.accepted()) {
+      update.pose = result.transform;
+      update.correction = Correction::kFull;
+    }
+    if (update.correction != Correction::kNone)
+      global_.apply_correction(update.pose * guess.inverse());
+    update.registration = std::move(result);
+  }
+  update.map_from_odom = global_.correction();
+
+  local_map_.push_back(voxel_downsample(transformed(points, update.pose), options_.local_map_voxel));
+  while (local_map_.size() > options_.local_map_scans)
+    local_map_.pop_front();
+  return update;
+}
+
+}  // namespace strata

@@ -1,0 +1,91 @@
+#include "server/pipeline/localizer_worker.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <string>
+#include <utility>
+
+#include "server/pipeline/scan_preprocessing.hpp"
+
+namespace strata::pipeline {
+
+LocalizerWorker::LocalizerWorker(RobotState& state, LocalizerOptions options,
+                                 const Eigen::Isometry3d& initial_map_from_odom)
+    : state_(state), localizer_(std::move(options), initial_map_from_odom) {
+  state_.set_correction(initial_map_from_odom, false);
+}
+
+LocalizerWorker::~LocalizerWorker() {
+  stop();
+}
+
+void LocalizerWorker::start() {
+  if (thread_.joinable())
+    return;
+  thread_ = std::thread([this] { run(); });
+}
+
+void LocalizerWorker::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_one();
+  if (thread_.joinable())
+    thread_.join();
+}
+
+void LocalizerWorker::submit(ScanEvent scan) {
+  {
+    std::lock_guard lock(mutex_);
+    if (pending_)
+      ++dropped_;
+    pending_ = std::move(scan);
+  }
+  wake_.notify_one();
+}
+
+void LocalizerWorker::run() {
+  while (true) {
+    ScanEvent scan;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [this] { return stopping_ || pending_.has_value(); });
+      if (stopping_)
+        return;
+      scan = std::move(*pending_);
+      pending_.reset();
+      status_.dropped = dropped_;
+    }
+    process(scan);
+  }
+}
+
+void LocalizerWorker::process(const ScanEvent& scan) {
+  const PointCloud points = points_in_base(scan);
+  const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
+  const LocalizationUpdate update = localizer_.add_scan(points, odometry);
+  ++status_.scans;
+  if (update.registration) {
+    const RegistrationResult& r = *update.registration;
+    r.accepted() ? ++status_.accepted : ++status_.rejected;
+    if (update.correction == Correction::kPartial)
+      ++status_.partial;
+    status_.last = RegistrationStatus::Last{scan.stamp,
+                                            std::string(to_string(r.assessment.verdict)),
+                                            std::string(to_string(update.correction)),
+                                            std::string(to_string(r.assessment.reason)),
+                                            r.assessment.message,
+                                            r.rmse,
+                                            r.pairs,
+                                            r.iterations,
+                                            r.seconds};
+    if (update.correction == Correction::kNone) {
+      spdlog::info("registration rejected at t={:.1f}: {}", scan.stamp, r.assessment.message);
+    }
+  }
+  state_.set_correction(update.map_from_odom, true);
+  state_.set_registration(status_);
+}
+
+}  // namespace strata::pipeline

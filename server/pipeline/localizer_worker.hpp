@@ -1,0 +1,46 @@
+#pragma once
+
+#include <condition_variable>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include "core/localization/scan_to_map_localizer.hpp"
+#include "drivers/scan_event.hpp"
+#include "server/state/robot_state.hpp"
+
+namespace strata::pipeline {
+
+/// The pipeline worker for localization: takes scans from the driver thread without blocking it, registers
+/// each on its own thread, and publishes the corrected pose and the registration status. When scans come
+/// faster than registration (a 10 Hz lidar), the newest waiting scan replaces an older one: the pose
+/// stays current and the driver never waits (ARCHITECTURE.md 3).
+class LocalizerWorker {
+ public:
+  LocalizerWorker(RobotState& state, LocalizerOptions options,
+                  const Eigen::Isometry3d& initial_map_from_odom);
+  ~LocalizerWorker();
+  LocalizerWorker(const LocalizerWorker&) = delete;
+  LocalizerWorker& operator=(const LocalizerWorker&) = delete;
+
+  void start();
+  void stop();
+  /// Called from the driver thread; returns at once.
+  void submit(ScanEvent scan);
+
+ private:
+  void run();
+  void process(const ScanEvent& scan);
+
+  RobotState& state_;
+  ScanToMapLocalizer localizer_;
+  RegistrationStatus status_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::optional<ScanEvent> pending_;
+  std::size_t dropped_ = 0;
+  bool stopping_ = false;
+  std::thread thread_;
+};
+
+}  // namespace strata::pipeline

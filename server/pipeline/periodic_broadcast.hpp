@@ -1,0 +1,38 @@
+#pragma once
+
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "server/net/client_hub.hpp"
+
+namespace strata::pipeline {
+
+/// Broadcasts a message to every WebSocket client at a fixed rate, decoupled from the rate at which the
+/// robot's state changes: the pose stream (20-50 Hz) and the status stream (1 Hz). Each message is
+/// encoded once and shared by all clients' queues; nothing is sent when the encoder has nothing new.
+class PeriodicBroadcast : public std::enable_shared_from_this<PeriodicBroadcast> {
+ public:
+  /// Returns the message to send now, or nothing.
+  using Encoder = std::function<std::optional<net::OutgoingMessage>()>;
+
+  PeriodicBroadcast(boost::asio::io_context& io, net::ClientHub& hub, double rate_hz, Encoder encoder);
+
+  void start();
+  void stop();
+
+ private:
+  void schedule();
+
+  boost::asio::steady_timer timer_;
+  net::ClientHub& hub_;
+  std::chrono::steady_clock::duration period_;
+  Encoder encoder_;
+  bool running_ = false;
+};
+
+}  // namespace strata::pipeline

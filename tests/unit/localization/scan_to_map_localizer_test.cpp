@@ -1,0 +1,91 @@
+#include "core/localization/scan_to_map_localizer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+
+#include "drivers/sim/simulator.hpp"
+#include "drivers/sim/world/world_file.hpp"
+#include "server/pipeline/scan_preprocessing.hpp"
+
+namespace strata {
+namespace {
+
+Pose2 planar(const Pose3& pose) {
+  return {pose.position.x(), pose.position.y(), pose.yaw};
+}
+
+TEST(ScanToMapLocalizer, FirstScanKeepsTheGivenStart) {
+  Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+  start.translation() = Eigen::Vector3d(1, 2, 0.5);
+  ScanToMapLocalizer localizer({}, start);
+  const PointCloud points = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const LocalizationUpdate update = localizer.add_scan(points, {0, 0, 0});
+  EXPECT_FALSE(update.registration);
+  EXPECT_EQ(update.correction, Correction::kNone);
+  EXPECT_TRUE(update.pose.isApprox(start));
+}
+
+// Drives the yard with stop-and-go scans and localizes them: the corrected pose must end closer to the
+// truth than the odometry it started from, and climb the platform's ramp (odometry is planar).
+TEST(ScanToMapLocalizer, BeatsOdometryInTheYard) {
+  auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
+  sim::Simulator simulator(world, {.seed = 4});
+  const Eigen::Isometry3d map_from_odom =
+      simulator.sample().truth.to_isometry() * simulator.sample().odometry.to_isometry().inverse();
+  ScanToMapLocalizer localizer({}, map_from_odom);
+  std::size_t scans = 0;
+  double highest = 0.0;
+  while (scans < 14) {
+    simulator.step(0.01);
+    for (const ScanEvent& scan : simulator.take_scans()) {
+      const LocalizationUpdate update =
+          localizer.add_scan(pipeline::points_in_base(scan), planar(scan.odometry));
+      highest = std::max(highest, update.pose.translation().z());
+      ++scans;
+    }
+  }
+  const sim::RobotSample s = simulator.sample();
+  const double corrected = (localizer.pose(planar(s.odometry)).translation() - s.truth.position).norm();
+  const double odometry =
+      ((map_from_odom * s.odometry.to_isometry()).translation() - s.truth.position).head<2>().norm();
+  EXPECT_LT(corrected, odometry);
+  EXPECT_LT(corrected, 0.3);
+  EXPECT_GT(highest, 0.25);  // it saw itself go up the ramp onto the 0.4 m platform
+}
+
+// In a long featureless corridor ICP cannot tell how far the robot went: the localizer must take that
+// from odometry (partial correction) instead of letting ICP slide.
+TEST(ScanToMapLocalizer, CorridorAxisComesFromOdometry) {
+  sim::WorldDescription corridor;
+  corridor.boxes.push_back({"floor", {0, 0, -0.1}, {200, 4, 0.2}, 0.0});
+  corridor.boxes.push_back({"wall-left", {0, 1.35, 1.5}, {200, 0.2, 3}, 0.0});
+  corridor.boxes.push_back({"wall-right", {0, -1.35, 1.5}, {200, 0.2, 3}, 0.0});
+  corridor.boxes.push_back({"ceiling", {0, 0, 3.1}, {200, 4, 0.2}, 0.0});
+  corridor.spawn = {-20, 0, 0};
+  corridor.route = {{20, 0}, {21, 0}};
+  auto world = std::make_shared<const sim::World>(std::move(corridor));
+  sim::Simulator simulator(world, {.seed = 5});
+  ScanToMapLocalizer localizer({}, Eigen::Isometry3d::Identity());
+  std::size_t partial = 0, scans = 0;
+  double worst_along = 0.0;
+  while (scans < 6) {
+    simulator.step(0.01);
+    for (const ScanEvent& scan : simulator.take_scans()) {
+      const LocalizationUpdate update =
+          localizer.add_scan(pipeline::points_in_base(scan), planar(scan.odometry));
+      if (update.correction == Correction::kPartial)
+        ++partial;
+      // Along the axis the estimate may be off by what odometry is off, not by a slide of metres.
+      const double odometry_along = scan.odometry.position.x() - scan.truth->position.x();
+      const double along = update.pose.translation().x() - scan.truth->position.x();
+      worst_along = std::max(worst_along, std::abs(along - odometry_along));
+      ++scans;
+    }
+  }
+  EXPECT_GE(partial, 4u);
+  EXPECT_LT(worst_along, 0.1);
+}
+
+}  // namespace
+}  // namespace strata
