@@ -71,6 +71,8 @@ class SurfaceGrid {
   double cell_size_;
   std::vector<std::uint32_t> begin_;  ///< per cell, then one past the end
   std::vector<Surface> surfaces_;
+  /// Per cell: its one horizontal surface's height; NaN if empty; infinity if anything else.
+  std::vector<float> simple_height_;
 };
 
 }  // namespace strata
