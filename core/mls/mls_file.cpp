@@ -83,6 +83,7 @@ std::string encode(const MlsMap& map) {
   put<std::int32_t>(out, c.free_space_ray_stride);
   put(out, c.free_space_stop_short);
   put(out, c.free_space_height_margin);
+  put<std::uint32_t>(out, kMlsTileBits);  // tile indices mean nothing without the tile size
   put<std::uint64_t>(out, map.version());
 
   std::vector<TileIndex> tiles = map.tile_indices();
@@ -159,6 +160,10 @@ MlsMap decode(const std::string& data, const std::string& name) {
   if (!(config.resolution > 0.0) || !std::isfinite(config.resolution) || !(config.gap > 0.0) ||
       config.max_evidence < 1 || config.max_evidence > 255)
     fields.fail("invalid map configuration");
+  const auto tile_bits = fields.get<std::uint32_t>();
+  if (tile_bits != kMlsTileBits)
+    fields.fail("written with tiles of " + std::to_string(1U << (tile_bits & 31U)) +
+                " cells a side, this build uses " + std::to_string(kMlsTileSize));
   MlsMap map(config);
   map.set_version(fields.get<std::uint64_t>());
   const auto tile_count = fields.get<std::uint64_t>();

@@ -13,9 +13,10 @@ struct MlsFileError : std::runtime_error {
 };
 
 /// Saves `map` in Strata's native format (little-endian: magic "STRATMLS", format version, total size,
-/// the map's config and version, then per tile its index, version, patch counts per cell and patches;
-/// last an FNV-1a 64 checksum of everything before it). Atomic: written to a temporary file in the same
-/// directory, fsync'ed, then renamed over `path`, so a crash leaves the old file or the new one, never half.
+/// the map's config, tile size and version, then per tile its index, version, patch counts per cell and
+/// patches; last an FNV-1a 64 checksum of everything before it). Atomic: written to a temporary file in the
+/// same directory, fsync'ed, then renamed over `path`, so a crash leaves the old file or the new one, never
+/// half.
 void save_mls_map(const MlsMap& map, const std::filesystem::path& path);
 
 /// Loads a native map file. Throws MlsFileError on a missing, truncated, corrupted or foreign file.
