@@ -8,6 +8,13 @@
 namespace strata {
 namespace {
 
+// Points beyond this (a broken pose, a corrupt scan) would overflow the integer cell indices: dropped.
+constexpr double kMaxCoordinate = 1.0e6;
+
+bool usable(const Eigen::Vector3d& p) {
+  return p.allFinite() && p.cwiseAbs().maxCoeff() < kMaxCoordinate;
+}
+
 float gap_between(const MlsPatch& patch, float z) {
   if (z > patch.top())
     return z - patch.top();
@@ -95,20 +102,24 @@ MlsInsertStats MlsMap::insert_scan(const PointCloud& points, const Eigen::Vector
   ++version_;
   MlsInsertStats stats;
   stats.points = points.size();
+  if (!usable(sensor_origin)) {
+    stats.points_dropped = points.size();
+    return stats;
+  }
 
   // Free space first, against the map as it was: a surface this scan sees through loses evidence before
   // this scan's own hits add to the surfaces it does see.
   if (config_.free_space_ray_stride > 0) {
     const auto stride = static_cast<std::size_t>(config_.free_space_ray_stride);
     for (std::size_t i = 0; i < points.size(); i += stride)
-      if (points[i].allFinite() && (points[i] - sensor_origin).norm() >= config_.min_range)
+      if (usable(points[i]) && (points[i] - sensor_origin).norm() >= config_.min_range)
         trace_ray(sensor_origin, points[i], stats);
   }
 
   const double sigma_base = config_.sigma_base;
   const double sigma_per_metre = config_.sigma_per_metre;
   for (const Eigen::Vector3d& p : points) {
-    if (!p.allFinite()) {
+    if (!usable(p)) {
       ++stats.points_dropped;
       continue;
     }

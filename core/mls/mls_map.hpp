@@ -33,7 +33,7 @@ struct MlsInsertStats {
   std::size_t rays_traced = 0;
   std::size_t cells_visited_by_rays = 0;
   std::size_t patches_cleared = 0;  ///< removed because rays passed through them
-  std::size_t points_dropped = 0;   ///< a tile's pool was full
+  std::size_t points_dropped = 0;   ///< not finite, too near, too far, or a tile's pool was full
 };
 
 /// Multi-Level Surface map (Triebel, Pfaff, Burgard 2006): an unbounded 2D grid of cells in tiles kept in

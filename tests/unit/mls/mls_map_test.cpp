@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "core/mls/drivable_map.hpp"
@@ -272,6 +273,15 @@ TEST(MlsMap, NegativeCoordinatesMapToTheirOwnCells) {
   EXPECT_NEAR(patches_at(map, -0.05, -0.05)[0].mean, 0.0, 1e-6);
   EXPECT_NEAR(patches_at(map, 0.05, 0.05)[0].mean, 0.3, 1e-6);
   EXPECT_EQ(map.tile_count(), 2U);
+}
+
+TEST(MlsMap, DropsPointsItCannotUse) {
+  MlsMap map;
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const MlsInsertStats stats =
+      map.insert_scan({{nan, 0, 0}, {1e300, 0, 0}, {0.01, 0.01, 1.0}, {1.05, 0.05, 0.0}}, {0, 0, 1});
+  EXPECT_EQ(stats.points_dropped, 3U);  // not finite, absurdly far, closer than min_range
+  EXPECT_EQ(map.patch_count(), 1U);
 }
 
 TEST(MlsMap, MemoryPerOccupiedCellStaysSmall) {
