@@ -8,6 +8,7 @@
 #include <string>
 
 #include "server/app/build_info.hpp"
+#include "server/app/map_command.hpp"
 #include "server/app/register_command.hpp"
 #include "server/app/serve.hpp"
 
@@ -61,6 +62,10 @@ int main(int argc, char** argv) {
   strata::app::RegisterOptions register_options;
   auto* register_cmd = strata::app::add_register_command(app, register_options);
 
+  strata::app::MapBuildOptions map_build;
+  strata::app::MapExportOptions map_export;
+  const strata::app::MapCommand map_cmd = strata::app::add_map_command(app, map_build, map_export);
+
   auto* version_cmd =
       app.add_subcommand("version", "Print the version and the libraries Strata was built with");
 
@@ -74,6 +79,10 @@ int main(int argc, char** argv) {
       return strata::app::serve(serve);
     if (*register_cmd)
       return strata::app::run_register(register_options);
+    if (*map_cmd.build)
+      return strata::app::run_map_build(map_build);
+    if (*map_cmd.export_)
+      return strata::app::run_map_export(map_export);
     if (*version_cmd) {
       std::printf("strata %s\n%s\n", strata::build_info::version().c_str(),
                   strata::build_info::libraries().dump(2).c_str());

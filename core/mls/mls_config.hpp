@@ -1,0 +1,35 @@
+#pragma once
+
+namespace strata {
+
+/// How an MLS map turns points into patches (Triebel, Pfaff, Burgard 2006; ARCHITECTURE.md 4.2).
+struct MlsConfig {
+  double resolution = 0.1;  ///< cell edge, metres
+  /// gamma: a point whose vertical gap to every patch of its cell is at least this starts a new patch.
+  /// At least the height of the tallest robot that must fit under an overhang (1.0 m in the paper).
+  double gap = 1.0;
+  /// tau: a point further than this from a horizontal patch's mean turns it into a vertical patch.
+  double vertical_threshold = 0.1;
+  /// Height standard deviation of a point: sigma = sigma_base + sigma_per_metre * range. Grows with range
+  /// because the beam's footprint and the angular error grow with it.
+  double sigma_base = 0.01;
+  double sigma_per_metre = 0.002;
+  /// Points closer to the sensor than this are dropped: scanners report "no return" as zeros, and the
+  /// robot's own body is not map.
+  double min_range = 0.1;
+
+  // Dynamic surfaces (thesis 5.3): every hit adds one unit of evidence to a patch (saturating at
+  // max_evidence); every sampled ray that passes through it takes one away; at zero it is removed.
+  int max_evidence = 8;
+  /// Only every n-th point's ray is traced through the map (0 disables free-space clearing). Rays are
+  /// what costs; a surface that is really gone is crossed by many rays, so a subsample suffices.
+  int free_space_ray_stride = 8;
+  /// A ray is traced only up to this horizontal distance short of its end point, so that noisy surfaces
+  /// next to the hit (the wall a ray ends on, the floor a grazing ray lands on) are not cleared by it.
+  double free_space_stop_short = 0.3;
+  /// A horizontal patch is cleared only by rays that end at least this far above or below it: a ray that
+  /// grazes a floor and lands on it a little further on did not see through the floor.
+  double free_space_height_margin = 0.1;
+};
+
+}  // namespace strata

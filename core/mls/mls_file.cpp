@@ -1,0 +1,271 @@
+#include "core/mls/mls_file.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <string>
+#include <tuple>
+
+namespace strata {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the native map format is written little-endian");
+
+constexpr char kMagic[8] = {'S', 'T', 'R', 'A', 'T', 'M', 'L', 'S'};
+constexpr std::uint32_t kFormatVersion = 1;
+constexpr std::size_t kHeaderBytes = sizeof(kMagic) + sizeof(std::uint32_t) + sizeof(std::uint64_t);
+constexpr std::size_t kChecksumBytes = sizeof(std::uint64_t);
+
+std::uint64_t fnv1a64(const char* data, std::size_t size) {
+  std::uint64_t hash = 0xCBF29CE484222325ULL;
+  for (std::size_t i = 0; i < size; ++i) {
+    hash ^= static_cast<unsigned char>(data[i]);
+    hash *= 0x100000001B3ULL;
+  }
+  return hash;
+}
+
+template <typename T>
+void put(std::string& out, T value) {
+  char bytes[sizeof(T)];
+  std::memcpy(bytes, &value, sizeof(T));
+  out.append(bytes, sizeof(T));
+}
+
+/// Reads fields from the verified buffer; running out is still checked, so a lying count cannot read past.
+class Reader {
+ public:
+  Reader(const std::string& data, std::size_t end, const std::string& name)
+      : data_(data), end_(end), name_(name) {}
+  template <typename T>
+  T get() {
+    if (end_ - position_ < sizeof(T))
+      fail("truncated: ends inside a record");
+    T value;
+    std::memcpy(&value, data_.data() + position_, sizeof(T));
+    position_ += sizeof(T);
+    return value;
+  }
+  [[nodiscard]] std::size_t position() const { return position_; }
+  void seek(std::size_t position) { position_ = position; }
+  [[noreturn]] void fail(const std::string& what) const {
+    throw MlsFileError("MLS map file " + name_ + ": " + what);
+  }
+
+ private:
+  const std::string& data_;
+  std::size_t end_;
+  std::size_t position_ = 0;
+  const std::string& name_;
+};
+
+std::string encode(const MlsMap& map) {
+  std::string out;
+  out.append(kMagic, sizeof(kMagic));
+  put(out, kFormatVersion);
+  put<std::uint64_t>(out, 0);  // total size, filled in below
+  const MlsConfig& c = map.config();
+  put(out, c.resolution);
+  put(out, c.gap);
+  put(out, c.vertical_threshold);
+  put(out, c.sigma_base);
+  put(out, c.sigma_per_metre);
+  put(out, c.min_range);
+  put<std::int32_t>(out, c.max_evidence);
+  put<std::int32_t>(out, c.free_space_ray_stride);
+  put(out, c.free_space_stop_short);
+  put(out, c.free_space_height_margin);
+  put<std::uint32_t>(out, kMlsTileBits);  // tile indices mean nothing without the tile size
+  put<std::uint64_t>(out, map.version());
+
+  std::vector<TileIndex> tiles = map.tile_indices();
+  std::sort(tiles.begin(), tiles.end(),
+            [](const TileIndex& a, const TileIndex& b) { return std::tie(a.y, a.x) < std::tie(b.y, b.x); });
+  put<std::uint64_t>(out, tiles.size());
+  std::string counts(kMlsTileCells, '\0');
+  std::string patches;
+  for (const TileIndex& index : tiles) {
+    const MlsTile& tile = *map.find_tile(index);
+    patches.clear();
+    std::uint32_t total = 0;
+    for (int local = 0; local < kMlsTileCells; ++local) {
+      unsigned count = 0;
+      tile.for_each_patch(local, [&](const MlsPatch& p) {
+        put(patches, p.mean);
+        put(patches, p.variance);
+        put(patches, p.depth);
+        put(patches, p.evidence);
+        ++count;
+      });
+      if (count > 255)
+        throw MlsFileError("MLS map: a cell holds more than 255 patches; the format cannot store it");
+      counts[static_cast<std::size_t>(local)] = static_cast<char>(count);
+      total += count;
+    }
+    put<std::int32_t>(out, index.x);
+    put<std::int32_t>(out, index.y);
+    put<std::uint64_t>(out, tile.version);
+    put<std::uint32_t>(out, total);
+    out += counts;
+    out += patches;
+  }
+  const std::uint64_t size = out.size() + kChecksumBytes;
+  std::memcpy(out.data() + sizeof(kMagic) + sizeof(std::uint32_t), &size, sizeof(size));
+  put(out, fnv1a64(out.data(), out.size()));
+  return out;
+}
+
+MlsMap decode(const std::string& data, const std::string& name) {
+  Reader reader(data, data.size(), name);
+  if (data.size() < kHeaderBytes || std::memcmp(data.data(), kMagic, sizeof(kMagic)) != 0)
+    reader.fail("not a Strata MLS map (bad magic)");
+  reader.seek(sizeof(kMagic));
+  const auto format = reader.get<std::uint32_t>();
+  if (format != kFormatVersion)
+    reader.fail("unsupported format version " + std::to_string(format) + " (this build reads " +
+                std::to_string(kFormatVersion) + ")");
+  const auto declared = reader.get<std::uint64_t>();
+  if (data.size() < declared)
+    reader.fail("truncated: " + std::to_string(data.size()) + " bytes of " + std::to_string(declared));
+  if (data.size() != declared || declared < kHeaderBytes + kChecksumBytes)
+    reader.fail("corrupted: size " + std::to_string(data.size()) + " does not match the header's " +
+                std::to_string(declared));
+  const std::size_t body = data.size() - kChecksumBytes;
+  std::uint64_t stored = 0;
+  std::memcpy(&stored, data.data() + body, sizeof(stored));
+  if (stored != fnv1a64(data.data(), body))
+    reader.fail("corrupted: checksum mismatch");
+
+  Reader fields(data, body, name);
+  fields.seek(kHeaderBytes);
+  MlsConfig config;
+  config.resolution = fields.get<double>();
+  config.gap = fields.get<double>();
+  config.vertical_threshold = fields.get<double>();
+  config.sigma_base = fields.get<double>();
+  config.sigma_per_metre = fields.get<double>();
+  config.min_range = fields.get<double>();
+  config.max_evidence = fields.get<std::int32_t>();
+  config.free_space_ray_stride = fields.get<std::int32_t>();
+  config.free_space_stop_short = fields.get<double>();
+  config.free_space_height_margin = fields.get<double>();
+  if (!(config.resolution > 0.0) || !std::isfinite(config.resolution) || !(config.gap > 0.0) ||
+      config.max_evidence < 1 || config.max_evidence > 255)
+    fields.fail("invalid map configuration");
+  const auto tile_bits = fields.get<std::uint32_t>();
+  if (tile_bits != kMlsTileBits)
+    fields.fail("written with tiles of " + std::to_string(1U << (tile_bits & 31U)) +
+                " cells a side, this build uses " + std::to_string(kMlsTileSize));
+  MlsMap map(config);
+  map.set_version(fields.get<std::uint64_t>());
+  const auto tile_count = fields.get<std::uint64_t>();
+  for (std::uint64_t t = 0; t < tile_count; ++t) {
+    const TileIndex index{fields.get<std::int32_t>(), fields.get<std::int32_t>()};
+    if (map.find_tile(index) != nullptr)
+      fields.fail("tile (" + std::to_string(index.x) + ", " + std::to_string(index.y) + ") appears twice");
+    map.set_tile_version(index, fields.get<std::uint64_t>());
+    const auto total = fields.get<std::uint32_t>();
+    std::array<std::uint8_t, kMlsTileCells> counts{};
+    std::uint32_t sum = 0;
+    for (std::uint8_t& count : counts) {
+      count = fields.get<std::uint8_t>();
+      sum += count;
+    }
+    if (sum != total || total > MlsTile::kMaxPatches)
+      fields.fail("tile patch counts disagree");
+    for (int local = 0; local < kMlsTileCells; ++local) {
+      const CellIndex cell{index.x * kMlsTileSize + local % kMlsTileSize,
+                           index.y * kMlsTileSize + local / kMlsTileSize};
+      float previous_top = -std::numeric_limits<float>::infinity();
+      for (unsigned i = 0; i < counts[static_cast<std::size_t>(local)]; ++i) {
+        MlsPatch patch;
+        patch.mean = fields.get<float>();
+        patch.variance = fields.get<float>();
+        patch.depth = fields.get<float>();
+        patch.evidence = fields.get<std::uint8_t>();
+        if (!std::isfinite(patch.mean) || !std::isfinite(patch.variance) || !std::isfinite(patch.depth) ||
+            patch.depth < 0.0F || patch.variance < 0.0F || patch.evidence == 0 || patch.mean <= previous_top)
+          fields.fail("invalid patch in tile (" + std::to_string(index.x) + ", " + std::to_string(index.y) +
+                      ")");
+        previous_top = patch.mean;
+        if (!map.append_patch(cell, patch))
+          fields.fail("too many patches in a tile");
+      }
+    }
+  }
+  if (fields.position() != body)
+    fields.fail("corrupted: trailing bytes after the last tile");
+  return map;
+}
+
+void write_all(int fd, const std::string& data, const std::string& name) {
+  std::size_t written = 0;
+  while (written < data.size()) {
+    const ssize_t n = ::write(fd, data.data() + written, data.size() - written);
+    if (n < 0) {
+      if (errno == EINTR)
+        continue;
+      throw MlsFileError("cannot write " + name + ": " + std::strerror(errno));
+    }
+    written += static_cast<std::size_t>(n);
+  }
+}
+
+}  // namespace
+
+void save_mls_map(const MlsMap& map, const std::filesystem::path& path) {
+  const std::string data = encode(map);
+  const std::filesystem::path temporary = path.string() + ".tmp." + std::to_string(::getpid());
+  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0)
+    throw MlsFileError("cannot create " + temporary.string() + ": " + std::strerror(errno));
+  try {
+    write_all(fd, data, temporary.string());
+    if (::fsync(fd) != 0)
+      throw MlsFileError("cannot fsync " + temporary.string() + ": " + std::strerror(errno));
+  } catch (...) {
+    ::close(fd);
+    ::unlink(temporary.c_str());
+    throw;
+  }
+  ::close(fd);
+  if (::rename(temporary.c_str(), path.c_str()) != 0) {
+    const int error = errno;
+    ::unlink(temporary.c_str());
+    throw MlsFileError("cannot rename " + temporary.string() + " to " + path.string() + ": " +
+                       std::strerror(error));
+  }
+  // The rename itself is durable only once the directory is on disk.
+  std::filesystem::path directory = path.parent_path();
+  if (directory.empty())
+    directory = ".";
+  const int dir_fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (dir_fd >= 0) {
+    ::fsync(dir_fd);
+    ::close(dir_fd);
+  }
+}
+
+MlsMap load_mls_map(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw MlsFileError("MLS map file " + path.string() + ": cannot open");
+  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad())
+    throw MlsFileError("MLS map file " + path.string() + ": read error");
+  return decode(data, path.string());
+}
+
+void load_mls_map_into(const std::filesystem::path& path, MlsMap& map) {
+  map = load_mls_map(path);
+}
+
+}  // namespace strata

@@ -1,0 +1,28 @@
+#pragma once
+
+#include <filesystem>
+#include <stdexcept>
+
+#include "core/mls/mls_map.hpp"
+
+namespace strata {
+
+/// A native map file that cannot be written or read; what() says which file and what is wrong with it.
+struct MlsFileError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Saves `map` in Strata's native format (little-endian: magic "STRATMLS", format version, total size,
+/// the map's config, tile size and version, then per tile its index, version, patch counts per cell and
+/// patches; last an FNV-1a 64 checksum of everything before it). Atomic: written to a temporary file in the
+/// same directory, fsync'ed, then renamed over `path`, so a crash leaves the old file or the new one, never
+/// half.
+void save_mls_map(const MlsMap& map, const std::filesystem::path& path);
+
+/// Loads a native map file. Throws MlsFileError on a missing, truncated, corrupted or foreign file.
+[[nodiscard]] MlsMap load_mls_map(const std::filesystem::path& path);
+
+/// Loads into `map` only if the whole file is valid; on error `map` is untouched and MlsFileError thrown.
+void load_mls_map_into(const std::filesystem::path& path, MlsMap& map);
+
+}  // namespace strata

@@ -1,0 +1,395 @@
+#include "core/mls/mls_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace strata {
+namespace {
+
+// Points beyond this (a broken pose, a corrupt scan) would overflow the integer cell indices: dropped.
+constexpr double kMaxCoordinate = 1.0e6;
+
+bool usable(const Eigen::Vector3d& p) {
+  return p.allFinite() && p.cwiseAbs().maxCoeff() < kMaxCoordinate;
+}
+
+float gap_between(const MlsPatch& patch, float z) {
+  if (z > patch.top())
+    return z - patch.top();
+  if (z < patch.bottom())
+    return patch.bottom() - z;
+  return 0.0F;
+}
+
+}  // namespace
+
+MlsMap::MlsMap(MlsConfig config) : config_(config), inverse_resolution_(1.0 / config.resolution) {}
+
+// Moves hand the tiles over; the lookup cache must not keep pointing at tiles the source no longer owns.
+MlsMap::MlsMap(MlsMap&& other) noexcept
+    : config_(other.config_),
+      inverse_resolution_(other.inverse_resolution_),
+      version_(other.version_),
+      tiles_(std::move(other.tiles_)) {
+  other.tiles_.clear();
+  other.cached_key_ = ~0ULL;
+  other.cached_tile_ = nullptr;
+}
+
+MlsMap& MlsMap::operator=(MlsMap&& other) noexcept {
+  if (this != &other) {
+    config_ = other.config_;
+    inverse_resolution_ = other.inverse_resolution_;
+    version_ = other.version_;
+    tiles_ = std::move(other.tiles_);
+    cached_key_ = ~0ULL;
+    cached_tile_ = nullptr;
+    other.tiles_.clear();
+    other.cached_key_ = ~0ULL;
+    other.cached_tile_ = nullptr;
+  }
+  return *this;
+}
+
+CellIndex MlsMap::cell_of(double x, double y) const {
+  return {static_cast<int>(std::floor(x * inverse_resolution_)),
+          static_cast<int>(std::floor(y * inverse_resolution_))};
+}
+
+Eigen::Vector2d MlsMap::cell_center(CellIndex cell) const {
+  return {(cell.x + 0.5) * config_.resolution, (cell.y + 0.5) * config_.resolution};
+}
+
+TileIndex MlsMap::tile_of(CellIndex cell) {
+  // Arithmetic shift: floor division for negative indices too (C++20 defines it).
+  return {cell.x >> kMlsTileBits, cell.y >> kMlsTileBits};
+}
+
+int MlsMap::local_index(CellIndex cell) {
+  return (cell.y & (kMlsTileSize - 1)) * kMlsTileSize + (cell.x & (kMlsTileSize - 1));
+}
+
+std::uint64_t MlsMap::key_of(TileIndex tile) {
+  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(tile.x)) << 32U) |
+         static_cast<std::uint32_t>(tile.y);
+}
+
+TileIndex MlsMap::tile_from_key(std::uint64_t key) {
+  return {static_cast<int>(static_cast<std::uint32_t>(key >> 32U)),
+          static_cast<int>(static_cast<std::uint32_t>(key & 0xFFFFFFFFULL))};
+}
+
+MlsTile& MlsMap::tile_for(TileIndex tile) {
+  const std::uint64_t key = key_of(tile);
+  if (cached_tile_ != nullptr && key == cached_key_)  // ~0 is a real key: tile (-1, -1)
+    return *cached_tile_;
+  std::unique_ptr<MlsTile>& slot = tiles_[key];
+  if (!slot)
+    slot = std::make_unique<MlsTile>();
+  cached_key_ = key;
+  cached_tile_ = slot.get();
+  return *slot;
+}
+
+const MlsTile* MlsMap::find_tile(TileIndex tile) const {
+  const auto it = tiles_.find(key_of(tile));
+  return it == tiles_.end() ? nullptr : it->second.get();
+}
+
+MlsInsertStats MlsMap::insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin) {
+  ++version_;
+  MlsInsertStats stats;
+  stats.points = points.size();
+  if (!usable(sensor_origin)) {
+    stats.points_dropped = points.size();
+    return stats;
+  }
+
+  // Free space first, against the map as it was: a surface this scan sees through loses evidence before
+  // this scan's own hits add to the surfaces it does see.
+  if (config_.free_space_ray_stride > 0) {
+    const auto stride = static_cast<std::size_t>(config_.free_space_ray_stride);
+    for (std::size_t i = 0; i < points.size(); i += stride)
+      if (usable(points[i]) && (points[i] - sensor_origin).norm() >= config_.min_range)
+        trace_ray(sensor_origin, points[i], stats);
+  }
+
+  const double sigma_base = config_.sigma_base;
+  const double sigma_per_metre = config_.sigma_per_metre;
+  for (const Eigen::Vector3d& p : points) {
+    if (!usable(p)) {
+      ++stats.points_dropped;
+      continue;
+    }
+    const double range = (p - sensor_origin).norm();
+    if (range < config_.min_range) {
+      ++stats.points_dropped;
+      continue;
+    }
+    const double sigma = sigma_base + sigma_per_metre * range;
+    const CellIndex cell = cell_of(p.x(), p.y());
+    MlsTile& tile = tile_for(tile_of(cell));
+    tile.version = version_;
+    if (!add_point(tile, local_index(cell), static_cast<float>(p.z()), static_cast<float>(sigma * sigma)))
+      ++stats.points_dropped;
+  }
+  return stats;
+}
+
+bool MlsMap::add_point(MlsTile& tile, int local, float z, float variance) {
+  const auto gamma = static_cast<float>(config_.gap);
+  MlsTile::Handle& head = tile.first[static_cast<std::size_t>(local)];
+
+  MlsTile::Handle best = 0;
+  MlsTile::Handle below_best = 0;
+  MlsTile::Handle insert_after = 0;  // the highest patch below z, for a new patch
+  float best_gap = std::numeric_limits<float>::infinity();
+  MlsTile::Handle previous = 0;
+  for (MlsTile::Handle h = head; h != 0; previous = h, h = tile.at(h).next) {
+    const MlsPatch& patch = tile.at(h);
+    const float gap = gap_between(patch, z);
+    if (gap < best_gap) {
+      best_gap = gap;
+      best = h;
+      below_best = previous;
+    }
+    if (patch.mean < z)
+      insert_after = h;
+  }
+
+  if (best == 0 || best_gap >= gamma) {
+    // The gap rule: far enough from every surface of the cell to be a surface of its own.
+    MlsPatch fresh;
+    fresh.mean = z;
+    fresh.variance = variance;
+    fresh.evidence = 1;
+    const MlsTile::Handle handle = tile.allocate(fresh);
+    if (handle == 0)
+      return false;
+    MlsTile::Handle& link = insert_after == 0 ? head : tile.at(insert_after).next;
+    tile.at(handle).next = link;
+    link = handle;
+    return true;
+  }
+
+  MlsPatch& patch = tile.at(best);
+  if (!patch.vertical() && std::abs(z - patch.mean) <= static_cast<float>(config_.vertical_threshold)) {
+    // Kalman update of the height (thesis / Triebel 2006): the less certain estimate moves more.
+    const float sum = patch.variance + variance;
+    patch.mean = (variance * patch.mean + patch.variance * z) / sum;
+    patch.variance = patch.variance * variance / sum;
+  } else {
+    // Heights spanning more than tau without a gap: a vertical structure from its lowest to highest point.
+    const float top = std::max(patch.top(), z);
+    const float bottom = std::min(patch.bottom(), z);
+    if (z >= patch.top())
+      patch.variance = variance;
+    patch.mean = top;
+    patch.depth = top - bottom;
+  }
+  if (patch.evidence < config_.max_evidence)
+    ++patch.evidence;
+
+  // The patch grew: it may now be closer than gamma to its neighbours, which makes them one structure.
+  const MlsTile::Handle above = patch.next;
+  if (above != 0 && tile.at(above).bottom() - patch.top() < gamma)
+    merge_into(tile, best, above);
+  if (below_best != 0 && tile.at(best).bottom() - tile.at(below_best).top() < gamma)
+    merge_into(tile, below_best, best);
+  return true;
+}
+
+void MlsMap::merge_into(MlsTile& tile, MlsTile::Handle lower, MlsTile::Handle upper) {
+  MlsPatch& low = tile.at(lower);
+  const MlsPatch& high = tile.at(upper);
+  const float top = std::max(low.top(), high.top());
+  const float bottom = std::min(low.bottom(), high.bottom());
+  low.variance = high.variance;
+  low.mean = top;
+  low.depth = top - bottom;
+  low.evidence = std::max(low.evidence, high.evidence);
+  low.next = high.next;
+  tile.release(upper);
+}
+
+void MlsMap::trace_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end, MlsInsertStats& stats) {
+  const Eigen::Vector3d delta = end - origin;
+  const double horizontal = delta.head<2>().norm();
+  if (horizontal <= config_.free_space_stop_short + config_.resolution)
+    return;
+  ++stats.rays_traced;
+  const double t_stop = (horizontal - config_.free_space_stop_short) / horizontal;
+  const auto margin = static_cast<float>(config_.free_space_height_margin);
+  const auto end_z = static_cast<float>(end.z());
+
+  // Amanatides-Woo walk over the 2D cells the ray's ground projection crosses, parameter t in [0, 1].
+  const double ox = origin.x() * inverse_resolution_;
+  const double oy = origin.y() * inverse_resolution_;
+  const double dx = delta.x() * inverse_resolution_;
+  const double dy = delta.y() * inverse_resolution_;
+  CellIndex cell{static_cast<int>(std::floor(ox)), static_cast<int>(std::floor(oy))};
+  const int step_x = dx > 0 ? 1 : -1;
+  const int step_y = dy > 0 ? 1 : -1;
+  const double infinity = std::numeric_limits<double>::infinity();
+  const double t_delta_x = dx != 0.0 ? 1.0 / std::abs(dx) : infinity;
+  const double t_delta_y = dy != 0.0 ? 1.0 / std::abs(dy) : infinity;
+  double t_max_x = dx != 0.0 ? ((cell.x + (dx > 0 ? 1 : 0)) - ox) / dx : infinity;
+  double t_max_y = dy != 0.0 ? ((cell.y + (dy > 0 ? 1 : 0)) - oy) / dy : infinity;
+
+  std::uint64_t tile_key = 0;
+  bool looked_up = false;
+  MlsTile* tile = nullptr;
+  double t = 0.0;
+  while (t < t_stop) {
+    const double t_next = std::min({t_max_x, t_max_y, t_stop});
+    const std::uint64_t key = key_of(tile_of(cell));
+    if (!looked_up || key != tile_key) {
+      looked_up = true;
+      tile_key = key;
+      const auto it = tiles_.find(key);
+      tile = it == tiles_.end() ? nullptr : it->second.get();
+    }
+    ++stats.cells_visited_by_rays;
+    if (tile != nullptr) {
+      const auto z0 = static_cast<float>(origin.z() + delta.z() * t);
+      const auto z1 = static_cast<float>(origin.z() + delta.z() * t_next);
+      const float low = std::min(z0, z1);
+      const float high = std::max(z0, z1);
+      MlsTile::Handle* link = &tile->first[static_cast<std::size_t>(local_index(cell))];
+      while (*link != 0) {
+        const MlsTile::Handle h = *link;
+        MlsPatch& patch = tile->at(h);
+        const bool crossed = high >= patch.bottom() && low <= patch.top();
+        const bool ends_elsewhere = patch.vertical() || std::abs(end_z - patch.mean) > margin;
+        if (crossed && ends_elsewhere) {
+          tile->version = version_;
+          if (--patch.evidence == 0) {
+            *link = patch.next;
+            tile->release(h);
+            ++stats.patches_cleared;
+            continue;
+          }
+        }
+        link = &patch.next;
+      }
+    }
+    t = t_next;
+    if (t_max_x < t_max_y) {
+      cell.x += step_x;
+      t_max_x += t_delta_x;
+    } else {
+      cell.y += step_y;
+      t_max_y += t_delta_y;
+    }
+  }
+}
+
+std::vector<MlsPatch> MlsMap::patches(CellIndex cell) const {
+  std::vector<MlsPatch> out;
+  if (const MlsTile* tile = find_tile(tile_of(cell)))
+    tile->for_each_patch(local_index(cell), [&](const MlsPatch& patch) {
+      out.push_back(patch);
+      out.back().next = 0;
+    });
+  return out;
+}
+
+std::vector<TileIndex> MlsMap::tiles_changed_since(std::uint64_t version) const {
+  std::vector<TileIndex> out;
+  for (const auto& [key, tile] : tiles_)
+    if (tile->version > version)
+      out.push_back(tile_from_key(key));
+  return out;
+}
+
+std::vector<TileIndex> MlsMap::tile_indices() const {
+  std::vector<TileIndex> out;
+  out.reserve(tiles_.size());
+  for (const auto& entry : tiles_)
+    out.push_back(tile_from_key(entry.first));
+  return out;
+}
+
+std::size_t MlsMap::occupied_cell_count() const {
+  std::size_t count = 0;
+  for (const auto& entry : tiles_)
+    count += static_cast<std::size_t>(
+        std::count_if(entry.second->first.begin(), entry.second->first.end(), [](auto h) { return h != 0; }));
+  return count;
+}
+
+std::size_t MlsMap::patch_count() const {
+  std::size_t count = 0;
+  for (const auto& entry : tiles_)
+    for (int i = 0; i < kMlsTileCells; ++i)
+      entry.second->for_each_patch(i, [&](const MlsPatch&) { ++count; });
+  return count;
+}
+
+std::size_t MlsMap::memory_bytes() const {
+  constexpr std::size_t kMallocOverhead = 16;
+  // libstdc++ node: next pointer, key, value (no cached hash for a "fast" hash), plus malloc overhead.
+  constexpr std::size_t kNode = sizeof(void*) + sizeof(std::uint64_t) + sizeof(void*) + kMallocOverhead;
+  std::size_t bytes = sizeof(*this) + tiles_.bucket_count() * sizeof(void*);
+  for (const auto& entry : tiles_)
+    bytes += kNode + sizeof(MlsTile) + kMallocOverhead + entry.second->pool.capacity() * sizeof(MlsPatch) +
+             (entry.second->pool.capacity() > 0 ? kMallocOverhead : 0);
+  return bytes;
+}
+
+bool MlsMap::same_content(const MlsMap& other) const {
+  const MlsConfig& a = config_;
+  const MlsConfig& b = other.config_;
+  if (a.resolution != b.resolution || a.gap != b.gap || a.vertical_threshold != b.vertical_threshold ||
+      a.sigma_base != b.sigma_base || a.sigma_per_metre != b.sigma_per_metre || a.min_range != b.min_range ||
+      a.max_evidence != b.max_evidence || a.free_space_ray_stride != b.free_space_ray_stride ||
+      a.free_space_stop_short != b.free_space_stop_short ||
+      a.free_space_height_margin != b.free_space_height_margin)
+    return false;
+  if (version_ != other.version_ || tiles_.size() != other.tiles_.size())
+    return false;
+  for (const auto& [key, tile] : tiles_) {
+    const auto it = other.tiles_.find(key);
+    if (it == other.tiles_.end() || it->second->version != tile->version)
+      return false;
+    const MlsTile& mine = *tile;
+    const MlsTile& theirs = *it->second;
+    for (std::size_t i = 0; i < kMlsTileCells; ++i) {
+      MlsTile::Handle h = mine.first[i];
+      MlsTile::Handle g = theirs.first[i];
+      for (; h != 0 && g != 0; h = mine.at(h).next, g = theirs.at(g).next) {
+        const MlsPatch& p = mine.at(h);
+        const MlsPatch& q = theirs.at(g);
+        if (std::memcmp(&p.mean, &q.mean, sizeof(float)) != 0 ||
+            std::memcmp(&p.variance, &q.variance, sizeof(float)) != 0 ||
+            std::memcmp(&p.depth, &q.depth, sizeof(float)) != 0 || p.evidence != q.evidence)
+          return false;
+      }
+      if (h != 0 || g != 0)
+        return false;
+    }
+  }
+  return true;
+}
+
+bool MlsMap::append_patch(CellIndex cell, const MlsPatch& patch) {
+  MlsTile& tile = tile_for(tile_of(cell));
+  MlsPatch copy = patch;
+  copy.next = 0;
+  const MlsTile::Handle handle = tile.allocate(copy);
+  if (handle == 0)
+    return false;
+  MlsTile::Handle* link = &tile.first[static_cast<std::size_t>(local_index(cell))];
+  while (*link != 0)
+    link = &tile.at(*link).next;
+  *link = handle;
+  return true;
+}
+
+void MlsMap::set_tile_version(TileIndex tile, std::uint64_t version) {
+  tile_for(tile).version = version;
+}
+
+}  // namespace strata

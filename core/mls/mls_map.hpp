@@ -1,0 +1,113 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <memory>
+#include <unordered_map>
+#include <vector>
+
+#include "core/mls/mls_config.hpp"
+#include "core/mls/mls_patch.hpp"
+#include "core/mls/mls_tile.hpp"
+#include "core/points/point_cloud.hpp"
+
+namespace strata {
+
+/// A cell's global integer coordinates: floor(x / resolution), floor(y / resolution).
+struct CellIndex {
+  int x = 0;
+  int y = 0;
+  friend bool operator==(const CellIndex&, const CellIndex&) = default;
+};
+
+/// A tile's global integer coordinates: the cell index shifted right by kMlsTileBits.
+struct TileIndex {
+  int x = 0;
+  int y = 0;
+  friend bool operator==(const TileIndex&, const TileIndex&) = default;
+};
+
+/// What insert_scan did, for measuring and for the tests.
+struct MlsInsertStats {
+  std::size_t points = 0;
+  std::size_t rays_traced = 0;
+  std::size_t cells_visited_by_rays = 0;
+  std::size_t patches_cleared = 0;  ///< removed because rays passed through them
+  std::size_t points_dropped = 0;   ///< not finite, too near, too far, or a tile's pool was full
+};
+
+/// Multi-Level Surface map (Triebel, Pfaff, Burgard 2006): an unbounded 2D grid of cells in tiles kept in
+/// a hash map, each cell a short height-sorted list of horizontal and vertical patches. See
+/// ARCHITECTURE.md 4.2 for the rules; MlsConfig for the parameters.
+class MlsMap {
+ public:
+  explicit MlsMap(MlsConfig config = {});
+  MlsMap(MlsMap&& other) noexcept;
+  MlsMap& operator=(MlsMap&& other) noexcept;
+  MlsMap(const MlsMap&) = delete;
+  MlsMap& operator=(const MlsMap&) = delete;
+  ~MlsMap() = default;
+
+  /// Adds a registered scan: `points` in the map frame at full resolution, `sensor_origin` where they were
+  /// measured from (map frame). First traces a subsample of the rays to fade surfaces they pass through,
+  /// then updates the patches with every point. Increments version() once; every tile it changes gets
+  /// the new version.
+  MlsInsertStats insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin);
+
+  [[nodiscard]] const MlsConfig& config() const { return config_; }
+  [[nodiscard]] double resolution() const { return config_.resolution; }
+  /// Incremented by every insert_scan; tile versions are values of it.
+  [[nodiscard]] std::uint64_t version() const { return version_; }
+
+  [[nodiscard]] CellIndex cell_of(double x, double y) const;
+  [[nodiscard]] Eigen::Vector2d cell_center(CellIndex cell) const;
+  [[nodiscard]] static TileIndex tile_of(CellIndex cell);
+  [[nodiscard]] static int local_index(CellIndex cell);
+
+  /// The patches of one cell, lowest first (a copy: for tests, exports and tools, not inner loops).
+  [[nodiscard]] std::vector<MlsPatch> patches(CellIndex cell) const;
+  [[nodiscard]] const MlsTile* find_tile(TileIndex tile) const;
+  /// Tiles whose version is greater than `version`: what changed since a client last looked.
+  [[nodiscard]] std::vector<TileIndex> tiles_changed_since(std::uint64_t version) const;
+  [[nodiscard]] std::vector<TileIndex> tile_indices() const;
+
+  [[nodiscard]] std::size_t tile_count() const { return tiles_.size(); }
+  [[nodiscard]] std::size_t occupied_cell_count() const;
+  [[nodiscard]] std::size_t patch_count() const;
+  /// Heap bytes held by the map: tiles (cell heads and pool capacity) plus the hash table's nodes and
+  /// buckets, estimated the way libstdc++ lays them out.
+  [[nodiscard]] std::size_t memory_bytes() const;
+
+  /// Same config, same version, same tiles with the same versions and the same patches per cell (pool
+  /// layout and free lists do not matter).
+  [[nodiscard]] bool same_content(const MlsMap& other) const;
+
+  // For the native file reader: rebuild a map tile by tile.
+  void set_version(std::uint64_t version) { version_ = version; }
+  /// Appends a patch above the current top of `cell` (the caller gives patches lowest first).
+  /// Returns false when the tile's pool is full.
+  bool append_patch(CellIndex cell, const MlsPatch& patch);
+  void set_tile_version(TileIndex tile, std::uint64_t version);
+
+ private:
+  struct TileKeyHash {
+    std::size_t operator()(std::uint64_t key) const { return key * 0x9E3779B97F4A7C15ULL >> 20U; }
+  };
+  static std::uint64_t key_of(TileIndex tile);
+  static TileIndex tile_from_key(std::uint64_t key);
+  MlsTile& tile_for(TileIndex tile);
+
+  bool add_point(MlsTile& tile, int local, float z, float variance);
+  void trace_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end, MlsInsertStats& stats);
+  void merge_into(MlsTile& tile, MlsTile::Handle lower, MlsTile::Handle upper);
+
+  MlsConfig config_;
+  double inverse_resolution_;
+  std::uint64_t version_ = 0;
+  std::unordered_map<std::uint64_t, std::unique_ptr<MlsTile>, TileKeyHash> tiles_;
+  // The last tile looked up: consecutive points of a scan almost always fall into the same tile.
+  std::uint64_t cached_key_ = ~0ULL;
+  MlsTile* cached_tile_ = nullptr;
+};
+
+}  // namespace strata

@@ -1,0 +1,133 @@
+#include "core/mls/traversability.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace strata {
+
+CellRegion CellRegion::bounding(const CellRegion& a, const CellRegion& b) {
+  if (a.width <= 0 || a.height <= 0)
+    return b;
+  if (b.width <= 0 || b.height <= 0)
+    return a;
+  const int min_x = std::min(a.min.x, b.min.x);
+  const int min_y = std::min(a.min.y, b.min.y);
+  const int max_x = std::max(a.min.x + a.width, b.min.x + b.width);
+  const int max_y = std::max(a.min.y + a.height, b.min.y + b.height);
+  return {{min_x, min_y}, max_x - min_x, max_y - min_y};
+}
+
+CellRegion CellRegion::of_tiles(const std::vector<TileIndex>& tiles) {
+  CellRegion region;
+  for (const TileIndex& tile : tiles)
+    region = bounding(region, {{tile.x * kMlsTileSize, tile.y * kMlsTileSize}, kMlsTileSize, kMlsTileSize});
+  return region;
+}
+
+SurfaceGrid::SurfaceGrid(const MlsMap& map, const CellRegion& region, const TraversabilityConfig& config)
+    : region_(region), cell_size_(map.resolution()) {
+  const std::size_t cells = static_cast<std::size_t>(std::max(region.width, 0)) *
+                            static_cast<std::size_t>(std::max(region.height, 0));
+  begin_.reserve(cells + 1);
+  surfaces_.reserve(cells + cells / 4);
+  for (int row = 0; row < region.height; ++row) {
+    const MlsTile* tile = nullptr;
+    int tile_x = std::numeric_limits<int>::min();
+    for (int col = 0; col < region.width; ++col) {
+      const CellIndex index{region.min.x + col, region.min.y + row};
+      const TileIndex tile_index = MlsMap::tile_of(index);
+      if (tile_index.x != tile_x) {  // one lookup per tile a row crosses
+        tile_x = tile_index.x;
+        tile = map.find_tile(tile_index);
+      }
+      begin_.push_back(static_cast<std::uint32_t>(surfaces_.size()));
+      if (tile != nullptr)
+        tile->for_each_patch(MlsMap::local_index(index), [&](const MlsPatch& patch) {
+          surfaces_.push_back({patch.top(), patch.bottom(), patch.vertical(), false});
+        });
+    }
+  }
+  begin_.push_back(static_cast<std::uint32_t>(surfaces_.size()));
+  // Most cells hold one horizontal patch: keep its height in a flat array so the slope estimate (eight
+  // neighbour lookups per patch) reads one float instead of walking a cell's surfaces.
+  simple_height_.resize(cells);
+  for (std::size_t c = 0; c < cells; ++c) {
+    const std::uint32_t count = begin_[c + 1] - begin_[c];
+    if (count == 0)
+      simple_height_[c] = std::numeric_limits<float>::quiet_NaN();
+    else if (count == 1 && !surfaces_[begin_[c]].vertical)
+      simple_height_[c] = surfaces_[begin_[c]].top;
+    else
+      simple_height_[c] = std::numeric_limits<float>::infinity();
+  }
+  classify(config);
+}
+
+bool SurfaceGrid::neighbour_height(int col, int row, float height, float& out) const {
+  if (col < 0 || row < 0 || col >= region_.width || row >= region_.height)
+    return false;
+  const std::size_t c = cell(col, row);
+  const float simple = simple_height_[c];
+  if (std::isnan(simple))
+    return false;
+  if (std::isfinite(simple)) {
+    if (std::abs(simple - height) >= 0.5F)
+      return false;
+    out = simple;
+    return true;
+  }
+  float best = 0.5F;
+  bool found = false;
+  for (const Surface& s : surfaces(c)) {
+    if (s.vertical)
+      continue;
+    const float difference = std::abs(s.top - height);
+    if (difference < best) {
+      best = difference;
+      out = s.top;
+      found = true;
+    }
+  }
+  return found;
+}
+
+void SurfaceGrid::classify(const TraversabilityConfig& config) {
+  const auto robot_height = static_cast<float>(config.robot_height);
+  const double max_gradient = std::tan(config.max_slope);
+  // Gradients in metres per cell. Slope over two cells each way rather than one: a step the robot may climb
+  // (max_step over one cell) must not read as a steep slope, while a ramp keeps its gradient at any baseline.
+  const auto axis_gradient = [&](int col, int row, int dc, int dr, float height) {
+    for (int reach = 2; reach >= 1; --reach) {
+      float ahead = height;
+      float behind = height;
+      const bool has_ahead = neighbour_height(col + dc * reach, row + dr * reach, height, ahead);
+      const bool has_behind = neighbour_height(col - dc * reach, row - dr * reach, height, behind);
+      if (has_ahead && has_behind)
+        return static_cast<double>(ahead - behind) / (2.0 * reach);
+      if (has_ahead)
+        return static_cast<double>(ahead - height) / reach;
+      if (has_behind)
+        return static_cast<double>(height - behind) / reach;
+    }
+    return 0.0;
+  };
+  for (int row = 0; row < region_.height; ++row)
+    for (int col = 0; col < region_.width; ++col) {
+      const std::size_t index = cell(col, row);
+      const std::uint32_t begin = begin_[index];
+      const std::uint32_t end = begin_[index + 1];
+      for (std::uint32_t i = begin; i < end; ++i) {
+        Surface& s = surfaces_[i];
+        if (s.vertical)
+          continue;
+        if (i + 1 < end && surfaces_[i + 1].bottom - s.top < robot_height)
+          continue;  // the patch above leaves too little room
+        const double gx = axis_gradient(col, row, 1, 0, s.top);
+        const double gy = axis_gradient(col, row, 0, 1, s.top);
+        s.traversable = std::hypot(gx, gy) <= max_gradient * cell_size_;
+      }
+    }
+}
+
+}  // namespace strata

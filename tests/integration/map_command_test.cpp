@@ -1,0 +1,89 @@
+// `strata map build` and `strata map export` as a script runs them: the real binary on a scan it writes.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+
+#include "integration/server_process.hpp"
+
+namespace strata::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json json_of(const CommandResult& result) {
+  const std::size_t begin = result.output.find('{');
+  const std::size_t end = result.output.rfind('}');
+  if (begin == std::string::npos || end == std::string::npos)
+    return {};
+  return nlohmann::json::parse(result.output.substr(begin, end - begin + 1));
+}
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+class MapCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    directory_ = fs::temp_directory_path() / ("strata_map_command_" + std::to_string(::getpid()));
+    fs::create_directories(directory_);
+    // A 6 m x 4 m floor 0.5 m below the sensor with a 2 m wall at x = 2.55, as x y z lines.
+    std::ofstream scan(directory_ / "scan.xyz");
+    for (double x = -2.98; x < 3.0; x += 0.04)
+      for (double y = -1.98; y < 2.0; y += 0.04)
+        scan << x << ' ' << y << " -0.5\n";
+    for (double y = -1.98; y < 2.0; y += 0.04)
+      for (double z = 0.02; z < 2.0; z += 0.04)
+        scan << "2.55 " << y << ' ' << z - 0.5 << '\n';
+  }
+  void TearDown() override { fs::remove_all(directory_); }
+  fs::path directory_;
+};
+
+TEST_F(MapCommand, BuildsAMapThenExportsPlyAndRosMap) {
+  const fs::path map = directory_ / "site.smls";
+  const CommandResult build =
+      run_strata({"map", "build", "--scans", (directory_ / "scan.xyz").string(), "-o", map.string()},
+                 std::chrono::seconds(60));
+  ASSERT_EQ(build.exit_code, 0) << build.output;
+  const nlohmann::json built = json_of(build);
+  ASSERT_TRUE(built.is_object()) << build.output;
+  EXPECT_EQ(built["occupied_cells"].get<int>(), 60 * 40);
+  ASSERT_TRUE(fs::exists(map));
+
+  const CommandResult exported =
+      run_strata({"map", "export", map.string(), "--ply", (directory_ / "site.ply").string(), "--pgm",
+                  (directory_ / "site.yaml").string(), "--robot", "0 0 -0.5"},
+                 std::chrono::seconds(60));
+  ASSERT_EQ(exported.exit_code, 0) << exported.output;
+  const nlohmann::json out = json_of(exported);
+  ASSERT_TRUE(out.is_object()) << exported.output;
+  // Free: the floor in front of the wall, 55 x 40 cells; the wall and the floor behind it are occupied.
+  EXPECT_EQ(out["free_cells"].get<int>(), 55 * 40);
+  EXPECT_EQ(read_bytes(directory_ / "site.ply").rfind("ply\n", 0), 0U);
+  EXPECT_EQ(read_bytes(directory_ / "site.pgm").rfind("P5\n", 0), 0U);
+  EXPECT_NE(read_bytes(directory_ / "site.yaml").find("image: site.pgm"), std::string::npos);
+}
+
+TEST_F(MapCommand, CorruptedMapFileFailsWithAClearMessage) {
+  const fs::path map = directory_ / "site.smls";
+  ASSERT_EQ(run_strata({"map", "build", "--scans", (directory_ / "scan.xyz").string(), "-o", map.string()},
+                       std::chrono::seconds(60))
+                .exit_code,
+            0);
+  std::string bytes = read_bytes(map);
+  bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x01);
+  std::ofstream(map, std::ios::binary) << bytes;
+  const CommandResult run = run_strata(
+      {"map", "export", map.string(), "--ply", (directory_ / "x.ply").string()}, std::chrono::seconds(60));
+  EXPECT_NE(run.exit_code, 0);
+  EXPECT_NE(run.output.find("checksum"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(directory_ / "x.ply"));
+}
+
+}  // namespace
+}  // namespace strata::testing
