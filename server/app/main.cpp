@@ -8,6 +8,7 @@
 #include <string>
 
 #include "server/app/build_info.hpp"
+#include "server/app/plan_command.hpp"
 #include "server/app/register_command.hpp"
 #include "server/app/serve.hpp"
 
@@ -61,6 +62,9 @@ int main(int argc, char** argv) {
   strata::app::RegisterOptions register_options;
   auto* register_cmd = strata::app::add_register_command(app, register_options);
 
+  strata::app::PlanOptions plan_options;
+  auto* plan_cmd = strata::app::add_plan_command(app, plan_options);
+
   auto* version_cmd =
       app.add_subcommand("version", "Print the version and the libraries Strata was built with");
 
@@ -74,6 +78,8 @@ int main(int argc, char** argv) {
       return strata::app::serve(serve);
     if (*register_cmd)
       return strata::app::run_register(register_options);
+    if (*plan_cmd)
+      return strata::app::run_plan(plan_options);
     if (*version_cmd) {
       std::printf("strata %s\n%s\n", strata::build_info::version().c_str(),
                   strata::build_info::libraries().dump(2).c_str());
