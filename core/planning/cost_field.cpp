@@ -38,7 +38,7 @@ double path_length(const std::vector<GridCell>& cells) {
   double length = 0.0;
   for (std::size_t i = 1; i < cells.size(); ++i) {
     const bool diagonal = cells[i].x != cells[i - 1].x && cells[i].y != cells[i - 1].y;
-    length += diagonal ? 1.4142135623730951 : 1.0;
+    length += diagonal ? kSqrt2 : 1.0;
   }
   return length;
 }

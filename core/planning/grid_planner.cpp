@@ -1,7 +1,7 @@
 #include "core/planning/grid_planner.hpp"
 
-#include <algorithm>
 #include <chrono>
+#include <utility>
 
 #include "core/planning/astar.hpp"
 #include "core/planning/obstacle_inflation.hpp"
@@ -58,15 +58,20 @@ PlanStatus GridPlanner::check(GridCell start, GridCell goal) const {
   return PlanStatus::found;
 }
 
-GridPath GridPlanner::plan(GridCell start, GridCell goal) const {
+GridPath GridPlanner::plan(GridCell start, GridCell goal, SearchMethod method) {
   const Clock::time_point begin = Clock::now();
   GridPath path;
   path.status = check(start, goal);
   if (path.found()) {
-    const CostField field = astar(traversable_, start, goal);
-    path.expanded = field.expanded;
-    path.cells = descend(traversable_, field, goal);
-    std::reverse(path.cells.begin(), path.cells.end());
+    if (method == SearchMethod::jump_point) {
+      JumpPointSearch::Result found = jump_point_search_.run(traversable_, start, goal);
+      path.expanded = found.expanded;
+      path.cells = std::move(found.cells);
+    } else {
+      AStarSearch::Result found = astar_search_.run(traversable_, start, goal);
+      path.expanded = found.expanded;
+      path.cells = std::move(found.cells);
+    }
     path.length = path_length(path.cells);
     if (path.cells.empty())
       path.status = PlanStatus::no_path;  // regions said connected; kept as a guard, never expected

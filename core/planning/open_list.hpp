@@ -19,6 +19,7 @@ class OpenList {
 
   void reserve(std::size_t n) { heap_.reserve(n); }
   [[nodiscard]] bool empty() const { return heap_.empty(); }
+  void clear() { heap_.clear(); }  ///< keeps the storage
   void push(double key, double tie, int slot) {
     heap_.push_back({key, tie, slot});
     std::push_heap(heap_.begin(), heap_.end(), later);

@@ -16,15 +16,14 @@ TraversableGrid::TraversableGrid(int width, int height, const std::vector<std::u
           blocked[static_cast<std::size_t>(y) * static_cast<std::size_t>(width) +
                   static_cast<std::size_t>(x)] == 0;
   const int s = stride_;
-  constexpr double kDiagonal = 1.4142135623730951;
-  moves_ = {{{1, 1.0, 0, 0},
-             {-1, 1.0, 0, 0},
-             {s, 1.0, 0, 0},
-             {-s, 1.0, 0, 0},
-             {s + 1, kDiagonal, 1, s},
-             {s - 1, kDiagonal, -1, s},
-             {-s + 1, kDiagonal, 1, -s},
-             {-s - 1, kDiagonal, -1, -s}}};
+  moves_ = {{{1, 1.0, 0, 0, 1, 0},
+             {-1, 1.0, 0, 0, -1, 0},
+             {s, 1.0, 0, 0, 0, 1},
+             {-s, 1.0, 0, 0, 0, -1},
+             {s + 1, kSqrt2, 1, s, 1, 1},
+             {s - 1, kSqrt2, -1, s, -1, 1},
+             {-s + 1, kSqrt2, 1, -s, 1, -1},
+             {-s - 1, kSqrt2, -1, -s, -1, -1}}};
 }
 
 }  // namespace strata

@@ -8,6 +8,8 @@
 
 namespace strata {
 
+inline constexpr double kSqrt2 = 1.4142135623730951;  ///< the cost of a diagonal move
+
 /// Where the robot's centre may be, with the planners' move set. Stored with a one-cell blocked border so a
 /// search never checks bounds: a cell's "slot" is its index in that padded array.
 ///
@@ -21,6 +23,8 @@ class TraversableGrid {
     int side_a =
         0;  ///< for a diagonal, the slot offsets of the two orthogonal cells it passes; 0 if straight
     int side_b = 0;
+    int dx = 0;  ///< the same move in cells
+    int dy = 0;
   };
 
   TraversableGrid() = default;
@@ -60,7 +64,7 @@ class TraversableGrid {
   const int dy = a.y > b.y ? a.y - b.y : b.y - a.y;
   const int diagonal = dx < dy ? dx : dy;
   const int straight = (dx < dy ? dy : dx) - diagonal;
-  return straight + 1.4142135623730951 * diagonal;
+  return straight + kSqrt2 * diagonal;
 }
 
 }  // namespace strata

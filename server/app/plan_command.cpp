@@ -95,7 +95,7 @@ int run_plan(const PlanOptions& options) {
   const double load_seconds = std::chrono::duration<double>(Clock::now() - load_begin).count();
 
   const double resolution = map.metric ? map.grid.resolution : 1.0;
-  const GridPlanner planner(map.grid, {options.robot_radius, !options.unknown_is_free});
+  GridPlanner planner(map.grid, {options.robot_radius, !options.unknown_is_free});
   const GridCell start = cell_of(map, start_point);
   const GridCell goal = cell_of(map, goal_point);
   GridPath path;
@@ -105,7 +105,8 @@ int run_plan(const PlanOptions& options) {
     path = planner.follow(field, start);
     path.seconds = std::chrono::duration<double>(Clock::now() - begin).count();
   } else {
-    path = planner.plan(start, goal);
+    path =
+        planner.plan(start, goal, options.method == "astar" ? SearchMethod::astar : SearchMethod::jump_point);
   }
   const double length = path.length * resolution;
   const char* unit = map.metric ? "m" : "cells";
@@ -142,9 +143,9 @@ int run_plan(const PlanOptions& options) {
       std::printf("length: %.4f %s\n", length, unit);
     else
       std::printf("unreachable: %s\n", std::string(describe(path.status)).c_str());
-    std::printf("expanded: %zu cells\ntime: %.2f ms (%s; map read %.1f ms, inflation and regions %.1f ms)\n",
-                path.expanded, 1e3 * path.seconds, options.method.c_str(), 1e3 * load_seconds,
-                1e3 * planner.preparation_seconds());
+    std::printf("expanded: %zu %s\ntime: %.2f ms (%s; map read %.1f ms, inflation and regions %.1f ms)\n",
+                path.expanded, options.method == "jps" ? "jump points" : "cells", 1e3 * path.seconds,
+                options.method.c_str(), 1e3 * load_seconds, 1e3 * planner.preparation_seconds());
     if (options.path) {
       std::printf("path (%zu points, %s):\n", path.cells.size(), map.metric ? "cell centres, m" : "cells");
       for (const GridCell& cell : path.cells) {

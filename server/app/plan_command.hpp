@@ -10,7 +10,7 @@ struct PlanOptions {
   std::string start;  ///< "x,y"
   std::string goal;   ///< "x,y"
   double robot_radius = 0.0;
-  std::string method = "astar";
+  std::string method = "jps";
   bool unknown_is_free = false;
   bool json = false;
   bool path = false;

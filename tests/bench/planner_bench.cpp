@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -34,6 +35,14 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
+/// CPU time of this thread: on a machine shared with other jobs it shows what a query costs when it has a
+/// core to itself, next to the wall time it took here.
+double thread_cpu_seconds() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
+}
+
 double percentile(std::vector<double> values, double fraction) {
   if (values.empty())
     return 0.0;
@@ -50,35 +59,52 @@ void bench_movingai(const fs::path& data) {
   const strata::OccupancyGrid grid = strata::io::read_movingai_map(dir / "64room_000.map");
   const strata::io::MovingAiScenario scenario =
       strata::io::read_movingai_scenario(dir / "64room_000.map.scen");
-  const GridPlanner planner(grid);
-  std::vector<double> astar_ms;
+  GridPlanner planner(grid);
+  struct Timings {
+    std::vector<double> wall_ms;
+    std::vector<double> cpu_ms;
+    double expanded = 0.0;
+    int mismatches = 0;
+  };
+  Timings timings[2];  // jump point search, A*
   std::vector<double> wavefront_ms;
-  double expanded = 0.0;
-  int mismatches = 0;
+  int wavefront_mismatches = 0;
   for (std::size_t i = 0; i < scenario.queries.size(); ++i) {
     const strata::io::MovingAiQuery& query = scenario.queries[i];
-    const GridPath path = planner.plan(query.start, query.goal);
-    astar_ms.push_back(1e3 * path.seconds);
-    expanded += static_cast<double>(path.expanded);
-    if (!path.found() || std::abs(path.length - query.optimal_length) > 1e-3)
-      ++mismatches;
+    for (const strata::SearchMethod method :
+         {strata::SearchMethod::jump_point, strata::SearchMethod::astar}) {
+      Timings& t = timings[method == strata::SearchMethod::jump_point ? 0 : 1];
+      const double cpu_begin = thread_cpu_seconds();
+      const GridPath path = planner.plan(query.start, query.goal, method);
+      t.cpu_ms.push_back(1e3 * (thread_cpu_seconds() - cpu_begin));
+      t.wall_ms.push_back(1e3 * path.seconds);
+      t.expanded += static_cast<double>(path.expanded);
+      if (!path.found() || std::abs(path.length - query.optimal_length) > 1e-3)
+        ++t.mismatches;
+    }
     if (i % 20 == 0) {
       const Clock::time_point begin = Clock::now();
       const GridPath followed = planner.follow(planner.wavefront(query.goal), query.start);
       wavefront_ms.push_back(1e3 * seconds_since(begin));
       if (!followed.found() || std::abs(followed.length - query.optimal_length) > 1e-3)
-        ++mismatches;
+        ++wavefront_mismatches;
     }
   }
+  for (int m = 0; m < 2; ++m) {
+    const Timings& t = timings[m];
+    std::printf(
+        "movingai map=64room_000 size=%dx%d queries=%zu method=%s median_ms=%.3f p90_ms=%.3f max_ms=%.3f "
+        "median_cpu_ms=%.3f mean_expanded=%.0f preparation_ms=%.2f mismatches=%d target_median_ms=5\n",
+        grid.width, grid.height, t.wall_ms.size(), m == 0 ? "jps" : "astar", percentile(t.wall_ms, 0.5),
+        percentile(t.wall_ms, 0.9), percentile(t.wall_ms, 1.0), percentile(t.cpu_ms, 0.5),
+        t.expanded / static_cast<double>(t.wall_ms.size()), 1e3 * planner.preparation_seconds(),
+        t.mismatches);
+  }
   std::printf(
-      "movingai map=64room_000 size=%dx%d queries=%zu method=astar median_ms=%.3f p90_ms=%.3f max_ms=%.3f "
-      "mean_expanded=%.0f preparation_ms=%.2f mismatches=%d target_median_ms=5\n",
-      grid.width, grid.height, astar_ms.size(), percentile(astar_ms, 0.5), percentile(astar_ms, 0.9),
-      percentile(astar_ms, 1.0), expanded / static_cast<double>(astar_ms.size()),
-      1e3 * planner.preparation_seconds(), mismatches);
-  std::printf("movingai map=64room_000 queries=%zu method=wavefront median_ms=%.3f p90_ms=%.3f max_ms=%.3f\n",
-              wavefront_ms.size(), percentile(wavefront_ms, 0.5), percentile(wavefront_ms, 0.9),
-              percentile(wavefront_ms, 1.0));
+      "movingai map=64room_000 queries=%zu method=wavefront median_ms=%.3f p90_ms=%.3f max_ms=%.3f "
+      "mismatches=%d\n",
+      wavefront_ms.size(), percentile(wavefront_ms, 0.5), percentile(wavefront_ms, 0.9),
+      percentile(wavefront_ms, 1.0), wavefront_mismatches);
 }
 
 /// The passable cell nearest to `corner` (by rings of growing Chebyshev radius) in the grid's largest
@@ -114,31 +140,43 @@ void bench_nav2(const fs::path& data, double radius, int repeats) {
   Clock::time_point begin = Clock::now();
   const strata::OccupancyGrid grid = strata::io::read_map_server_map(yaml);
   const double load_ms = 1e3 * seconds_since(begin);
-  const GridPlanner planner(grid, {radius, true});
+  GridPlanner planner(grid, {radius, true});
   const int region = largest_region(planner);
   const GridCell start = nearest_passable(planner, {0, 0}, region);
   const GridCell goal = nearest_passable(planner, {grid.width - 1, grid.height - 1}, region);
-  std::vector<double> astar_ms;
-  std::vector<double> wavefront_ms;
-  GridPath path;
-  GridPath followed;
-  for (int i = 0; i < repeats; ++i) {
-    path = planner.plan(start, goal);
-    astar_ms.push_back(1e3 * path.seconds);
-    begin = Clock::now();
-    followed = planner.follow(planner.wavefront(goal), start);
-    wavefront_ms.push_back(1e3 * seconds_since(begin));
-  }
   const auto start_m = grid.center_of(start);
   const auto goal_m = grid.center_of(goal);
   std::printf(
       "nav2 map=100by100_20 size=%dx%d resolution=%.3f robot_radius_m=%.3f start_m=%.3f,%.3f "
       "goal_m=%.3f,%.3f "
-      "found=%d length_m=%.3f straight_line_m=%.3f method=astar median_ms=%.2f expanded=%zu repeats=%d "
-      "target_ms=200\n",
+      "straight_line_m=%.3f\n",
       grid.width, grid.height, grid.resolution, radius, start_m.x(), start_m.y(), goal_m.x(), goal_m.y(),
-      path.found() ? 1 : 0, path.length * grid.resolution, (goal_m - start_m).norm(),
-      percentile(astar_ms, 0.5), path.expanded, repeats);
+      (goal_m - start_m).norm());
+  for (const strata::SearchMethod method : {strata::SearchMethod::jump_point, strata::SearchMethod::astar}) {
+    std::vector<double> wall_ms;
+    std::vector<double> cpu_ms;
+    GridPath path;
+    for (int i = 0; i < repeats; ++i) {
+      const double cpu_begin = thread_cpu_seconds();
+      path = planner.plan(start, goal, method);
+      cpu_ms.push_back(1e3 * (thread_cpu_seconds() - cpu_begin));
+      wall_ms.push_back(1e3 * path.seconds);
+    }
+    std::printf(
+        "nav2 map=100by100_20 method=%s found=%d length_m=%.3f median_ms=%.2f median_cpu_ms=%.2f "
+        "expanded=%zu "
+        "repeats=%d target_ms=200\n",
+        method == strata::SearchMethod::jump_point ? "jps" : "astar", path.found() ? 1 : 0,
+        path.length * grid.resolution, percentile(wall_ms, 0.5), percentile(cpu_ms, 0.5), path.expanded,
+        repeats);
+  }
+  std::vector<double> wavefront_ms;
+  GridPath followed;
+  for (int i = 0; i < std::min(repeats, 3); ++i) {
+    begin = Clock::now();
+    followed = planner.follow(planner.wavefront(goal), start);
+    wavefront_ms.push_back(1e3 * seconds_since(begin));
+  }
   std::printf("nav2 map=100by100_20 method=wavefront found=%d length_m=%.3f median_ms=%.2f expanded=%zu\n",
               followed.found() ? 1 : 0, followed.length * grid.resolution, percentile(wavefront_ms, 0.5),
               followed.expanded);

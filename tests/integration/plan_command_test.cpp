@@ -57,7 +57,7 @@ TEST(PlanCommand, PlansCornerToCornerOnTheNav2Map) {
   ASSERT_TRUE(out.is_object()) << run.output;
   EXPECT_EQ(out["found"], true);
   EXPECT_EQ(out["units"], "m");
-  EXPECT_EQ(out["method"], "astar");
+  EXPECT_EQ(out["method"], "jps");
   const double length = out["length"].get<double>();
   EXPECT_GE(length, 98.0 * std::sqrt(2.0) - 0.1);  // at least the straight line between the cell centres
   EXPECT_LT(length, 98.0 * std::sqrt(2.0) * 1.3);

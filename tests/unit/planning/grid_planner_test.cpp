@@ -47,7 +47,7 @@ void expect_valid_path(const TraversableGrid& grid, const std::vector<GridCell>&
 }
 
 TEST(GridPlanner, StraightLength) {
-  const GridPlanner planner(grid_from({"..........", ".........."}));
+  GridPlanner planner(grid_from({"..........", ".........."}));
   const GridPath path = planner.plan({0, 0}, {9, 0});
   ASSERT_TRUE(path.found());
   EXPECT_DOUBLE_EQ(path.length, 9.0);
@@ -57,20 +57,23 @@ TEST(GridPlanner, StraightLength) {
 }
 
 TEST(GridPlanner, DiagonalLengths) {
-  const GridPlanner planner(grid_from(std::vector<std::string>(5, ".....")));
-  EXPECT_NEAR(planner.plan({0, 0}, {4, 4}).length, 4 * kSqrt2, 1e-12);
-  EXPECT_NEAR(planner.plan({0, 0}, {4, 2}).length, 2 + 2 * kSqrt2, 1e-12);
-  EXPECT_NEAR(planner.plan({4, 0}, {0, 3}).length, 1 + 3 * kSqrt2, 1e-12);
+  GridPlanner planner(grid_from(std::vector<std::string>(5, ".....")));
+  for (const SearchMethod method : {SearchMethod::jump_point, SearchMethod::astar}) {
+    EXPECT_NEAR(planner.plan({0, 0}, {4, 4}, method).length, 4 * kSqrt2, 1e-12);
+    EXPECT_NEAR(planner.plan({0, 0}, {4, 2}, method).length, 2 + 2 * kSqrt2, 1e-12);
+    EXPECT_NEAR(planner.plan({4, 0}, {0, 3}, method).length, 1 + 3 * kSqrt2, 1e-12);
+    EXPECT_EQ(planner.plan({4, 0}, {0, 3}, method).cells.size(), 5U);
+  }
 }
 
 TEST(GridPlanner, NoCornerCuttingThroughADiagonalGap) {
   // The two free cells touch only at a corner: no path at all.
-  const GridPlanner gap(grid_from({".#", "#."}));
+  GridPlanner gap(grid_from({".#", "#."}));
   const GridPath through = gap.plan({0, 0}, {1, 1});
   EXPECT_FALSE(through.found());
   EXPECT_EQ(through.status, PlanStatus::no_path);
   // One corner blocked: the diagonal is not allowed, the path goes round (2, not sqrt 2).
-  const GridPlanner corner(grid_from({"..", "#."}));
+  GridPlanner corner(grid_from({"..", "#."}));
   const GridPath around = corner.plan({0, 0}, {1, 1});
   ASSERT_TRUE(around.found());
   EXPECT_DOUBLE_EQ(around.length, 2.0);
@@ -78,7 +81,7 @@ TEST(GridPlanner, NoCornerCuttingThroughADiagonalGap) {
 }
 
 TEST(GridPlanner, UnreachableGoalIsReportedWithoutSearching) {
-  const GridPlanner planner(grid_from({
+  GridPlanner planner(grid_from({
       "....#....",
       "....#....",
       "....#....",
@@ -97,7 +100,7 @@ TEST(GridPlanner, UnreachableGoalIsReportedWithoutSearching) {
 }
 
 TEST(GridPlanner, StartEqualsGoal) {
-  const GridPlanner planner(grid_from({"...", "..."}));
+  GridPlanner planner(grid_from({"...", "..."}));
   const GridPath path = planner.plan({1, 1}, {1, 1});
   ASSERT_TRUE(path.found());
   EXPECT_EQ(path.length, 0.0);
@@ -163,13 +166,13 @@ TEST(GridPlanner, UnknownCellsAreBlockedUnlessConfigured) {
   EXPECT_DOUBLE_EQ(through.length, 4.0);
 }
 
-TEST(GridPlanner, AStarAndWavefrontAgreeOnRandomGrids) {
+TEST(GridPlanner, JumpPointSearchAStarAndWavefrontAgreeOnRandomGrids) {
   std::mt19937 random(42);
   for (int trial = 0; trial < 20; ++trial) {
     OccupancyGrid grid(30 + trial, 25);
     for (CellState& cell : grid.cells)
-      cell = random() % 100 < 30 ? CellState::occupied : CellState::free;
-    const GridPlanner planner(grid);
+      cell = static_cast<int>(random() % 100) < 5 + 2 * trial ? CellState::occupied : CellState::free;
+    GridPlanner planner(grid);
     const TraversableGrid& traversable = planner.traversable();
     std::uniform_int_distribution<int> x_of(0, grid.width - 1);
     std::uniform_int_distribution<int> y_of(0, grid.height - 1);
@@ -177,12 +180,18 @@ TEST(GridPlanner, AStarAndWavefrontAgreeOnRandomGrids) {
     const CostField field = planner.wavefront(goal);
     for (int q = 0; q < 20; ++q) {
       const GridCell start{x_of(random), y_of(random)};
-      const GridPath a = planner.plan(start, goal);
+      const GridPath j = planner.plan(start, goal);
+      const GridPath a = planner.plan(start, goal, SearchMethod::astar);
       const GridPath w = planner.follow(field, start);
       ASSERT_EQ(a.status, w.status);
+      ASSERT_EQ(j.status, w.status);
       if (!a.found())
         continue;
       EXPECT_NEAR(a.length, w.length, 1e-9);
+      EXPECT_NEAR(j.length, w.length, 1e-9);
+      EXPECT_EQ(j.cells.front(), start);
+      EXPECT_EQ(j.cells.back(), goal);
+      expect_valid_path(traversable, j.cells);
       EXPECT_NEAR(w.length, field.at(traversable, start), 1e-9);
       EXPECT_GE(a.length, octile_distance(start, goal) - 1e-9);
       EXPECT_EQ(a.cells.front(), start);

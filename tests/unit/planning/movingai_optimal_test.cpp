@@ -9,6 +9,7 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <ostream>
 #include <string>
 
 #include "core/planning/grid_planner.hpp"
@@ -28,8 +29,13 @@ struct ScenarioSet {
   const char* map;
   const char* scenario;
   std::size_t queries;  ///< rows in the file, per the data README
-  int wavefront_every;  ///< also check the wavefront on every n-th query (it floods the whole map)
+  int astar_every;      ///< also check plain A* on every n-th query (jump point search checks them all)
+  int wavefront_every;  ///< and the wavefront (it floods the whole map)
 };
+
+void PrintTo(const ScenarioSet& set, std::ostream* out) {
+  *out << set.scenario;
+}  // readable test names
 
 class MovingAiOptimal : public ::testing::TestWithParam<ScenarioSet> {};
 
@@ -42,7 +48,7 @@ TEST_P(MovingAiOptimal, EveryQueryMatchesThePublishedLength) {
   const OccupancyGrid grid = io::read_movingai_map(map_path);
   const io::MovingAiScenario scenario = io::read_movingai_scenario(scenario_path);
   ASSERT_EQ(scenario.queries.size(), set.queries);
-  const GridPlanner planner(grid);
+  GridPlanner planner(grid);
 
   std::size_t matched = 0;
   std::size_t unreachable = 0;
@@ -52,6 +58,10 @@ TEST_P(MovingAiOptimal, EveryQueryMatchesThePublishedLength) {
     ASSERT_EQ(query.map_height, grid.height);
     const bool no_path = query.optimal_length == 0.0 && !(query.start == query.goal);
     const GridPath path = planner.plan(query.start, query.goal);
+    GridPath astar;
+    const bool check_astar = i % static_cast<std::size_t>(set.astar_every) == 0;
+    if (check_astar)
+      astar = planner.plan(query.start, query.goal, SearchMethod::astar);
     GridPath followed;
     const bool check_wavefront = i % static_cast<std::size_t>(set.wavefront_every) == 0;
     if (check_wavefront)
@@ -62,11 +72,18 @@ TEST_P(MovingAiOptimal, EveryQueryMatchesThePublishedLength) {
       if (check_wavefront) {
         EXPECT_FALSE(followed.found()) << where;
       }
+      if (check_astar) {
+        EXPECT_FALSE(astar.found()) << where;
+      }
       unreachable += path.found() ? 0 : 1;
       continue;
     }
     ASSERT_TRUE(path.found()) << where << ": " << describe(path.status);
     EXPECT_NEAR(path.length, query.optimal_length, 1e-3) << where;
+    if (check_astar) {
+      ASSERT_TRUE(astar.found()) << where;
+      EXPECT_NEAR(astar.length, query.optimal_length, 1e-3) << where << " (A*)";
+    }
     if (check_wavefront) {
       ASSERT_TRUE(followed.found()) << where;
       EXPECT_NEAR(followed.length, query.optimal_length, 1e-3) << where << " (wavefront)";
@@ -80,13 +97,13 @@ TEST_P(MovingAiOptimal, EveryQueryMatchesThePublishedLength) {
 
 INSTANTIATE_TEST_SUITE_P(
     Scenarios, MovingAiOptimal,
-    ::testing::Values(ScenarioSet{"pathfindingjs/64room_000.map", "pathfindingjs/64room_000.map.scen", 2030,
-                                  50},
-                      ScenarioSet{"pathfindingjs/arena.map", "pathfindingjs/arena.map.scen", 160, 1},
-                      ScenarioSet{"anonsar_dao_arena/arena.map", "anonsar_dao_arena/arena.map.scen", 130, 1},
-                      ScenarioSet{"gppc/rmtst01.map", "gppc/rmtst01.map.scen", 470, 1},
-                      ScenarioSet{"mapf/random-32-32-10.map", "mapf/random-32-32-10-random-1.scen", 461, 1},
-                      ScenarioSet{"mapf/random-32-32-20.map", "mapf/random-32-32-20-random-1.scen", 409, 1}),
+    ::testing::Values(
+        ScenarioSet{"pathfindingjs/64room_000.map", "pathfindingjs/64room_000.map.scen", 2030, 10, 50},
+        ScenarioSet{"pathfindingjs/arena.map", "pathfindingjs/arena.map.scen", 160, 1, 1},
+        ScenarioSet{"anonsar_dao_arena/arena.map", "anonsar_dao_arena/arena.map.scen", 130, 1, 1},
+        ScenarioSet{"gppc/rmtst01.map", "gppc/rmtst01.map.scen", 470, 1, 1},
+        ScenarioSet{"mapf/random-32-32-10.map", "mapf/random-32-32-10-random-1.scen", 461, 1, 1},
+        ScenarioSet{"mapf/random-32-32-20.map", "mapf/random-32-32-20-random-1.scen", 409, 1, 1}),
     [](const ::testing::TestParamInfo<ScenarioSet>& param_info) {
       std::string name = param_info.param.scenario;
       for (char& c : name)
