@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -48,7 +49,9 @@ struct OccupancyGrid {
   /// The cell containing a map-frame point (it may lie outside the grid: check contains()).
   [[nodiscard]] GridCell cell_of(const Eigen::Vector2d& point) const {
     const Eigen::Vector2d local = (point - origin) / resolution;
-    return {static_cast<int>(std::floor(local.x())), static_cast<int>(std::floor(local.y()))};
+    // Clamped first: a point far outside stays outside instead of overflowing the int.
+    const auto index = [](double v) { return static_cast<int>(std::clamp(std::floor(v), -1e9, 1e9)); };
+    return {index(local.x()), index(local.y())};
   }
   /// The map-frame centre of a cell.
   [[nodiscard]] Eigen::Vector2d center_of(GridCell c) const {

@@ -9,6 +9,8 @@ TraversableGrid::TraversableGrid(int width, int height, const std::vector<std::u
   if (width < 0 || height < 0 ||
       blocked.size() != static_cast<std::size_t>(width) * static_cast<std::size_t>(height))
     throw std::invalid_argument("TraversableGrid: blocked flags do not match the grid size");
+  if ((static_cast<double>(width) + 2.0) * (static_cast<double>(height) + 2.0) > 2147483647.0)
+    throw std::invalid_argument("TraversableGrid: the grid is too large for int slots");
   passable_.assign(static_cast<std::size_t>(slot_count()), 0);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)

@@ -47,11 +47,10 @@ Eigen::Vector2d parse_point(const std::string& option, const std::string& text) 
   throw std::invalid_argument(option + " needs two numbers \"x,y\", got \"" + text + "\"");
 }
 
-/// The cell a point names: containing cell in metres, or the cell itself for a MovingAI map.
+/// The cell a point names: the containing cell (a MovingAI map has resolution 1 and origin 0, so "x,y" there
+/// is the cell itself).
 GridCell cell_of(const LoadedMap& map, const Eigen::Vector2d& point) {
-  return map.metric
-             ? map.grid.cell_of(point)
-             : GridCell{static_cast<int>(std::floor(point.x())), static_cast<int>(std::floor(point.y()))};
+  return map.grid.cell_of(point);
 }
 
 /// Where a path cell is printed: its centre in metres, or the cell for a MovingAI map.

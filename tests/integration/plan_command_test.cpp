@@ -112,6 +112,13 @@ TEST(PlanCommand, DisconnectedGoalExitsNonZeroWithAClearMessage) {
   EXPECT_TRUE(out["length"].is_null());
 }
 
+TEST(PlanCommand, StartFarOutsideTheMapExitsNonZero) {
+  const WalledMap map;
+  const CommandResult run = run_strata({"plan", "--map", map.path(), "--start", "1e20,0", "--goal", "0,0"});
+  EXPECT_EQ(run.exit_code, kNoPath) << run.output;
+  EXPECT_NE(run.output.find("unreachable: the start is outside the map"), std::string::npos) << run.output;
+}
+
 TEST(PlanCommand, MovingAiMapInCells) {
   const WalledMap map;
   const CommandResult run =
