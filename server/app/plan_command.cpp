@@ -76,10 +76,12 @@ CLI::App* add_plan_command(CLI::App& app, PlanOptions& options) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1000.0));
   command
-      ->add_option("--method", options.method,
-                   "astar (one query, fastest) or wavefront (Dijkstra from the goal over the whole map)")
+      ->add_option(
+          "--method", options.method,
+          "jps (jump point search: fastest; expanded counts jump points), astar (expands every cell\n"
+          "it reaches) or wavefront (Dijkstra from the goal over the whole map); all exact")
       ->capture_default_str()
-      ->check(CLI::IsMember({"astar", "wavefront"}));
+      ->check(CLI::IsMember({"jps", "astar", "wavefront"}));
   command->add_flag("--unknown-is-free", options.unknown_is_free, "Plan through unknown cells");
   command->add_flag("--json", options.json, "Print one JSON object instead of text");
   command->add_flag("--path", options.path, "Also print the path's points");

@@ -79,7 +79,13 @@ TEST(PlanCommand, PlansCornerToCornerOnTheNav2Map) {
                          path[i][1].get<double>() - path[i - 1][1].get<double>());
   EXPECT_NEAR(summed, length, 1e-6);
 
-  // The same query with the wavefront: the same optimal length.
+  // The same query with A* and with the wavefront: the same optimal length.
+  const CommandResult astar = run_strata({"plan", "--map", yaml.string(), "--start", "1,1", "--goal", "99,99",
+                                          "--robot-radius", "0.22", "--json", "--method", "astar"},
+                                         std::chrono::seconds(120));
+  ASSERT_EQ(astar.exit_code, 0) << astar.output;
+  EXPECT_NEAR(json_of(astar)["length"].get<double>(), length, 1e-6);
+  EXPECT_GT(json_of(astar)["expanded"].get<int>(), out["expanded"].get<int>());
   const CommandResult wavefront =
       run_strata({"plan", "--map", yaml.string(), "--start", "1,1", "--goal", "99,99", "--robot-radius",
                   "0.22", "--json", "--method", "wavefront"},
@@ -121,8 +127,8 @@ TEST(PlanCommand, StartFarOutsideTheMapExitsNonZero) {
 
 TEST(PlanCommand, MovingAiMapInCells) {
   const WalledMap map;
-  const CommandResult run =
-      run_strata({"plan", "--map", map.path(), "--start", "0,0", "--goal", "1,2", "--json", "--path"});
+  const CommandResult run = run_strata({"plan", "--map", map.path(), "--start", "0,0", "--goal", "1,2",
+                                        "--json", "--path", "--method", "jps"});
   ASSERT_EQ(run.exit_code, 0) << run.output;
   const nlohmann::json out = json_of(run);
   EXPECT_EQ(out["units"], "cells");
