@@ -98,7 +98,7 @@ TEST_P(MovingAiOptimal, EveryQueryMatchesThePublishedLength) {
 INSTANTIATE_TEST_SUITE_P(
     Scenarios, MovingAiOptimal,
     ::testing::Values(
-        ScenarioSet{"pathfindingjs/64room_000.map", "pathfindingjs/64room_000.map.scen", 2030, 10, 50},
+        ScenarioSet{"pathfindingjs/64room_000.map", "pathfindingjs/64room_000.map.scen", 2030, 50, 200},
         ScenarioSet{"pathfindingjs/arena.map", "pathfindingjs/arena.map.scen", 160, 1, 1},
         ScenarioSet{"anonsar_dao_arena/arena.map", "anonsar_dao_arena/arena.map.scen", 130, 1, 1},
         ScenarioSet{"gppc/rmtst01.map", "gppc/rmtst01.map.scen", 470, 1, 1},
