@@ -9,6 +9,7 @@
 
 #include "server/app/build_info.hpp"
 #include "server/app/map_command.hpp"
+#include "server/app/plan_command.hpp"
 #include "server/app/register_command.hpp"
 #include "server/app/serve.hpp"
 
@@ -65,6 +66,8 @@ int main(int argc, char** argv) {
   strata::app::MapBuildOptions map_build;
   strata::app::MapExportOptions map_export;
   const strata::app::MapCommand map_cmd = strata::app::add_map_command(app, map_build, map_export);
+  strata::app::PlanOptions plan_options;
+  auto* plan_cmd = strata::app::add_plan_command(app, plan_options);
 
   auto* version_cmd =
       app.add_subcommand("version", "Print the version and the libraries Strata was built with");
@@ -83,6 +86,8 @@ int main(int argc, char** argv) {
       return strata::app::run_map_build(map_build);
     if (*map_cmd.export_)
       return strata::app::run_map_export(map_export);
+    if (*plan_cmd)
+      return strata::app::run_plan(plan_options);
     if (*version_cmd) {
       std::printf("strata %s\n%s\n", strata::build_info::version().c_str(),
                   strata::build_info::libraries().dump(2).c_str());

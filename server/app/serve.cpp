@@ -100,7 +100,7 @@ int serve(const ServeOptions& options) {
         if (!snapshot || snapshot->sample.stamp == last_pose_stamp)
           return std::nullopt;  // nothing new
         last_pose_stamp = snapshot->sample.stamp;
-        return net::OutgoingMessage::text(protocol::pose_message(*snapshot), "pose");
+        return net::OutgoingMessage::text(protocol::pose_message(*snapshot), "pose", snapshot->sample.stamp);
       });
   auto status_stream = std::make_shared<pipeline::PeriodicBroadcast>(
       io, context->hub, 1.0, [&robot_state, hub = &context->hub]() -> std::optional<net::OutgoingMessage> {

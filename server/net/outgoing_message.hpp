@@ -12,9 +12,13 @@ struct OutgoingMessage {
   /// Messages with the same non-empty key supersede each other while unsent: a client that lags
   /// gets the newest pose, not a backlog of stale ones.
   std::string coalesce_key;
+  /// For coalesced streams: where the message stands in its stream (a pose's stamp). A client's queue drops
+  /// one that is not newer than the last it queued, so a stream never goes backwards or repeats, even when
+  /// the late joiner's snapshot and the next broadcast carry the same pose.
+  double order = 0.0;
 
-  static OutgoingMessage text(std::string body, std::string coalesce_key = {}) {
-    return {std::make_shared<const std::string>(std::move(body)), false, std::move(coalesce_key)};
+  static OutgoingMessage text(std::string body, std::string coalesce_key = {}, double order = 0.0) {
+    return {std::make_shared<const std::string>(std::move(body)), false, std::move(coalesce_key), order};
   }
 };
 

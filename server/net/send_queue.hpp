@@ -1,8 +1,12 @@
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <deque>
 #include <optional>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "server/net/outgoing_message.hpp"
 
@@ -15,13 +19,24 @@ class SendQueue {
  public:
   explicit SendQueue(std::size_t capacity) : capacity_(capacity) {}
 
-  enum class PushResult { kQueued, kCoalesced, kOverflow };
+  enum class PushResult { kQueued, kCoalesced, kStale, kOverflow };
 
   /// Queues `message`, replacing an unsent message with the same coalesce key in place. The message
-  /// being written (the front, once `writing()`) is never replaced. kOverflow: the queue is full of
-  /// messages that cannot be dropped; the client is not keeping up.
+  /// being written (the front, once `writing()`) is never replaced. kStale: a coalescing message with an
+  /// order not after the last one queued for its key, dropped. kOverflow: the queue is full of messages
+  /// that cannot be dropped; the client is not keeping up.
   PushResult push(OutgoingMessage message) {
     if (!message.coalesce_key.empty()) {
+      // A stream only moves forward: drop what is not newer than the last message queued for the key.
+      auto last = std::find_if(last_order_.begin(), last_order_.end(),
+                               [&](const auto& entry) { return entry.first == message.coalesce_key; });
+      if (last == last_order_.end()) {
+        last_order_.emplace_back(message.coalesce_key, message.order);
+      } else if (message.order <= last->second && message.order != 0.0) {
+        return PushResult::kStale;
+      } else {
+        last->second = message.order;
+      }
       const std::size_t first_unsent = writing_ ? 1 : 0;
       for (std::size_t i = first_unsent; i < queue_.size(); ++i) {
         if (queue_[i].coalesce_key == message.coalesce_key) {
@@ -57,6 +72,7 @@ class SendQueue {
  private:
   std::size_t capacity_;
   std::deque<OutgoingMessage> queue_;
+  std::vector<std::pair<std::string, double>> last_order_;  // per coalesce key; a handful of keys at most
   bool writing_ = false;
 };
 

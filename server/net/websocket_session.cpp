@@ -84,7 +84,7 @@ void WebSocketSession::on_accept(beast::error_code error) {
   enqueue(OutgoingMessage::text(
       protocol::status_message(context_->robot.registration(), context_->hub.size() + 1), "status"));
   if (const auto robot = context_->robot.snapshot()) {
-    enqueue(OutgoingMessage::text(protocol::pose_message(*robot), "pose"));
+    enqueue(OutgoingMessage::text(protocol::pose_message(*robot), "pose", robot->sample.stamp));
   }
   context_->hub.join(shared_from_this());
   spdlog::info("websocket client joined ({} connected)", context_->hub.size());

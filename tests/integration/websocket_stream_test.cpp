@@ -130,8 +130,14 @@ TEST_F(WebSocketStream, BadMessagesGetCodedErrorsAndTheStreamGoesOn) {
 TEST_F(WebSocketStream, OversizedMessageClosesOnlyThatClient) {
   WsClient other(port());
   WsClient client(port());
-  client.send_text(std::string(200 * 1024, 'x'));
-  EXPECT_TRUE(client.closed_by_server());
+  bool closed = false;
+  try {
+    client.send_text(std::string(200 * 1024, 'x'));
+  } catch (const beast::system_error&) {
+    closed = true;  // the server may close before the last bytes are sent: a reset mid-write
+  }
+  closed = closed || client.closed_by_server();
+  EXPECT_TRUE(closed);
   EXPECT_EQ(other.read_op("pose")["op"], "pose");
 }
 

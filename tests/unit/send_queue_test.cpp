@@ -58,5 +58,17 @@ TEST(SendQueue, OverflowsWhenFullOfMessagesThatCannotBeDropped) {
   EXPECT_EQ(queue.size(), 2u);
 }
 
+TEST(SendQueue, AStreamNeverGoesBackwardsOrRepeats) {
+  SendQueue queue(8);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@2", "pose", 2.0)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@2 again", "pose", 2.0)), SendQueue::PushResult::kStale);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@1", "pose", 1.0)), SendQueue::PushResult::kStale);
+  ASSERT_NE(queue.start_write(), nullptr);
+  queue.finish_write();
+  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@1.5", "pose", 1.5)), SendQueue::PushResult::kStale);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@3", "pose", 3.0)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(body(queue.start_write()), "pose@3");
+}
+
 }  // namespace
 }  // namespace strata::net
