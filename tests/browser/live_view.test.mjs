@@ -45,7 +45,7 @@ test('page shows the robot moving with a live connection', async () => {
       return Math.hypot(x - x0, y - y0) > 0.5;
     },
     first,
-    { timeout: 20000 },
+    { timeout: 60000 },
   );
   const readout = await page.locator('#pose-x').textContent();
   assert.notEqual(readout, firstReadout, 'the pose readout changes');
