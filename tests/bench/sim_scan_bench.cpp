@@ -24,13 +24,15 @@ std::vector<Eigen::Isometry3d> route_poses(const std::shared_ptr<const sim::Worl
   std::vector<Eigen::Isometry3d> poses;
   for (int i = 0; static_cast<int>(poses.size()) < count && i < 200000; ++i) {
     simulator.step(0.01);
-    if (i % 1500 == 0) poses.push_back(simulator.sample().truth.to_isometry());
+    if (i % 1500 == 0)
+      poses.push_back(simulator.sample().truth.to_isometry());
   }
   return poses;
 }
 
 template <class ScanOnce>
-void measure(const char* scanner, const char* world_name, double seconds, double scan_period, ScanOnce scan_once) {
+void measure(const char* scanner, const char* world_name, double seconds, double scan_period,
+             ScanOnce scan_once) {
   std::size_t scans = 0, rays = 0, points = 0;
   const auto start = Clock::now();
   double elapsed = 0.0;
@@ -44,10 +46,11 @@ void measure(const char* scanner, const char* world_name, double seconds, double
   const double per_scan_ms = 1000.0 * elapsed / static_cast<double>(scans);
   std::printf(
       "{\"bench\":\"sim_scan\",\"world\":\"%s\",\"scanner\":\"%s\",\"scans_per_s\":%.2f,\"rays_per_s\":%.0f,"
-      "\"points_per_s\":%.0f,\"ms_per_scan\":%.2f,\"scan_period_ms\":%.1f,\"load\":%.4f,\"rays_per_scan\":%zu}\n",
+      "\"points_per_s\":%.0f,\"ms_per_scan\":%.2f,\"scan_period_ms\":%.1f,\"load\":%.4f,\"rays_per_scan\":%"
+      "zu}\n",
       world_name, scanner, static_cast<double>(scans) / elapsed, static_cast<double>(rays) / elapsed,
-      static_cast<double>(points) / elapsed, per_scan_ms, 1000.0 * scan_period, per_scan_ms / (1000.0 * scan_period),
-      rays / scans);
+      static_cast<double>(points) / elapsed, per_scan_ms, 1000.0 * scan_period,
+      per_scan_ms / (1000.0 * scan_period), rays / scans);
 }
 
 }  // namespace
@@ -72,7 +75,8 @@ int main(int argc, char** argv) {
     while (true) {
       auto scan = lidar.advance(*world, base, t, t + 0.01);
       t += 0.01;
-      if (scan) return std::move(*scan);
+      if (scan)
+        return std::move(*scan);
     }
   });
   return 0;

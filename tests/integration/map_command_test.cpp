@@ -13,14 +13,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-nlohmann::json json_of(const CommandResult& result) {
-  const std::size_t begin = result.output.find('{');
-  const std::size_t end = result.output.rfind('}');
-  if (begin == std::string::npos || end == std::string::npos)
-    return {};
-  return nlohmann::json::parse(result.output.substr(begin, end - begin + 1));
-}
-
 std::string read_bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

@@ -14,19 +14,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path data_dir() {
-  const char* from_env = std::getenv("STRATA_DATA_DIR");
-  return from_env != nullptr ? fs::path(from_env) : fs::path(STRATA_DATA_DIR);
-}
-
-nlohmann::json json_of(const CommandResult& result) {
-  const std::size_t begin = result.output.find('{');
-  const std::size_t end = result.output.rfind('}');
-  if (begin == std::string::npos || end == std::string::npos)
-    return {};
-  return nlohmann::json::parse(result.output.substr(begin, end - begin + 1));
-}
-
 constexpr int kNoPath = 3;  // documented in `strata plan --help` and the README
 
 /// A small MovingAI map with a wall splitting it into two halves, removed at the end.

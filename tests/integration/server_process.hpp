@@ -4,6 +4,9 @@
 
 #include <chrono>
 #include <cstdint>
+#include <cstdlib>
+#include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -33,5 +36,20 @@ struct CommandResult {
 /// Runs the strata binary with `args` to completion (bounded by `timeout`), capturing its output.
 CommandResult run_strata(const std::vector<std::string>& args,
                          std::chrono::seconds timeout = std::chrono::seconds(30));
+
+/// The JSON object a command printed (`--json`): from its first '{' to its last '}'; empty if none.
+inline nlohmann::json json_of(const CommandResult& result) {
+  const std::size_t begin = result.output.find('{');
+  const std::size_t end = result.output.rfind('}');
+  if (begin == std::string::npos || end == std::string::npos)
+    return {};
+  return nlohmann::json::parse(result.output.substr(begin, end - begin + 1));
+}
+
+/// The third-party data directory: STRATA_DATA_DIR from the environment, else the build's setting.
+inline std::filesystem::path data_dir() {
+  const char* from_env = std::getenv("STRATA_DATA_DIR");
+  return from_env != nullptr ? std::filesystem::path(from_env) : std::filesystem::path(STRATA_DATA_DIR);
+}
 
 }  // namespace strata::testing

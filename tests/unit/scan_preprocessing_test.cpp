@@ -1,8 +1,8 @@
 #include "server/pipeline/scan_preprocessing.hpp"
 
-#include <limits>
-
 #include <gtest/gtest.h>
+
+#include <limits>
 
 namespace strata::pipeline {
 namespace {
@@ -13,11 +13,11 @@ TEST(ScanPreprocessing, CleansAndMovesPointsIntoTheBaseFrame) {
   scan.sensor_to_base.translation() = Eigen::Vector3d(0.2, 0, 1.0);
   const float nan = std::numeric_limits<float>::quiet_NaN();
   scan.points = {
-      {2, 0, 0},      // kept
-      {0.1f, 0, 0},   // the robot itself: too close
-      {8.1f, 0, 0},   // a max-range "no return"
-      {nan, 0, 0},    // invalid
-      {0, 3, -1},     // kept
+      {2, 0, 0},     // kept
+      {0.1f, 0, 0},  // the robot itself: too close
+      {8.1f, 0, 0},  // a max-range "no return"
+      {nan, 0, 0},   // invalid
+      {0, 3, -1},    // kept
       {std::numeric_limits<float>::infinity(), 0, 0},
   };
   const PointCloud points = points_in_base(scan);
