@@ -10,7 +10,7 @@ namespace strata {
 DrivableMap compute_drivable_map(const MlsMap& map, const TraversabilityConfig& config,
                                  const Eigen::Vector3d& robot_ground, const CellRegion& region) {
   DrivableMap result;
-  OccupancyGrid& grid = result.grid;
+  LevelGrid& grid = result.grid;
   grid.resolution = map.resolution();
   grid.origin = {region.min.x * map.resolution(), region.min.y * map.resolution()};
   grid.width = std::max(region.width, 0);

@@ -2,14 +2,14 @@
 
 #include <Eigen/Core>
 
+#include "core/mls/level_grid.hpp"
 #include "core/mls/mls_map.hpp"
-#include "core/mls/occupancy_grid.hpp"
 #include "core/mls/traversability.hpp"
 
 namespace strata {
 
 struct DrivableMap {
-  OccupancyGrid grid;
+  LevelGrid grid;
   bool start_found = false;  ///< the robot's cell has a horizontal patch near its ground height
   std::size_t free_cells = 0;
 };

@@ -5,7 +5,7 @@
 
 namespace strata {
 
-std::filesystem::path write_ros_map(const OccupancyGrid& grid, const std::filesystem::path& yaml_path) {
+std::filesystem::path write_ros_map(const LevelGrid& grid, const std::filesystem::path& yaml_path) {
   std::filesystem::path pgm_path = yaml_path;
   pgm_path.replace_extension(".pgm");
   {

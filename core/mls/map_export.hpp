@@ -3,8 +3,8 @@
 #include <filesystem>
 #include <stdexcept>
 
+#include "core/mls/level_grid.hpp"
 #include "core/mls/mls_map.hpp"
-#include "core/mls/occupancy_grid.hpp"
 
 namespace strata {
 
@@ -14,7 +14,7 @@ struct MapExportError : std::runtime_error {
 
 /// Writes `grid` in the ROS map_server format: `yaml_path` and, next to it with the same stem, a binary
 /// PGM (free 254, occupied 0, unknown 205; first image row = highest y). Returns the PGM's path.
-std::filesystem::path write_ros_map(const OccupancyGrid& grid, const std::filesystem::path& yaml_path);
+std::filesystem::path write_ros_map(const LevelGrid& grid, const std::filesystem::path& yaml_path);
 
 /// Writes the MLS map as an ASCII PLY point cloud: one vertex per patch at its cell centre and top, with
 /// its depth (0 = horizontal), the standard deviation of its height and whether it is vertical, coloured

@@ -10,9 +10,11 @@ namespace strata {
 /// Per cell, as in ROS nav_msgs/OccupancyGrid.
 enum class Occupancy : std::int8_t { unknown = -1, free = 0, occupied = 100 };
 
-/// A 2D occupancy grid: cell (col, row) covers [origin + (col, row) * resolution, + resolution), row 0 at
-/// the lowest y. The planner's map and the UI's occupancy view.
-struct OccupancyGrid {
+/// The occupancy at one level of the MLS map: cell (col, row) covers [origin + (col, row) * resolution,
+/// + resolution), row 0 at the lowest y; the UI's occupancy view and, converted, the planner's map. Named
+/// apart from planning's OccupancyGrid (no levels): two different types of one name in one namespace
+/// break the one-definition rule, which ASan caught as a stack overflow in the grid's destructor.
+struct LevelGrid {
   Eigen::Vector2d origin = Eigen::Vector2d::Zero();  ///< map-frame corner of cell (0, 0), metres
   double resolution = 0.1;
   int width = 0;
