@@ -8,6 +8,15 @@
 
 namespace strata::io {
 
+/// `s` without blanks (spaces, tabs) around it, nor a trailing carriage return (files from Windows).
+[[nodiscard]] inline std::string_view trimmed(std::string_view s) {
+  while (!s.empty() && (s.back() == '\r' || s.back() == ' ' || s.back() == '\t'))
+    s.remove_suffix(1);
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t'))
+    s.remove_prefix(1);
+  return s;
+}
+
 /// Splits a line into fields: on commas if it has any (CSV; blanks around fields are trimmed), otherwise on
 /// whitespace.
 [[nodiscard]] inline std::vector<std::string_view> split_fields(std::string_view line) {
