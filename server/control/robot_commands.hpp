@@ -1,0 +1,60 @@
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "server/state/goal_state.hpp"
+
+namespace strata {
+
+/// The answer to an operator command: ok, or a protocol error code (proto/PROTOCOL.md) and a message.
+struct CommandResult {
+  bool ok = true;
+  std::string code;
+  std::string message;
+  static CommandResult success() { return {}; }
+  static CommandResult failure(std::string code, std::string message) {
+    return {false, std::move(code), std::move(message)};
+  }
+};
+
+/// What operators may ask of the robot's motion. The network side (WebSocket and REST) calls these from
+/// its threads; the implementation (pipeline::Navigator) makes them thread-safe and quick.
+class MotionCommands {
+ public:
+  virtual ~MotionCommands() = default;
+  /// Replaces any active goal. The answer only says whether the request was well-formed and accepted;
+  /// planning and driving are reported through goal_status().
+  virtual CommandResult set_goal(const GoalRequest& goal) = 0;
+  /// Cancels the active goal and stops the robot.
+  virtual CommandResult cancel_goal() = 0;
+  /// Drives at (v m/s, w rad/s) for 0.5 s unless renewed; overrides (and cancels) a goal.
+  virtual CommandResult teleop(double v, double w) = 0;
+  /// Stops teleoperation at once (the teleoperating client disconnected).
+  virtual void stop_teleop() = 0;
+  [[nodiscard]] virtual GoalStatus goal_status() const = 0;
+  /// Null when there is no path.
+  [[nodiscard]] virtual std::shared_ptr<const PlannedPath> path() const = 0;
+};
+
+struct MapFileInfo {
+  std::string name;  ///< file name inside the maps directory
+  std::uintmax_t bytes = 0;
+  double modified = 0.0;  ///< seconds since the epoch
+};
+
+/// Saving and loading the map (pipeline::MappingWorker). Names are plain file names inside the configured
+/// maps directory, never paths.
+class MapCommands {
+ public:
+  virtual ~MapCommands() = default;
+  virtual CommandResult save_map(const std::string& name) = 0;
+  virtual CommandResult load_map(const std::string& name) = 0;
+  [[nodiscard]] virtual std::vector<MapFileInfo> list_maps() const = 0;
+  /// The current map as a native map file's bytes, for download.
+  [[nodiscard]] virtual std::vector<std::uint8_t> native_map_bytes() const = 0;
+};
+
+}  // namespace strata
