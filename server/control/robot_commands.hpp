@@ -53,8 +53,9 @@ class MapCommands {
   virtual CommandResult save_map(const std::string& name) = 0;
   virtual CommandResult load_map(const std::string& name) = 0;
   [[nodiscard]] virtual std::vector<MapFileInfo> list_maps() const = 0;
-  /// The current map as a native map file's bytes, for download.
-  [[nodiscard]] virtual std::vector<std::uint8_t> native_map_bytes() const = 0;
+  /// The current map for download: "strata" (the native file), "ply" (patches as points and boxes),
+  /// "pgm" and "yaml" (the drivable map at the robot's level, ROS map_server). Empty when there is no map.
+  [[nodiscard]] virtual std::vector<std::uint8_t> download(const std::string& format) const = 0;
 };
 
 }  // namespace strata
