@@ -2,88 +2,100 @@
 
 #include <fstream>
 #include <iterator>
-#include <sstream>
 #include <string>
 #include <utility>
 
+#include "server/api/responses.hpp"
+#include "server/auth/request_auth.hpp"
 #include "server/net/static_files.hpp"
 #include "server/protocol/messages.hpp"
 
 namespace strata::api {
-namespace {
 
 namespace http = net::http;
 using protocol::ErrorCode;
 
-net::HttpResponse make_response(const net::HttpRequest& request, http::status status, std::string body,
-                                std::string_view content_type) {
-  net::HttpResponse response{status, request.version()};
-  response.set(http::field::server, "strata");
-  response.set(http::field::content_type, content_type);
-  response.keep_alive(request.keep_alive());
-  response.body() = std::move(body);
-  response.prepare_payload();
-  if (request.method() == http::verb::head)
-    response.body().clear();  // keeps Content-Length
-  return response;
-}
-
-net::HttpResponse json_response(const net::HttpRequest& request, http::status status, std::string body) {
-  auto response = make_response(request, status, std::move(body), "application/json");
-  response.set(http::field::cache_control, "no-store");
-  return response;
-}
-
-net::HttpResponse error_response(const net::HttpRequest& request, http::status status, ErrorCode code,
-                                 std::string_view message) {
-  return json_response(request, status, protocol::rest_error(code, message));
-}
-
-bool is_read(const net::HttpRequest& request) {
-  return request.method() == http::verb::get || request.method() == http::verb::head;
-}
-
-}  // namespace
-
-HttpRouter::HttpRouter(const RobotState& robot, const net::ClientHub& hub, std::filesystem::path web_root,
-                       std::string sim_world)
-    : robot_(robot), hub_(hub), web_root_(std::move(web_root)), sim_world_(std::move(sim_world)) {}
+HttpRouter::HttpRouter(const net::ServerServices& services, const net::ClientHub& hub,
+                       const streams::StatusStream& status, const net::ServerMetrics& metrics)
+    : services_(services),
+      hub_(hub),
+      status_(status),
+      metrics_(metrics),
+      sim_world_(services.sim_world ? protocol::sim_world(*services.sim_world).dump() : std::string()) {}
 
 net::HttpResponse HttpRouter::handle(const net::HttpRequest& request) const {
   const std::string_view target = request.target();
-  const std::string_view path = target.substr(0, target.find('?'));
+  const std::size_t question = target.find('?');
+  const std::string_view path = target.substr(0, question);
+  const std::string_view query =
+      question == std::string_view::npos ? std::string_view() : target.substr(question + 1);
 
-  const bool is_api = path == "/healthz" || path.starts_with("/api/");
-  if (is_api && !is_read(request)) {
-    auto response = error_response(request, http::status::method_not_allowed, ErrorCode::kMethodNotAllowed,
-                                   "only GET and HEAD are allowed here");
-    response.set(http::field::allow, "GET, HEAD");
-    return response;
-  }
-  if (path == "/healthz")
-    return json_response(request, http::status::ok, R"({"status":"ok"})");
-  if (path == "/api/v1/info")
-    return json_response(request, http::status::ok, protocol::info().dump());
-  if (path == "/api/v1/pose") {
-    const auto robot = robot_.snapshot();
-    if (!robot) {
-      return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
-                            "no pose yet: the robot has not reported");
-    }
-    return json_response(request, http::status::ok, protocol::pose_fields(*robot).dump());
-  }
-  if (path == "/api/v1/status") {
-    return json_response(request, http::status::ok,
-                         protocol::status_fields(robot_.registration(), hub_.size()).dump());
-  }
-  if (path == "/api/v1/sim/world" && !sim_world_.empty()) {
-    return json_response(request, http::status::ok, sim_world_);
-  }
-  if (is_api) {
+  if (path == "/healthz" || path == "/metrics" || path.starts_with("/api/")) {
+    if (auto response = route_api(request, path, query))
+      return std::move(*response);
     return error_response(request, http::status::not_found, ErrorCode::kNotFound,
                           "no such endpoint: " + std::string(path));
   }
   return serve_static(request, path);
+}
+
+std::optional<net::HttpResponse> HttpRouter::route_api(const net::HttpRequest& request, std::string_view path,
+                                                       std::string_view query) const {
+  // Read-only endpoints first: one Allow list for all of them.
+  const auto read_only = [&](auto&& answer) -> net::HttpResponse {
+    if (!is_read(request))
+      return method_not_allowed(request, "GET, HEAD");
+    return answer();
+  };
+  if (path == "/healthz")
+    return read_only([&] { return json_response(request, http::status::ok, R"({"status":"ok"})"); });
+  if (path == "/metrics")
+    return read_only([&] { return metrics(request); });
+  if (path == "/api/v1/info")
+    return read_only([&] { return json_response(request, http::status::ok, protocol::info().dump()); });
+  if (path == "/api/v1/pose") {
+    return read_only([&] {
+      const auto robot = services_.robot->snapshot();
+      if (!robot) {
+        return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
+                              "no pose yet: the robot has not reported");
+      }
+      return json_response(request, http::status::ok, protocol::pose_fields(*robot).dump());
+    });
+  }
+  if (path == "/api/v1/status")
+    return read_only([&] { return json_response(request, http::status::ok, status_.fields().dump()); });
+  if (path == "/api/v1/sim/world" && !sim_world_.empty())
+    return read_only([&] { return json_response(request, http::status::ok, sim_world_); });
+  if (path == "/api/v1/goal")
+    return goal(request);
+  if (path == "/api/v1/path")
+    return read_only([&] { return this->path(request); });
+  if (path == "/api/v1/map")
+    return read_only([&] { return map_download(request, query); });
+  if (path == "/api/v1/occupancy")
+    return read_only([&] { return occupancy(request); });
+  if (path == "/api/v1/tiles")
+    return read_only([&] { return tile_index(request); });
+  if (path.starts_with("/api/v1/tiles/"))
+    return read_only([&] { return tile(request, path.substr(std::string_view("/api/v1/tiles/").size())); });
+  if (path == "/api/v1/maps" || path.starts_with("/api/v1/maps/"))
+    return maps(request, path.substr(std::string_view("/api/v1/maps").size()));
+  return std::nullopt;
+}
+
+std::optional<net::HttpResponse> HttpRouter::require_operator(const net::HttpRequest& request) const {
+  switch (auth::authenticate(request, services_.operator_token)) {
+    case auth::AuthOutcome::kOperator:
+      return std::nullopt;
+    case auth::AuthOutcome::kBadToken:
+      return error_response(request, http::status::unauthorized, ErrorCode::kUnauthorized,
+                            "the operator token is wrong");
+    case auth::AuthOutcome::kViewer:
+      break;
+  }
+  return error_response(request, http::status::unauthorized, ErrorCode::kUnauthorized,
+                        "this needs the operator token (Authorization: Bearer <token>)");
 }
 
 net::HttpResponse HttpRouter::serve_static(const net::HttpRequest& request, std::string_view path) const {
@@ -93,7 +105,7 @@ net::HttpResponse HttpRouter::serve_static(const net::HttpRequest& request, std:
     response.set(http::field::allow, "GET, HEAD");
     return response;
   }
-  const auto file = net::resolve_static_path(web_root_, path);
+  const auto file = net::resolve_static_path(services_.web_root, path);
   if (!file) {
     return make_response(request, http::status::not_found, "not found\n", "text/plain; charset=utf-8");
   }

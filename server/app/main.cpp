@@ -5,6 +5,7 @@
 #include <CLI/CLI.hpp>
 #include <cstdio>
 #include <exception>
+#include <stdexcept>
 #include <string>
 
 #include "server/app/build_info.hpp"
@@ -12,6 +13,7 @@
 #include "server/app/plan_command.hpp"
 #include "server/app/register_command.hpp"
 #include "server/app/serve.hpp"
+#include "server/auth/operator_token.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -59,6 +61,20 @@ int main(int argc, char** argv) {
   serve_cmd->add_option("--io-threads", serve.io_threads, "Threads serving network clients")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));
+  serve_cmd
+      ->add_option(
+          "--operator-token", serve.operator_token,
+          "Operator token for goals, teleop, save and load (16-128 characters of A-Z a-z 0-9 - _). "
+          "Prefer the config file or STRATA_OPERATOR_TOKEN: a command line is visible to other users. "
+          "Default: a random token, printed at start")
+      ->envname("STRATA_OPERATOR_TOKEN");
+  std::string token_file;
+  serve_cmd->add_option("--operator-token-file", token_file, "Read the operator token from this file")
+      ->check(CLI::ExistingFile);
+  // Every serve option can also come from a config file: `strata serve --config strata.ini`, with the options
+  // by their long names under a [serve] section (deploy/strata.example.ini). The command line wins.
+  app.set_config("--config", "", "Read options from this file (INI/TOML; see deploy/strata.example.ini)");
+  serve_cmd->fallthrough();  // `strata serve --config FILE` works as well as `strata --config FILE serve`
 
   strata::app::RegisterOptions register_options;
   auto* register_cmd = strata::app::add_register_command(app, register_options);
@@ -78,8 +94,16 @@ int main(int argc, char** argv) {
   spdlog::set_level(spdlog::level::from_str(log_level));
 
   try {
-    if (*serve_cmd)
+    if (*serve_cmd) {
+      if (!token_file.empty())
+        serve.operator_token = strata::app::read_token_file(token_file);
+      if (!serve.operator_token.empty() && !strata::auth::is_valid_token(serve.operator_token)) {
+        throw std::runtime_error(
+            "the operator token must be 16-128 characters of A-Z a-z 0-9 - _ (it travels in headers and "
+            "WebSocket subprotocols)");
+      }
       return strata::app::serve(serve);
+    }
     if (*register_cmd)
       return strata::app::run_register(register_options);
     if (*map_cmd.build)

@@ -7,6 +7,7 @@
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
 #include <cstdio>
+#include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <string>
@@ -16,10 +17,12 @@
 
 #include "drivers/sim/simulated_robot.hpp"
 #include "drivers/sim/world/world_file.hpp"
+#include "server/auth/operator_token.hpp"
 #include "server/net/listener.hpp"
 #include "server/net/server_context.hpp"
 #include "server/pipeline/localizer_worker.hpp"
 #include "server/pipeline/periodic_broadcast.hpp"
+#include "server/protocol/client_messages.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/state/robot_state.hpp"
 
@@ -59,6 +62,16 @@ sim::ScannerKind parse_scanner(const std::string& name) {
   throw std::runtime_error("unknown scanner '" + name + "' (tilting, lidar, none)");
 }
 
+std::string read_token_file(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::string token;
+  if (!file || !std::getline(file, token))
+    throw std::runtime_error("cannot read the operator token from " + path.string());
+  while (!token.empty() && (token.back() == '\r' || token.back() == ' ' || token.back() == '\t'))
+    token.pop_back();
+  return token;
+}
+
 int serve(const ServeOptions& options) {
   const std::filesystem::path web_root = options.web_root.empty() ? default_web_root() : options.web_root;
   if (!std::filesystem::exists(web_root / "index.html")) {
@@ -81,8 +94,18 @@ int serve(const ServeOptions& options) {
       [&robot_state](const sim::RobotSample& sample) { robot_state.publish(sample); },
       [&localizer](ScanEvent scan) { localizer.submit(std::move(scan)); });
 
+  std::string operator_token = options.operator_token;
+  if (operator_token.empty())
+    operator_token = auth::generate_token();
+
   boost::asio::io_context io(options.io_threads);
-  auto context = std::make_shared<net::ServerContext>(robot_state, web_root, &robot.world());
+  net::ServerServices services;
+  services.robot = &robot_state;
+  services.sim_world = &robot.world();
+  services.operator_token = operator_token;
+  services.web_root = web_root;
+  // TODO(map): services.map, services.maps; TODO(nav): services.motion
+  auto context = std::make_shared<net::ServerContext>(std::move(services));
   const boost::asio::ip::tcp::endpoint endpoint(boost::asio::ip::make_address(options.bind_address),
                                                 options.port);
   std::shared_ptr<net::Listener> listener;
@@ -93,20 +116,31 @@ int serve(const ServeOptions& options) {
                              ": " + error.code().message());
   }
   double last_pose_stamp = -1.0;
-  auto pose_stream = std::make_shared<pipeline::PeriodicBroadcast>(
+  const auto pose_stream_bit = static_cast<std::uint8_t>(protocol::Stream::kPose);
+  std::vector<std::shared_ptr<pipeline::PeriodicBroadcast>> broadcasts;
+  broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
       io, context->hub, options.pose_rate,
-      [&robot_state, last_pose_stamp]() mutable -> std::optional<net::OutgoingMessage> {
+      [&robot_state, last_pose_stamp, pose_stream_bit]() mutable -> std::vector<net::OutgoingMessage> {
         const auto snapshot = robot_state.snapshot();
         if (!snapshot || snapshot->sample.stamp == last_pose_stamp)
-          return std::nullopt;  // nothing new
+          return {};  // nothing new
         last_pose_stamp = snapshot->sample.stamp;
-        return net::OutgoingMessage::text(protocol::pose_message(*snapshot), "pose", snapshot->sample.stamp);
-      });
-  auto status_stream = std::make_shared<pipeline::PeriodicBroadcast>(
-      io, context->hub, 1.0, [&robot_state, hub = &context->hub]() -> std::optional<net::OutgoingMessage> {
-        return net::OutgoingMessage::text(protocol::status_message(robot_state.registration(), hub->size()),
-                                          "status");
-      });
+        return {net::OutgoingMessage::text(protocol::pose_message(*snapshot), "pose", snapshot->sample.stamp,
+                                           pose_stream_bit)};
+      }));
+  broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
+      io, context->hub, 1.0, [status = &context->status]() -> std::vector<net::OutgoingMessage> {
+        return {net::OutgoingMessage::text(status->poll(), "status", 0.0,
+                                           static_cast<std::uint8_t>(protocol::Stream::kStatus))};
+      }));
+  if (context->map_stream) {
+    broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
+        io, context->hub, 10.0, [stream = context->map_stream.get()] { return stream->poll(); }));
+  }
+  if (context->navigation_stream) {
+    broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
+        io, context->hub, 10.0, [stream = context->navigation_stream.get()] { return stream->poll(); }));
+  }
 
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);
   signals.async_wait([&](const boost::system::error_code& error, int signal) {
@@ -119,8 +153,8 @@ int serve(const ServeOptions& options) {
   localizer.start();
   robot.start();
   listener->run();
-  pose_stream->start();
-  status_stream->start();
+  for (const auto& broadcast : broadcasts)
+    broadcast->start();
 
   const auto bound = listener->local_endpoint();
   spdlog::info("simulator: world '{}', {} scanner, seed {}, time scale {}", world->description().name,
@@ -128,6 +162,10 @@ int serve(const ServeOptions& options) {
   // A plain line on stdout that scripts and tests wait for; the port is the real one (--port 0 picks).
   std::printf("strata: serving on http://%s:%u\n", bound.address().to_string().c_str(),
               static_cast<unsigned>(bound.port()));
+  if (options.operator_token.empty()) {
+    // No token configured: one for this run, shown once to whoever started the server (not logged).
+    std::printf("strata: operator token for this run: %s\n", operator_token.c_str());
+  }
   std::fflush(stdout);
 
   std::vector<std::thread> threads;

@@ -19,7 +19,12 @@ struct ServeOptions {
   std::string world = "campus";     ///< a built-in world's name or a world file's path
   std::string scanner = "tilting";  ///< tilting (stop-and-go, the thesis robot), lidar, none
   int io_threads = 2;
+  /// The operator token (goals, teleop, save, load). Empty: a random one is made and printed at start.
+  std::string operator_token;
 };
+
+/// The token in a file, without surrounding whitespace; throws when the file cannot be read.
+[[nodiscard]] std::string read_token_file(const std::filesystem::path& path);
 
 /// Runs the server with the simulated robot until SIGINT or SIGTERM. Returns the process exit code.
 int serve(const ServeOptions& options);

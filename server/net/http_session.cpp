@@ -7,6 +7,7 @@
 #include <chrono>
 #include <utility>
 
+#include "server/auth/request_auth.hpp"
 #include "server/net/websocket_session.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/protocol/protocol.hpp"
@@ -48,6 +49,7 @@ void HttpSession::on_read(beast::error_code error, std::size_t /*bytes*/) {
     return;
   }
   const HttpRequest& request = parser_->get();
+  context_->metrics.http_requests.fetch_add(1, std::memory_order_relaxed);
   if (beast::websocket::is_upgrade(request))
     return upgrade_to_websocket();
   write(context_->router.handle(request));
@@ -57,6 +59,7 @@ void HttpSession::upgrade_to_websocket() {
   const HttpRequest& request = parser_->get();
   const std::string_view target = request.target();
   HttpResponse refusal;
+  const auto auth = auth::authenticate(request, context_->services.operator_token);
   if (target.substr(0, target.find('?')) != "/ws") {
     refusal = HttpResponse{http::status::not_found, request.version()};
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kNotFound, "WebSocket endpoint is /ws");
@@ -65,9 +68,15 @@ void HttpSession::upgrade_to_websocket() {
     refusal.body() = protocol::rest_error(
         protocol::ErrorCode::kBadRequest,
         "unsupported subprotocol; this server speaks " + std::string(protocol::kSubprotocol));
+  } else if (auth == auth::AuthOutcome::kBadToken) {
+    // Refused rather than downgraded to watching: the client meant to operate and should know why it can't.
+    context_->metrics.auth_failures.fetch_add(1, std::memory_order_relaxed);
+    refusal = HttpResponse{http::status::unauthorized, request.version()};
+    refusal.body() = protocol::rest_error(protocol::ErrorCode::kUnauthorized, "the operator token is wrong");
   } else {
     stream_.expires_never();  // the WebSocket stream has its own timeouts
-    std::make_shared<WebSocketSession>(stream_.release_socket(), context_)->run(parser_->release());
+    const auto role = auth == auth::AuthOutcome::kOperator ? auth::Role::kOperator : auth::Role::kViewer;
+    std::make_shared<WebSocketSession>(stream_.release_socket(), context_, role)->run(parser_->release());
     return;
   }
   refusal.set(http::field::server, "strata");

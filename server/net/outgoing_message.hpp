@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <string>
 
@@ -12,13 +13,22 @@ struct OutgoingMessage {
   /// Messages with the same non-empty key supersede each other while unsent: a client that lags
   /// gets the newest pose, not a backlog of stale ones.
   std::string coalesce_key;
-  /// For coalesced streams: where the message stands in its stream (a pose's stamp). A client's queue drops
-  /// one that is not newer than the last it queued, so a stream never goes backwards or repeats, even when
-  /// the late joiner's snapshot and the next broadcast carry the same pose.
+  /// For coalesced streams: where the message stands in its stream (a pose's stamp, a tile's version). A
+  /// client's queue drops one that is not newer than the last it queued, so a stream never goes backwards
+  /// or repeats, even when the late joiner's snapshot and the next broadcast carry the same data.
   double order = 0.0;
+  /// The stream it belongs to (protocol::Stream bit); a client gets it only when subscribed. 0: always.
+  std::uint8_t stream = 0;
 
-  static OutgoingMessage text(std::string body, std::string coalesce_key = {}, double order = 0.0) {
-    return {std::make_shared<const std::string>(std::move(body)), false, std::move(coalesce_key), order};
+  static OutgoingMessage text(std::string body, std::string coalesce_key = {}, double order = 0.0,
+                              std::uint8_t stream = 0) {
+    return {std::make_shared<const std::string>(std::move(body)), false, std::move(coalesce_key), order,
+            stream};
+  }
+  static OutgoingMessage binary_frame(std::string body, std::string coalesce_key, double order,
+                                      std::uint8_t stream) {
+    return {std::make_shared<const std::string>(std::move(body)), true, std::move(coalesce_key), order,
+            stream};
   }
 };
 

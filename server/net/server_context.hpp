@@ -1,28 +1,59 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "drivers/sim/world/world.hpp"
 #include "server/api/http_router.hpp"
+#include "server/control/robot_commands.hpp"
 #include "server/net/client_hub.hpp"
+#include "server/net/outgoing_message.hpp"
+#include "server/net/server_metrics.hpp"
+#include "server/net/server_services.hpp"
 #include "server/protocol/messages.hpp"
+#include "server/state/map_state.hpp"
 #include "server/state/robot_state.hpp"
+#include "server/streams/map_stream.hpp"
+#include "server/streams/navigation_stream.hpp"
+#include "server/streams/status_stream.hpp"
 
 namespace strata::net {
 
-/// What every session shares: the robot's state, the connected clients and the request router.
+/// What every session shares: the robot's services, the connected clients, the streams' current state
+/// and the request router.
 struct ServerContext {
-  /// `sim_world` is the simulated world, or nullptr for a real robot.
-  ServerContext(const RobotState& robot_state, std::filesystem::path web_root, const sim::World* sim_world)
-      : robot(robot_state),
-        sim_world_message(sim_world ? protocol::sim_world_message(*sim_world) : std::string()),
-        router(robot_state, hub, std::move(web_root),
-               sim_world ? protocol::sim_world(*sim_world).dump() : std::string()) {}
+  explicit ServerContext(ServerServices services_in)
+      : services(std::move(services_in)),
+        sim_world_message(services.sim_world ? protocol::sim_world_message(*services.sim_world)
+                                             : std::string()),
+        status(*services.robot, services.map, hub),
+        map_stream(services.map ? std::make_unique<streams::MapStream>(*services.map) : nullptr),
+        navigation_stream(services.motion ? std::make_unique<streams::NavigationStream>(*services.motion)
+                                          : nullptr),
+        router(services, hub, status, metrics) {}
 
-  const RobotState& robot;
+  /// The current goal, path, occupancy and tiles: what a late joiner gets after hello, status and pose.
+  [[nodiscard]] std::vector<OutgoingMessage> current_state() const {
+    std::vector<OutgoingMessage> messages;
+    if (navigation_stream)
+      messages = navigation_stream->current();
+    if (map_stream) {
+      auto frames = map_stream->current();
+      messages.insert(messages.end(), std::make_move_iterator(frames.begin()),
+                      std::make_move_iterator(frames.end()));
+    }
+    return messages;
+  }
+
+  ServerServices services;
   std::string sim_world_message;  ///< sent to every client on connect; empty for a real robot
   ClientHub hub;
+  ServerMetrics metrics;
+  streams::StatusStream status;
+  std::unique_ptr<streams::MapStream> map_stream;
+  std::unique_ptr<streams::NavigationStream> navigation_stream;
   api::HttpRouter router;
 };
 

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
+#include <variant>
 
 #include "server/protocol/messages.hpp"
 #include "server/protocol/protocol.hpp"
@@ -18,8 +19,14 @@ namespace beast = boost::beast;
 namespace websocket = beast::websocket;
 using protocol::ErrorCode;
 
-// Enough for the late-joiner state plus a burst of control replies; poses coalesce and never pile up.
+// Replies and errors a client may leave unread before it counts as stuck; streams coalesce and never pile up.
 constexpr std::size_t kSendQueueCapacity = 256;
+// Client messages: teleop at 20 Hz plus clicks fits easily; a flood gets rate_limited errors.
+constexpr double kMessagesPerSecond = 40.0;
+constexpr double kMessageBurst = 80.0;
+// A write that has not completed in this long means the client stopped reading: drop it, so its socket
+// buffers and queue are freed and nobody waits for it.
+constexpr auto kStalledWriteTimeout = std::chrono::seconds(10);
 
 std::string_view trim(std::string_view text) {
   while (!text.empty() && (text.front() == ' ' || text.front() == '\t'))
@@ -46,11 +53,18 @@ bool accepts_subprotocol(std::string_view offered) {
 }
 
 WebSocketSession::WebSocketSession(boost::asio::ip::tcp::socket&& socket,
-                                   std::shared_ptr<ServerContext> context)
-    : ws_(std::move(socket)), context_(std::move(context)), queue_(kSendQueueCapacity) {}
+                                   std::shared_ptr<ServerContext> context, auth::Role role)
+    : ws_(std::move(socket)),
+      context_(std::move(context)),
+      role_(role),
+      queue_(kSendQueueCapacity),
+      limiter_(kMessagesPerSecond, kMessageBurst) {}
 
 WebSocketSession::~WebSocketSession() {
   context_->hub.leave(this);
+  // A dropped connection stops the robot it was driving by hand (ARCHITECTURE.md 6).
+  if (teleoperating_ && context_->services.motion != nullptr)
+    context_->services.motion->stop_teleop();
   if (open_)
     spdlog::info("websocket client left ({} connected)", context_->hub.size());
 }
@@ -77,17 +91,27 @@ void WebSocketSession::on_accept(beast::error_code error) {
     return;
   }
   open_ = true;
-  // The late joiner's state goes first, then the client joins the live streams.
-  enqueue(OutgoingMessage::text(protocol::hello_message()));
+  context_->metrics.ws_connections.fetch_add(1, std::memory_order_relaxed);
+  // Join the live streams first, then queue the current state, all in this one handler on the strand:
+  // broadcasts reach us as posted handlers, so they queue after the state, and a frame that is in both
+  // is dropped as stale by the queue (same order). Nothing is missed between snapshot and joining.
+  context_->hub.join(shared_from_this());
+  enqueue(
+      OutgoingMessage::text(protocol::hello_message(role_ == auth::Role::kOperator ? "operator" : "viewer")));
   if (!context_->sim_world_message.empty())
     enqueue(OutgoingMessage::text(context_->sim_world_message));
-  enqueue(OutgoingMessage::text(
-      protocol::status_message(context_->robot.registration(), context_->hub.size() + 1), "status"));
-  if (const auto robot = context_->robot.snapshot()) {
-    enqueue(OutgoingMessage::text(protocol::pose_message(*robot), "pose", robot->sample.stamp));
+  nlohmann::json status = context_->status.fields();
+  status["op"] = "status";
+  enqueue(OutgoingMessage::text(status.dump(), "status", 0.0,
+                                static_cast<std::uint8_t>(protocol::Stream::kStatus)));
+  if (const auto robot = context_->services.robot->snapshot()) {
+    enqueue(OutgoingMessage::text(protocol::pose_message(*robot), "pose", robot->sample.stamp,
+                                  static_cast<std::uint8_t>(protocol::Stream::kPose)));
   }
-  context_->hub.join(shared_from_this());
-  spdlog::info("websocket client joined ({} connected)", context_->hub.size());
+  for (auto& message : context_->current_state())
+    enqueue(std::move(message));
+  spdlog::info("websocket client joined as {} ({} connected)",
+               role_ == auth::Role::kOperator ? "operator" : "viewer", context_->hub.size());
   read_next();
 }
 
@@ -103,7 +127,16 @@ void WebSocketSession::on_read(beast::error_code error, std::size_t /*bytes*/) {
     }
     return;  // closed or failed: the session ends when its last handler completes
   }
-  if (ws_.got_binary()) {
+  context_->metrics.ws_messages_in.fetch_add(1, std::memory_order_relaxed);
+  if (!limiter_.allow(std::chrono::steady_clock::now())) {
+    context_->metrics.ws_rate_limited.fetch_add(1, std::memory_order_relaxed);
+    context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
+    enqueue(OutgoingMessage::text(protocol::error_message(
+        ErrorCode::kRateLimited, "too many messages: at most " +
+                                     std::to_string(static_cast<int>(kMessagesPerSecond)) +
+                                     " per second on average")));
+  } else if (ws_.got_binary()) {
+    context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
     enqueue(OutgoingMessage::text(
         protocol::error_message(ErrorCode::kBadMessage, "binary frames from clients are not accepted")));
   } else {
@@ -114,23 +147,81 @@ void WebSocketSession::on_read(beast::error_code error, std::size_t /*bytes*/) {
 }
 
 void WebSocketSession::handle_client_message(std::string_view text) {
-  const nlohmann::json message = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (message.is_discarded()) {
-    enqueue(OutgoingMessage::text(protocol::error_message(ErrorCode::kBadJson, "message is not valid JSON")));
-    return;
-  }
-  const auto op = message.is_object() ? message.find("op") : message.end();
-  if (!message.is_object() || op == message.end() || !op->is_string()) {
+  const auto parsed = protocol::parse_client_message(text);
+  if (!parsed.request) {
+    context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
     enqueue(OutgoingMessage::text(
-        protocol::error_message(ErrorCode::kBadMessage, "a message is a JSON object with a string \"op\"")));
+        protocol::error_message(parsed.error, parsed.error_message, parsed.op, parsed.id)));
     return;
   }
-  if (*op == "ping") {
-    enqueue(OutgoingMessage::text(protocol::pong_message(message.value("id", nlohmann::json()))));
+  if (protocol::needs_operator(*parsed.request) && role_ != auth::Role::kOperator) {
+    context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
+    enqueue(OutgoingMessage::text(protocol::error_message(
+        ErrorCode::kUnauthorized, parsed.op + " needs the operator token; this connection may only watch",
+        parsed.op, parsed.id)));
     return;
   }
-  enqueue(OutgoingMessage::text(
-      protocol::error_message(ErrorCode::kUnknownOp, "unknown op \"" + op->get<std::string>() + "\"")));
+  handle_request(*parsed.request, parsed.op, parsed.id);
+}
+
+void WebSocketSession::handle_request(const protocol::ClientRequest& request, std::string_view op,
+                                      const nlohmann::json& id) {
+  MotionCommands* motion = context_->services.motion;
+  MapCommands* maps = context_->services.maps;
+  const auto unavailable = [&](std::string_view what) {
+    reply(CommandResult::failure("unavailable", std::string(what) + " is not available on this server"), op,
+          id);
+  };
+  std::visit(
+      [&](const auto& r) {
+        using T = std::decay_t<decltype(r)>;
+        if constexpr (std::is_same_v<T, protocol::PingRequest>) {
+          enqueue(OutgoingMessage::text(protocol::pong_message(id)));
+        } else if constexpr (std::is_same_v<T, protocol::SubscribeRequest>) {
+          const protocol::StreamSet added = r.streams & static_cast<protocol::StreamSet>(~streams_);
+          streams_ = r.streams;
+          // Newly subscribed streams start with their current state, as for a late joiner.
+          for (auto& message : context_->current_state()) {
+            if ((message.stream & added) != 0)
+              enqueue(std::move(message));
+          }
+          reply(CommandResult::success(), op, id);
+        } else if constexpr (std::is_same_v<T, protocol::SetGoalRequest>) {
+          if (motion == nullptr)
+            return unavailable("navigation");
+          reply(motion->set_goal(r.goal), op, id);
+        } else if constexpr (std::is_same_v<T, protocol::CancelGoalRequest>) {
+          if (motion == nullptr)
+            return unavailable("navigation");
+          reply(motion->cancel_goal(), op, id);
+        } else if constexpr (std::is_same_v<T, protocol::TeleopRequest>) {
+          if (motion == nullptr)
+            return unavailable("teleoperation");
+          const CommandResult result = motion->teleop(r.v, r.w);
+          teleoperating_ = teleoperating_ || result.ok;
+          // Teleop runs at 10-20 Hz: acknowledge only when the client asked for it (gave an id).
+          if (!result.ok || !id.is_null())
+            reply(result, op, id);
+        } else if constexpr (std::is_same_v<T, protocol::SaveMapRequest>) {
+          if (maps == nullptr)
+            return unavailable("map saving");
+          reply(maps->save_map(r.name), op, id);
+        } else if constexpr (std::is_same_v<T, protocol::LoadMapRequest>) {
+          if (maps == nullptr)
+            return unavailable("map loading");
+          reply(maps->load_map(r.name), op, id);
+        }
+      },
+      request);
+}
+
+void WebSocketSession::reply(const CommandResult& result, std::string_view op, const nlohmann::json& id) {
+  if (result.ok) {
+    enqueue(OutgoingMessage::text(protocol::ack_message(op, id)));
+    return;
+  }
+  context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
+  enqueue(OutgoingMessage::text(protocol::error_message(result.code, result.message, op, id)));
 }
 
 void WebSocketSession::send(OutgoingMessage message) {
@@ -142,31 +233,41 @@ void WebSocketSession::send(OutgoingMessage message) {
 void WebSocketSession::enqueue(OutgoingMessage message) {
   if (!open_)
     return;
-  if (queue_.push(std::move(message)) == SendQueue::PushResult::kOverflow) {
-    spdlog::warn("websocket client is not keeping up ({} messages queued); disconnecting", queue_.size());
-    open_ = false;
-    beast::error_code ignored;
-    beast::get_lowest_layer(ws_).socket().close(ignored);
-    return;
-  }
+  if (message.stream != 0 && (message.stream & streams_) == 0)
+    return;  // not subscribed
+  if (queue_.writing() && std::chrono::steady_clock::now() - write_started_ > kStalledWriteTimeout)
+    return drop_client("a write has not completed in 10 s");
+  if (queue_.push(std::move(message)) == SendQueue::PushResult::kOverflow)
+    return drop_client(std::to_string(queue_.size()) + " messages queued");
   write_next();
+}
+
+void WebSocketSession::drop_client(std::string_view why) {
+  spdlog::warn("websocket client is not keeping up ({}); disconnecting", why);
+  context_->metrics.ws_slow_dropped.fetch_add(1, std::memory_order_relaxed);
+  open_ = false;
+  context_->hub.leave(this);
+  beast::error_code ignored;
+  beast::get_lowest_layer(ws_).socket().close(ignored);
 }
 
 void WebSocketSession::write_next() {
   const OutgoingMessage* next = queue_.start_write();
   if (next == nullptr)
     return;
+  write_started_ = std::chrono::steady_clock::now();
   ws_.binary(next->binary);
   ws_.async_write(boost::asio::buffer(*next->payload),
                   beast::bind_front_handler(&WebSocketSession::on_write, shared_from_this()));
 }
 
-void WebSocketSession::on_write(beast::error_code error, std::size_t /*bytes*/) {
+void WebSocketSession::on_write(beast::error_code error, std::size_t bytes) {
   queue_.finish_write();
   if (error) {
     open_ = false;
     return;
   }
+  context_->metrics.ws_bytes_out.fetch_add(bytes, std::memory_order_relaxed);
   write_next();
 }
 

@@ -3,21 +3,27 @@
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/websocket.hpp>
+#include <chrono>
 #include <memory>
 #include <string_view>
 
+#include "server/auth/operator_token.hpp"
 #include "server/net/client_hub.hpp"
 #include "server/net/http_types.hpp"
+#include "server/net/rate_limiter.hpp"
 #include "server/net/send_queue.hpp"
 #include "server/net/server_context.hpp"
+#include "server/protocol/client_messages.hpp"
 
 namespace strata::net {
 
 /// One WebSocket client on /ws. Everything runs on the session's strand (the executor of its socket);
-/// outgoing messages wait in a bounded, coalescing SendQueue with one write in flight.
+/// outgoing messages wait in a bounded, coalescing SendQueue with one write in flight. The client's role
+/// (viewer or operator) is fixed at the upgrade; its subscriptions filter what it is sent.
 class WebSocketSession : public ClientConnection, public std::enable_shared_from_this<WebSocketSession> {
  public:
-  WebSocketSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<ServerContext> context);
+  WebSocketSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<ServerContext> context,
+                   auth::Role role);
   ~WebSocketSession() override;
 
   /// Completes the upgrade `request` asked for, then starts streaming.
@@ -29,15 +35,23 @@ class WebSocketSession : public ClientConnection, public std::enable_shared_from
   void read_next();
   void on_read(boost::beast::error_code error, std::size_t bytes);
   void handle_client_message(std::string_view text);
+  void handle_request(const protocol::ClientRequest& request, std::string_view op, const nlohmann::json& id);
+  void reply(const CommandResult& result, std::string_view op, const nlohmann::json& id);
   void enqueue(OutgoingMessage message);
+  void drop_client(std::string_view why);
   void write_next();
   void on_write(boost::beast::error_code error, std::size_t bytes);
 
   boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<ServerContext> context_;
+  auth::Role role_;
   SendQueue queue_;
+  RateLimiter limiter_;
+  protocol::StreamSet streams_ = protocol::kAllStreams;
+  std::chrono::steady_clock::time_point write_started_{};
   bool open_ = false;
+  bool teleoperating_ = false;
 };
 
 /// Whether an upgrade request's Sec-WebSocket-Protocol list is acceptable: absent, or naming ours.

@@ -32,8 +32,8 @@ void PeriodicBroadcast::schedule() {
   timer_.async_wait([self = shared_from_this()](boost::system::error_code error) {
     if (error || !self->running_)
       return;
-    if (auto message = self->encoder_())
-      self->hub_.broadcast(*message);
+    for (const auto& message : self->encoder_())
+      self->hub_.broadcast(message);
     // Fixed-rate schedule: the next tick is one period after the previous deadline, not after now.
     self->timer_.expires_at(self->timer_.expiry() + self->period_);
     self->schedule();

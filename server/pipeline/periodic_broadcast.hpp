@@ -5,20 +5,21 @@
 #include <chrono>
 #include <functional>
 #include <memory>
-#include <optional>
 #include <string>
+#include <vector>
 
 #include "server/net/client_hub.hpp"
 
 namespace strata::pipeline {
 
 /// Broadcasts a message to every WebSocket client at a fixed rate, decoupled from the rate at which the
-/// robot's state changes: the pose stream (20-50 Hz) and the status stream (1 Hz). Each message is
+/// robot's state changes: the pose stream (20-50 Hz), the status stream (1 Hz), the map and navigation
+/// streams. Each message is
 /// encoded once and shared by all clients' queues; nothing is sent when the encoder has nothing new.
 class PeriodicBroadcast : public std::enable_shared_from_this<PeriodicBroadcast> {
  public:
-  /// Returns the message to send now, or nothing.
-  using Encoder = std::function<std::optional<net::OutgoingMessage>()>;
+  /// Returns the messages to send now (none when nothing is new).
+  using Encoder = std::function<std::vector<net::OutgoingMessage>()>;
 
   PeriodicBroadcast(boost::asio::io_context& io, net::ClientHub& hub, double rate_hz, Encoder encoder);
 

@@ -29,6 +29,14 @@ std::string_view to_string(ErrorCode code) {
       return "bad_request";
     case ErrorCode::kUnavailable:
       return "unavailable";
+    case ErrorCode::kBadParams:
+      return "bad_params";
+    case ErrorCode::kUnauthorized:
+      return "unauthorized";
+    case ErrorCode::kRateLimited:
+      return "rate_limited";
+    case ErrorCode::kInternal:
+      return "internal";
   }
   return "internal";
 }
@@ -51,7 +59,7 @@ std::string pose_message(const RobotSnapshot& robot) {
   return message.dump();
 }
 
-nlohmann::json status_fields(const RegistrationStatus& registration, std::size_t clients) {
+nlohmann::json status_fields(const RegistrationStatus& registration, const StatusExtras& extras) {
   nlohmann::json reg{{"scans", registration.scans},
                      {"accepted", registration.accepted},
                      {"rejected", registration.rejected},
@@ -63,12 +71,69 @@ nlohmann::json status_fields(const RegistrationStatus& registration, std::size_t
                    {"reason", last.reason}, {"message", last.message},       {"rmse", last.rmse},
                    {"pairs", last.pairs},   {"iterations", last.iterations}, {"seconds", last.seconds}};
   }
-  return {{"registration", std::move(reg)}, {"clients", clients}};
+  nlohmann::json map{{"version", 0}, {"tiles", 0}, {"cells", 0}, {"patches", 0}, {"bytes", 0}};
+  if (extras.map) {
+    map = {{"version", extras.map->version},
+           {"tiles", extras.map->tiles.size()},
+           {"cells", extras.map->cells},
+           {"patches", extras.map->patches},
+           {"bytes", extras.map->memory_bytes}};
+  }
+  return {{"registration", std::move(reg)},
+          {"clients", extras.clients},
+          {"scan_rate", extras.scan_rate},
+          {"map", std::move(map)}};
 }
 
-std::string status_message(const RegistrationStatus& registration, std::size_t clients) {
-  nlohmann::json message = status_fields(registration, clients);
+std::string status_message(const RegistrationStatus& registration, const StatusExtras& extras) {
+  nlohmann::json message = status_fields(registration, extras);
   message["op"] = "status";
+  return message.dump();
+}
+
+nlohmann::json goal_fields(const GoalStatus& goal) {
+  if (goal.id == 0)
+    return {{"id", 0}, {"phase", "none"}};
+  nlohmann::json fields{{"id", goal.id},
+                        {"x", goal.target.x},
+                        {"y", goal.target.y},
+                        {"phase", to_string(goal.phase)},
+                        {"stamp", goal.stamp}};
+  if (goal.target.z)
+    fields["z"] = *goal.target.z;
+  if (!goal.reason.empty())
+    fields["reason"] = goal.reason;
+  return fields;
+}
+
+std::string goal_message(const GoalStatus& goal) {
+  nlohmann::json message = goal_fields(goal);
+  message["op"] = "goal";
+  return message.dump();
+}
+
+nlohmann::json path_fields(const PlannedPath* path) {
+  nlohmann::json points = nlohmann::json::array();
+  if (path == nullptr)
+    return {{"goal_id", 0}, {"version", 0}, {"length", 0.0}, {"points", std::move(points)}};
+  for (const auto& point : path->points)
+    points.push_back({point.x(), point.y(), point.z()});
+  return {{"goal_id", path->goal_id},
+          {"version", path->version},
+          {"length", path->length},
+          {"points", std::move(points)}};
+}
+
+std::string path_message(const PlannedPath* path) {
+  nlohmann::json message = path_fields(path);
+  message["op"] = "path";
+  return message.dump();
+}
+
+std::string ack_message(std::string_view request_op, const nlohmann::json& id) {
+  nlohmann::json message{{"op", "ack"}, {"request", request_op}};
+  if (!id.is_null())
+    message["id"] = id;
   return message.dump();
 }
 
@@ -127,17 +192,29 @@ std::string sim_world_message(const sim::World& world) {
   return message.dump();
 }
 
-std::string hello_message() {
+std::string hello_message(std::string_view role) {
   return nlohmann::json{{"op", "hello"},
                         {"server", "strata"},
                         {"version", build_info::version()},
                         {"protocol", kSubprotocol},
-                        {"protocol_version", kVersion}}
+                        {"protocol_version", kVersion},
+                        {"role", role}}
       .dump();
 }
 
-std::string error_message(ErrorCode code, std::string_view message) {
-  return nlohmann::json{{"op", "error"}, {"code", to_string(code)}, {"message", message}}.dump();
+std::string error_message(ErrorCode code, std::string_view message, std::string_view request_op,
+                          const nlohmann::json& id) {
+  return error_message(to_string(code), message, request_op, id);
+}
+
+std::string error_message(std::string_view code, std::string_view message, std::string_view request_op,
+                          const nlohmann::json& id) {
+  nlohmann::json error{{"op", "error"}, {"code", code}, {"message", message}};
+  if (!request_op.empty())
+    error["request"] = request_op;
+  if (!id.is_null())
+    error["id"] = id;
+  return error.dump();
 }
 
 std::string pong_message(const nlohmann::json& id) {

@@ -6,6 +6,8 @@
 
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world.hpp"
+#include "server/state/goal_state.hpp"
+#include "server/state/map_state.hpp"
 #include "server/state/robot_state.hpp"
 
 namespace strata::protocol {
@@ -19,6 +21,10 @@ enum class ErrorCode {
   kMethodNotAllowed,
   kBadRequest,
   kUnavailable,
+  kBadParams,     ///< a known op (or REST body) with missing, mistyped or out-of-range fields
+  kUnauthorized,  ///< needs the operator token, or the token offered is wrong
+  kRateLimited,   ///< the client sends faster than the limit
+  kInternal,
 };
 [[nodiscard]] std::string_view to_string(ErrorCode code);
 
@@ -26,19 +32,38 @@ enum class ErrorCode {
 [[nodiscard]] nlohmann::json pose_fields(const RobotSnapshot& robot);
 /// {"op":"pose", ...}: the live pose stream.
 [[nodiscard]] std::string pose_message(const RobotSnapshot& robot);
-/// The body of GET /api/v1/status: registration quality and counts.
-[[nodiscard]] nlohmann::json status_fields(const RegistrationStatus& registration, std::size_t clients);
+/// What the status stream reports besides registration.
+struct StatusExtras {
+  std::size_t clients = 0;
+  double scan_rate = 0.0;                  ///< scans registered per second, recent average
+  std::shared_ptr<const MapSnapshot> map;  ///< null before the first map
+};
+/// The body of GET /api/v1/status: registration quality and counts, scan rate, map size, clients.
+[[nodiscard]] nlohmann::json status_fields(const RegistrationStatus& registration,
+                                           const StatusExtras& extras);
 /// {"op":"status", ...}: the status stream (1 Hz).
-[[nodiscard]] std::string status_message(const RegistrationStatus& registration, std::size_t clients);
+[[nodiscard]] std::string status_message(const RegistrationStatus& registration, const StatusExtras& extras);
+/// The body of GET /api/v1/goal and the `goal` message's fields.
+[[nodiscard]] nlohmann::json goal_fields(const GoalStatus& goal);
+[[nodiscard]] std::string goal_message(const GoalStatus& goal);
+/// The body of GET /api/v1/path and the `path` message's fields; `path` may be null (no path).
+[[nodiscard]] nlohmann::json path_fields(const PlannedPath* path);
+[[nodiscard]] std::string path_message(const PlannedPath* path);
+/// {"op":"ack","request":op,"id":id}: a command was accepted.
+[[nodiscard]] std::string ack_message(std::string_view request_op, const nlohmann::json& id);
 /// The simulated world's geometry (boxes, ramps, cylinders, spheres, terrain), for drawing it faintly: the
 /// body of GET /api/v1/sim/world.
 [[nodiscard]] nlohmann::json sim_world(const sim::World& world);
 /// {"op":"sim_world", ...}: the same, sent to late joiners when the robot is simulated.
 [[nodiscard]] std::string sim_world_message(const sim::World& world);
-/// {"op":"hello", ...}: the first message on every connection.
-[[nodiscard]] std::string hello_message();
-/// {"op":"error","code":...,"message":...}
-[[nodiscard]] std::string error_message(ErrorCode code, std::string_view message);
+/// {"op":"hello", ...}: the first message on every connection; `role` is "operator" or "viewer".
+[[nodiscard]] std::string hello_message(std::string_view role = "viewer");
+/// {"op":"error","code":...,"message":...[,"request":op][,"id":id]}
+[[nodiscard]] std::string error_message(ErrorCode code, std::string_view message,
+                                        std::string_view request_op = {}, const nlohmann::json& id = nullptr);
+/// An error code given as text by a command implementation (CommandResult::code).
+[[nodiscard]] std::string error_message(std::string_view code, std::string_view message,
+                                        std::string_view request_op, const nlohmann::json& id);
 /// {"op":"pong", "id": ...}
 [[nodiscard]] std::string pong_message(const nlohmann::json& id);
 /// The body of GET /api/v1/info.

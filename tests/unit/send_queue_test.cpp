@@ -52,10 +52,44 @@ TEST(SendQueue, OverflowsWhenFullOfMessagesThatCannotBeDropped) {
   SendQueue queue(2);
   EXPECT_EQ(queue.push(OutgoingMessage::text("a")), SendQueue::PushResult::kQueued);
   EXPECT_EQ(queue.push(OutgoingMessage::text("p", "pose")), SendQueue::PushResult::kQueued);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("b")), SendQueue::PushResult::kOverflow);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("b")), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("c")), SendQueue::PushResult::kOverflow);
   // A coalescing message still fits: it replaces its older self.
   EXPECT_EQ(queue.push(OutgoingMessage::text("p2", "pose")), SendQueue::PushResult::kCoalesced);
-  EXPECT_EQ(queue.size(), 2u);
+  EXPECT_EQ(queue.size(), 3u);
+}
+
+TEST(SendQueue, CoalescingMessagesAreBoundedByTheirKeysNotTheCapacity) {
+  SendQueue queue(4);
+  // A late joiner's map: many tiles, more than the capacity, each under its own key.
+  for (int round = 1; round <= 3; ++round) {
+    for (int tile = 0; tile < 100; ++tile) {
+      const auto result = queue.push(OutgoingMessage::text(
+          "t" + std::to_string(tile) + "v" + std::to_string(round), "tile:" + std::to_string(tile), round));
+      EXPECT_NE(result, SendQueue::PushResult::kOverflow);
+    }
+  }
+  EXPECT_EQ(queue.size(), 100u);  // newer versions replaced the queued older ones
+  EXPECT_EQ(body(queue.start_write()), "t0v3");
+  queue.finish_write();
+  // Tile 0 was written; its next version queues at the back, tile 1's replaces in place.
+  EXPECT_EQ(queue.push(OutgoingMessage::text("t0v4", "tile:0", 4)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("t1v4", "tile:1", 4)), SendQueue::PushResult::kCoalesced);
+  EXPECT_EQ(body(queue.start_write()), "t1v4");
+  queue.finish_write();
+  std::string last;
+  while (const OutgoingMessage* next = queue.start_write()) {
+    last = *next->payload;
+    queue.finish_write();
+  }
+  EXPECT_EQ(last, "t0v4");
+}
+
+TEST(SendQueue, AnOlderTileVersionIsDropped) {
+  SendQueue queue(4);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("v5", "tile:3,4", 5)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("v4", "tile:3,4", 4)), SendQueue::PushResult::kStale);
+  EXPECT_EQ(body(queue.start_write()), "v5");
 }
 
 TEST(SendQueue, AStreamNeverGoesBackwardsOrRepeats) {

@@ -1,0 +1,62 @@
+// REST: the goal (GET, POST to set, DELETE to cancel) and the planned path.
+#include <nlohmann/json.hpp>
+#include <variant>
+
+#include "server/api/http_router.hpp"
+#include "server/api/responses.hpp"
+#include "server/protocol/client_messages.hpp"
+
+namespace strata::api {
+
+namespace http = net::http;
+using protocol::ErrorCode;
+
+net::HttpResponse HttpRouter::goal(const net::HttpRequest& request) const {
+  MotionCommands* motion = services_.motion;
+  const bool write = request.method() == http::verb::post || request.method() == http::verb::delete_;
+  if (!is_read(request) && !write)
+    return method_not_allowed(request, "GET, HEAD, POST, DELETE");
+  if (write) {
+    if (auto refusal = require_operator(request))
+      return std::move(*refusal);
+  }
+  if (motion == nullptr) {
+    return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
+                          "navigation is not available on this server");
+  }
+  if (request.method() == http::verb::post) {
+    // The body is the WebSocket set_goal message without "op": one validation for both.
+    nlohmann::json body = nlohmann::json::parse(request.body(), nullptr, /*allow_exceptions=*/false);
+    if (body.is_discarded() || !body.is_object()) {
+      return error_response(request, http::status::bad_request, ErrorCode::kBadJson,
+                            "the body must be a JSON object {\"x\": ..., \"y\": ..., \"z\": ...}");
+    }
+    body["op"] = "set_goal";
+    const auto parsed = protocol::parse_client_message(body.dump());
+    if (!parsed.request) {
+      return error_response(request, http::status::bad_request, parsed.error, parsed.error_message);
+    }
+    const CommandResult result = motion->set_goal(std::get<protocol::SetGoalRequest>(*parsed.request).goal);
+    if (!result.ok)
+      return command_error(request, result.code, result.message);
+    return json_response(request, http::status::accepted,
+                         protocol::goal_fields(motion->goal_status()).dump());
+  }
+  if (request.method() == http::verb::delete_) {
+    const CommandResult result = motion->cancel_goal();
+    if (!result.ok)
+      return command_error(request, result.code, result.message);
+  }
+  return json_response(request, http::status::ok, protocol::goal_fields(motion->goal_status()).dump());
+}
+
+net::HttpResponse HttpRouter::path(const net::HttpRequest& request) const {
+  if (services_.motion == nullptr) {
+    return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
+                          "navigation is not available on this server");
+  }
+  const auto planned = services_.motion->path();
+  return json_response(request, http::status::ok, protocol::path_fields(planned.get()).dump());
+}
+
+}  // namespace strata::api

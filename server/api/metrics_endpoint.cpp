@@ -1,0 +1,68 @@
+// GET /metrics: counters and gauges in the Prometheus text exposition format (version 0.0.4).
+#include <spdlog/fmt/fmt.h>
+
+#include <string>
+
+#include "server/api/http_router.hpp"
+#include "server/api/responses.hpp"
+
+namespace strata::api {
+namespace {
+
+void metric(std::string& out, std::string_view name, std::string_view type, std::string_view help,
+            double value) {
+  out += fmt::format("# HELP {} {}\n# TYPE {} {}\n{} {}\n", name, help, name, type, name, value);
+}
+
+}  // namespace
+
+net::HttpResponse HttpRouter::metrics(const net::HttpRequest& request) const {
+  const auto count = [](const std::atomic<std::uint64_t>& counter) {
+    return static_cast<double>(counter.load(std::memory_order_relaxed));
+  };
+  std::string out;
+  metric(out, "strata_http_requests_total", "counter", "HTTP requests received",
+         count(metrics_.http_requests));
+  metric(out, "strata_ws_clients", "gauge", "WebSocket clients connected now",
+         static_cast<double>(hub_.size()));
+  metric(out, "strata_ws_connections_total", "counter", "WebSocket connections accepted",
+         count(metrics_.ws_connections));
+  metric(out, "strata_ws_messages_received_total", "counter", "WebSocket messages received from clients",
+         count(metrics_.ws_messages_in));
+  metric(out, "strata_ws_errors_sent_total", "counter", "client messages refused with an error",
+         count(metrics_.ws_errors_sent));
+  metric(out, "strata_ws_rate_limited_total", "counter", "client messages refused for the rate limit",
+         count(metrics_.ws_rate_limited));
+  metric(out, "strata_ws_slow_clients_dropped_total", "counter", "clients disconnected for not keeping up",
+         count(metrics_.ws_slow_dropped));
+  metric(out, "strata_ws_bytes_sent_total", "counter", "payload bytes sent to WebSocket clients",
+         count(metrics_.ws_bytes_out));
+  metric(out, "strata_auth_failures_total", "counter", "requests that offered a wrong operator token",
+         count(metrics_.auth_failures));
+
+  const auto registration = services_.robot->registration();
+  metric(out, "strata_scans_total", "counter", "scans the localizer processed",
+         static_cast<double>(registration.scans));
+  metric(out, "strata_registrations_accepted_total", "counter", "registrations fault control accepted",
+         static_cast<double>(registration.accepted));
+  metric(out, "strata_registrations_rejected_total", "counter", "registrations fault control rejected",
+         static_cast<double>(registration.rejected));
+  metric(out, "strata_scans_dropped_total", "counter", "scans skipped because the localizer was busy",
+         static_cast<double>(registration.dropped));
+  const nlohmann::json status = status_.fields();
+  metric(out, "strata_scan_rate_hz", "gauge", "scans registered per second (10 s average)",
+         status["scan_rate"].get<double>());
+  const auto& map = status["map"];
+  metric(out, "strata_map_version", "gauge", "map version (increments with every inserted scan)",
+         map["version"].get<double>());
+  metric(out, "strata_map_tiles", "gauge", "MLS map tiles", map["tiles"].get<double>());
+  metric(out, "strata_map_cells", "gauge", "MLS map cells with patches", map["cells"].get<double>());
+  metric(out, "strata_map_patches", "gauge", "MLS map patches", map["patches"].get<double>());
+  metric(out, "strata_map_bytes", "gauge", "MLS map memory, bytes", map["bytes"].get<double>());
+
+  auto response = make_response(request, net::http::status::ok, std::move(out), "text/plain; version=0.0.4");
+  response.set(net::http::field::cache_control, "no-store");
+  return response;
+}
+
+}  // namespace strata::api

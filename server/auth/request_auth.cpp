@@ -1,0 +1,102 @@
+#include "server/auth/request_auth.hpp"
+
+#include <algorithm>
+#include <cctype>
+#include <optional>
+#include <string>
+
+namespace strata::auth {
+namespace {
+
+namespace http = net::http;
+
+std::string_view trim(std::string_view text) {
+  while (!text.empty() && (text.front() == ' ' || text.front() == '\t'))
+    text.remove_prefix(1);
+  while (!text.empty() && (text.back() == ' ' || text.back() == '\t'))
+    text.remove_suffix(1);
+  return text;
+}
+
+bool iequals(std::string_view a, std::string_view b) {
+  return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](char x, char y) {
+    return std::tolower(static_cast<unsigned char>(x)) == std::tolower(static_cast<unsigned char>(y));
+  });
+}
+
+/// The token in an `Authorization: Bearer <token>` header, if there is such a header.
+std::optional<std::string_view> bearer_token(const net::HttpRequest& request) {
+  const auto found = request.find(http::field::authorization);
+  if (found == request.end())
+    return std::nullopt;
+  const std::string_view value = trim(found->value());
+  constexpr std::string_view kScheme = "bearer ";
+  if (value.size() < kScheme.size() || !iequals(value.substr(0, kScheme.size()), kScheme))
+    return std::string_view();  // another scheme: a token offered in a way we do not take counts as wrong
+  return trim(value.substr(kScheme.size()));
+}
+
+std::optional<std::string_view> subprotocol_token(const net::HttpRequest& request) {
+  std::string_view offered = request[http::field::sec_websocket_protocol];
+  while (!offered.empty()) {
+    const std::size_t comma = offered.find(',');
+    const std::string_view item = trim(offered.substr(0, comma));
+    if (item.starts_with(kTokenSubprotocolPrefix))
+      return item.substr(kTokenSubprotocolPrefix.size());
+    if (comma == std::string_view::npos)
+      break;
+    offered.remove_prefix(comma + 1);
+  }
+  return std::nullopt;
+}
+
+std::optional<std::string_view> cookie_token(const net::HttpRequest& request) {
+  for (auto field = request.find(http::field::cookie);
+       field != request.end() && field->name() == http::field::cookie; ++field) {
+    std::string_view cookies = field->value();
+    while (!cookies.empty()) {
+      const std::size_t semicolon = cookies.find(';');
+      const std::string_view pair = trim(cookies.substr(0, semicolon));
+      const std::size_t equals = pair.find('=');
+      if (equals != std::string_view::npos && pair.substr(0, equals) == kTokenCookie)
+        return pair.substr(equals + 1);
+      if (semicolon == std::string_view::npos)
+        break;
+      cookies.remove_prefix(semicolon + 1);
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
+bool is_same_origin(const net::HttpRequest& request) {
+  const auto origin = request.find(http::field::origin);
+  const auto host = request.find(http::field::host);
+  if (origin == request.end() || host == request.end())
+    return false;
+  std::string_view origin_host = trim(origin->value());
+  const std::size_t scheme_end = origin_host.find("://");
+  if (scheme_end == std::string_view::npos)
+    return false;  // "null" (sandboxed frames, file://) never counts as ours
+  origin_host.remove_prefix(scheme_end + 3);
+  return !origin_host.empty() && iequals(origin_host, trim(host->value()));
+}
+
+AuthOutcome authenticate(const net::HttpRequest& request, std::string_view operator_token) {
+  const auto check = [operator_token](std::string_view token) {
+    return !operator_token.empty() && constant_time_equal(token, operator_token) ? AuthOutcome::kOperator
+                                                                                 : AuthOutcome::kBadToken;
+  };
+  if (const auto token = bearer_token(request))
+    return check(*token);
+  if (const auto token = subprotocol_token(request))
+    return check(*token);
+  // A stale cookie (the token changed since) should not lock a page out of watching: it only ever adds.
+  if (const auto token = cookie_token(request);
+      token && is_same_origin(request) && check(*token) == AuthOutcome::kOperator)
+    return AuthOutcome::kOperator;
+  return AuthOutcome::kViewer;
+}
+
+}  // namespace strata::auth

@@ -1,0 +1,32 @@
+#pragma once
+
+#include <string_view>
+
+#include "server/auth/operator_token.hpp"
+#include "server/net/http_types.hpp"
+
+namespace strata::auth {
+
+/// What a request's credentials amount to.
+enum class AuthOutcome {
+  kViewer,    ///< no token offered (or only a cookie that does not match): may watch
+  kOperator,  ///< the operator token, offered in one of the accepted ways
+  kBadToken,  ///< a token was offered explicitly and it is wrong: refuse, do not silently downgrade
+};
+
+/// The subprotocol prefix that carries a token on a WebSocket upgrade: browsers cannot set headers on a
+/// WebSocket, so the page offers "strata.v1, strata.token.<token>" (the server echoes only strata.v1).
+inline constexpr std::string_view kTokenSubprotocolPrefix = "strata.token.";
+/// The cookie a browser page may carry the token in; honoured only when the request's Origin is this server.
+inline constexpr std::string_view kTokenCookie = "strata_token";
+
+/// Checks, in order: `Authorization: Bearer <token>`; on a WebSocket upgrade a `strata.token.<token>`
+/// subprotocol value; the `strata_token` cookie, but only with an Origin header naming the Host itself, so
+/// a page from another site cannot act with the operator's cookie. Tokens never travel in the URL (URLs end
+/// up in logs and browser history). An empty `operator_token` makes everyone a viewer.
+[[nodiscard]] AuthOutcome authenticate(const net::HttpRequest& request, std::string_view operator_token);
+
+/// Whether the request's Origin header names the host in its Host header (scheme ignored).
+[[nodiscard]] bool is_same_origin(const net::HttpRequest& request);
+
+}  // namespace strata::auth
