@@ -20,10 +20,10 @@ net::HttpResponse HttpRouter::goal(const net::HttpRequest& request) const {
     if (auto refusal = require_operator(request))
       return std::move(*refusal);
   }
-  if (motion == nullptr) {
+  const auto unavailable = [&] {
     return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
                           "navigation is not available on this server");
-  }
+  };
   if (request.method() == http::verb::post) {
     // The body is the WebSocket set_goal message without "op": one validation for both.
     nlohmann::json body = nlohmann::json::parse(request.body(), nullptr, /*allow_exceptions=*/false);
@@ -36,12 +36,16 @@ net::HttpResponse HttpRouter::goal(const net::HttpRequest& request) const {
     if (!parsed.request) {
       return error_response(request, http::status::bad_request, parsed.error, parsed.error_message);
     }
+    if (motion == nullptr)
+      return unavailable();
     const CommandResult result = motion->set_goal(std::get<protocol::SetGoalRequest>(*parsed.request).goal);
     if (!result.ok)
       return command_error(request, result.code, result.message);
     return json_response(request, http::status::accepted,
                          protocol::goal_fields(motion->goal_status()).dump());
   }
+  if (motion == nullptr)
+    return unavailable();
   if (request.method() == http::verb::delete_) {
     const CommandResult result = motion->cancel_goal();
     if (!result.ok)

@@ -160,12 +160,13 @@ int serve(const ServeOptions& options) {
   spdlog::info("simulator: world '{}', {} scanner, seed {}, time scale {}", world->description().name,
                options.scanner, options.seed, options.time_scale);
   // A plain line on stdout that scripts and tests wait for; the port is the real one (--port 0 picks).
-  std::printf("strata: serving on http://%s:%u\n", bound.address().to_string().c_str(),
-              static_cast<unsigned>(bound.port()));
   if (options.operator_token.empty()) {
     // No token configured: one for this run, shown once to whoever started the server (not logged).
     std::printf("strata: operator token for this run: %s\n", operator_token.c_str());
   }
+  // Last: scripts may stop reading stdout once they have the port.
+  std::printf("strata: serving on http://%s:%u\n", bound.address().to_string().c_str(),
+              static_cast<unsigned>(bound.port()));
   std::fflush(stdout);
 
   std::vector<std::thread> threads;

@@ -14,7 +14,9 @@
 #include <chrono>
 #include <cstdint>
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <optional>
+#include <vector>
 #include <stdexcept>
 #include <string>
 
@@ -45,12 +47,15 @@ inline void expect_schema(const std::string& group, const std::string& name, con
 }
 
 inline http::response<http::string_body> http_request(std::uint16_t port, http::verb method,
-                                                      const std::string& target, std::string body = {}) {
+                                                      const std::string& target, std::string body = {},
+                                                      const std::string& token = {}) {
   boost::asio::io_context io;
   tcp::socket socket(io);
   socket.connect({boost::asio::ip::make_address("127.0.0.1"), port});
   http::request<http::string_body> request{method, target, 11};
   request.set(http::field::host, "127.0.0.1");
+  if (!token.empty())
+    request.set(http::field::authorization, "Bearer " + token);
   request.body() = std::move(body);
   request.prepare_payload();
   http::write(socket, request);
@@ -70,21 +75,33 @@ inline http::response<http::string_body> http_get(std::uint16_t port, const std:
 class WsClient {
  public:
   /// Throws beast::system_error when the handshake is refused.
-  explicit WsClient(std::uint16_t port, std::string subprotocol = "strata.v1", std::string target = "/ws")
+  explicit WsClient(std::uint16_t port, std::string subprotocol = "strata.v1", std::string target = "/ws",
+                    std::string authorization = {})
       : ws_(io_) {
     ws_.next_layer().connect({boost::asio::ip::make_address("127.0.0.1"), port});
-    ws_.set_option(websocket::stream_base::decorator([subprotocol](websocket::request_type& request) {
-      if (!subprotocol.empty())
-        request.set(http::field::sec_websocket_protocol, subprotocol);
-    }));
+    ws_.set_option(
+        websocket::stream_base::decorator([subprotocol, authorization](websocket::request_type& request) {
+          if (!subprotocol.empty())
+            request.set(http::field::sec_websocket_protocol, subprotocol);
+          if (!authorization.empty())
+            request.set(http::field::authorization, authorization);
+        }));
     ws_.handshake(response_, "127.0.0.1", target);
   }
 
-  [[nodiscard]] const websocket::response_type& handshake_response() const { return response_; }
+  /// An operator's connection: the token as a second subprotocol, as the browser sends it.
+  static std::unique_ptr<WsClient> operator_client(std::uint16_t port, const std::string& token) {
+    return std::make_unique<WsClient>(port, "strata.v1, strata.token." + token);
+  }
 
-  /// The next message as JSON, checked against its schema in proto/ (a mismatch fails the test);
-  /// throws beast::system_error on close or error, Timeout on timeout.
-  nlohmann::json read(std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
+  /// One frame as it came: text or binary.
+  struct Frame {
+    bool binary = false;
+    std::string data;
+  };
+
+  /// The next frame, text or binary; throws like read().
+  Frame read_frame(std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
     // Asio's blocking reads ignore SO_RCVTIMEO, so read asynchronously and bound the wait.
     beast::flat_buffer buffer;
     std::optional<beast::error_code> result;
@@ -100,7 +117,24 @@ class WsClient {
     }
     if (*result)
       throw beast::system_error(*result);
-    nlohmann::json message = nlohmann::json::parse(beast::buffers_to_string(buffer.data()));
+    return {ws_.got_binary(), beast::buffers_to_string(buffer.data())};
+  }
+
+  /// Binary frames read() passed over, oldest first.
+  std::vector<std::string>& binary_frames() { return binary_frames_; }
+
+  [[nodiscard]] const websocket::response_type& handshake_response() const { return response_; }
+
+  /// The next message as JSON, checked against its schema in proto/ (a mismatch fails the test);
+  /// throws beast::system_error on close or error, Timeout on timeout.
+  /// Binary frames (map tiles, the occupancy image) are kept aside in binary_frames().
+  nlohmann::json read(std::chrono::milliseconds timeout = std::chrono::seconds(10)) {
+    Frame frame = read_frame(timeout);
+    while (frame.binary) {
+      binary_frames_.push_back(std::move(frame.data));
+      frame = read_frame(timeout);
+    }
+    nlohmann::json message = nlohmann::json::parse(frame.data);
     const std::string violations = protocol_schemas().server_message_violations(message);
     EXPECT_TRUE(violations.empty()) << "server sent " << message.dump() << ":\n" << violations;
     return message;
@@ -140,6 +174,7 @@ class WsClient {
   boost::asio::io_context io_;
   websocket::stream<tcp::socket> ws_;
   websocket::response_type response_;
+  std::vector<std::string> binary_frames_;
 };
 
 }  // namespace strata::testing

@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cstring>
+#include <fstream>
 #include <regex>
 #include <stdexcept>
 #include <thread>
@@ -66,7 +67,8 @@ ServerProcess::ServerProcess(std::vector<std::string> extra_args) {
   int pipe_fds[2];
   if (pipe2(pipe_fds, O_CLOEXEC) != 0)
     throw std::runtime_error("pipe failed");
-  std::vector<std::string> args{"serve", "--bind", "127.0.0.1", "--port", "0"};
+  std::vector<std::string> args{"serve", "--bind", "127.0.0.1", "--port", "0", "--operator-token",
+                                kTestOperatorToken};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   pid_ = spawn(args, pipe_fds[1], -1);  // stderr (the log) goes to the test's output
   close(pipe_fds[1]);
@@ -85,6 +87,16 @@ ServerProcess::ServerProcess(std::vector<std::string> extra_args) {
   }
   close(pipe_fds[0]);  // nothing else is printed on stdout
   port_ = static_cast<std::uint16_t>(std::stoi(match[1]));
+}
+
+long ServerProcess::resident_kib() const {
+  std::ifstream status("/proc/" + std::to_string(pid_) + "/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.starts_with("VmRSS:"))
+      return std::stol(line.substr(6));
+  }
+  return -1;
 }
 
 ServerProcess::~ServerProcess() {

@@ -12,6 +12,9 @@
 
 namespace strata::testing {
 
+/// The operator token the test servers are started with.
+inline constexpr const char* kTestOperatorToken = "integration-test-operator-token";
+
 /// The real strata binary, started with `serve` on a free loopback port and stopped with SIGTERM.
 class ServerProcess {
  public:
@@ -21,6 +24,9 @@ class ServerProcess {
   ServerProcess& operator=(const ServerProcess&) = delete;
 
   [[nodiscard]] std::uint16_t port() const { return port_; }
+  [[nodiscard]] pid_t pid() const { return pid_; }
+  /// The process's resident memory (VmRSS), KiB.
+  [[nodiscard]] long resident_kib() const;
   /// Sends SIGTERM and waits; returns the exit status (or 128 + signal).
   int stop();
 
