@@ -1,5 +1,7 @@
 #include "server/protocol/messages.hpp"
 
+#include <chrono>
+
 #include "server/app/build_info.hpp"
 #include "server/protocol/protocol.hpp"
 
@@ -56,6 +58,9 @@ nlohmann::json pose_fields(const RobotSnapshot& robot) {
 std::string pose_message(const RobotSnapshot& robot) {
   nlohmann::json message = pose_fields(robot);
   message["op"] = "pose";
+  // When it left the server, wall clock: a client on the same clock (loopback, NTP) measures latency.
+  message["server_time"] =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   return message.dump();
 }
 
