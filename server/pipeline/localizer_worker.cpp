@@ -57,11 +57,11 @@ void LocalizerWorker::run() {
       pending_.reset();
       status_.dropped = dropped_;
     }
-    process(scan);
+    process(std::move(scan));
   }
 }
 
-void LocalizerWorker::process(const ScanEvent& scan) {
+void LocalizerWorker::process(ScanEvent scan) {
   const PointCloud points = points_in_base(scan);
   const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
   const LocalizationUpdate update = localizer_.add_scan(points, odometry);
@@ -86,6 +86,11 @@ void LocalizerWorker::process(const ScanEvent& scan) {
   }
   state_.set_correction(update.map_from_odom, true);
   state_.set_registration(status_);
+  const bool rejected = update.registration && update.correction == Correction::kNone;
+  if (sink_ && !rejected) {
+    const Eigen::Isometry3d map_from_sensor = update.pose * scan.sensor_to_base;
+    sink_(std::move(scan), map_from_sensor);
+  }
 }
 
 }  // namespace strata::pipeline
