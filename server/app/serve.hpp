@@ -19,6 +19,7 @@ struct ServeOptions {
   std::string world = "campus";     ///< a built-in world's name or a world file's path
   std::string scanner = "tilting";  ///< tilting (stop-and-go, the thesis robot), lidar, none
   int io_threads = 2;
+  std::filesystem::path maps_dir;  ///< saved maps; empty: default_maps_dir()
 };
 
 /// Runs the server with the simulated robot until SIGINT or SIGTERM. Returns the process exit code.
@@ -27,6 +28,10 @@ int serve(const ServeOptions& options);
 /// A built-in world by name, or a world file by path; throws with the choices when neither exists.
 [[nodiscard]] sim::WorldDescription load_world(const std::string& name_or_path);
 [[nodiscard]] sim::ScannerKind parse_scanner(const std::string& name);
+
+/// Where saved maps live when no --maps-dir is given: $XDG_DATA_HOME/strata/maps, else
+/// ~/.local/share/strata/maps (the XDG default), else ./maps when there is no HOME either.
+[[nodiscard]] std::filesystem::path default_maps_dir();
 
 /// Where the web bundle is when none is given: `web/` next to the executable (a build tree), or
 /// `../share/strata/web` from it (an installed package).

@@ -62,7 +62,7 @@ std::vector<PatchRow> rows_of(const MlsTile& tile, TileIndex index, double resol
   std::vector<PatchRow> rows;
   rows.reserve(tile.pool.size());
   for (int local = 0; local < kMlsTileCells; ++local) {
-      const CellIndex cell{index.x * kMlsTileSize + (local & (kMlsTileSize - 1)),
+    const CellIndex cell{index.x * kMlsTileSize + (local & (kMlsTileSize - 1)),
                          index.y * kMlsTileSize + (local >> kMlsTileBits)};
     const auto x = static_cast<float>((cell.x + 0.5) * resolution);
     const auto y = static_cast<float>((cell.y + 0.5) * resolution);

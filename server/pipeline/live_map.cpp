@@ -22,8 +22,8 @@ constexpr int kClassificationMargin = 2;
 CellRegion grown(const CellRegion& region, int margin) {
   if (region.width <= 0 || region.height <= 0)
     return region;
-  return {{region.min.x - margin, region.min.y - margin}, region.width + 2 * margin,
-          region.height + 2 * margin};
+  return {
+      {region.min.x - margin, region.min.y - margin}, region.width + 2 * margin, region.height + 2 * margin};
 }
 
 /// Height of the level the robot is on: the surface the fill reached in the robot's cell, else the
@@ -68,8 +68,8 @@ void LiveMap::replace(MlsMap map) {
   tiles_.clear();
   MappingTimes times;
   const CellRegion all = CellRegion::of_tiles(map_.tile_indices());
-  const CellRegion region = robot_ground_ ? CellRegion::bounding(all, changed_region(map_, version, *robot_ground_))
-                                          : all;
+  const CellRegion region =
+      robot_ground_ ? CellRegion::bounding(all, changed_region(map_, version, *robot_ground_)) : all;
   refresh(region, version - 1, times);
 }
 
@@ -106,6 +106,7 @@ void LiveMap::refresh(const CellRegion& region, std::uint64_t since, MappingTime
         drivable_->grid, level_height(drivable_->grid, *robot_ground_), map_.version()));
   times.png_ms = ms_since(start);
 
+  start = Clock::now();
   auto snapshot = std::make_shared<MapSnapshot>();
   snapshot->version = map_.version();
   snapshot->tiles.reserve(tiles_.size());
@@ -116,6 +117,7 @@ void LiveMap::refresh(const CellRegion& region, std::uint64_t since, MappingTime
   snapshot->patches = map_.patch_count();
   snapshot->memory_bytes = map_.memory_bytes();
   snapshot_ = std::move(snapshot);
+  times.snapshot_ms = ms_since(start);
 }
 
 }  // namespace strata::pipeline

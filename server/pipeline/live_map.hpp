@@ -27,6 +27,7 @@ struct MappingTimes {
   double drivable_ms = 0.0;  ///< step 7: classification and flood fill over the changed region
   double tiles_ms = 0.0;     ///< step 8: Draco for the changed tiles
   double png_ms = 0.0;       ///< step 8: the occupancy image
+  double snapshot_ms = 0.0;  ///< step 8: the snapshot's tile list and map statistics
   std::size_t changed_tiles = 0;
   std::size_t region_cells = 0;
 };
