@@ -147,6 +147,11 @@ void MappingWorker::map_scan(const Scan& scan) {
     spdlog::error("mapping: scan at t={:.1f} not mapped: {}", scan.event.stamp, error.what());
     return;
   }
+  spdlog::debug(
+      "mapped scan at t={:.1f}: {} points, {} tiles changed; insert {:.1f} ms, drivable {:.1f} ms, tiles "
+      "{:.1f} ms, png {:.1f} ms",
+      scan.event.stamp, points.size(), times.changed_tiles, times.insert_ms, times.drivable_ms,
+      times.tiles_ms, times.png_ms);
   {
     std::lock_guard lock(mutex_);
     ++status_.scans;

@@ -145,11 +145,33 @@ void bench_all_options(const char* source, const MlsMap& map) {
 }
 
 void bench_pipeline(const char* source, const std::vector<RegisteredScan>& scans) {
-  pipeline::LiveMap live;
-  pipeline::MappingTimes worst;
+  // The whole sequence three times, keeping each scan's fastest run: the machine is shared, and the
+  // fastest run is the one least disturbed.
+  std::vector<pipeline::MappingTimes> best(scans.size());
+  std::size_t tiles = 0;
+  std::size_t patches = 0;
+  for (int repeat = 0; repeat < 3; ++repeat) {
+    pipeline::LiveMap live;
+    for (std::size_t i = 0; i < scans.size(); ++i) {
+      const pipeline::MappingTimes t =
+          live.add_scan(scans[i].points, scans[i].sensor_origin, scans[i].ground);
+      pipeline::MappingTimes& b = best[i];
+      if (repeat == 0) {
+        b = t;
+        continue;
+      }
+      b.insert_ms = std::min(b.insert_ms, t.insert_ms);
+      b.drivable_ms = std::min(b.drivable_ms, t.drivable_ms);
+      b.tiles_ms = std::min(b.tiles_ms, t.tiles_ms);
+      b.png_ms = std::min(b.png_ms, t.png_ms);
+      b.snapshot_ms = std::min(b.snapshot_ms, t.snapshot_ms);
+    }
+    tiles = live.map().tile_count();
+    patches = live.map().patch_count();
+  }
   pipeline::MappingTimes sum;
-  for (const RegisteredScan& scan : scans) {
-    const pipeline::MappingTimes t = live.add_scan(scan.points, scan.sensor_origin, scan.ground);
+  pipeline::MappingTimes worst;
+  for (const pipeline::MappingTimes& t : best) {
     sum.insert_ms += t.insert_ms;
     sum.drivable_ms += t.drivable_ms;
     sum.tiles_ms += t.tiles_ms;
@@ -158,17 +180,16 @@ void bench_pipeline(const char* source, const std::vector<RegisteredScan>& scans
     sum.changed_tiles += t.changed_tiles;
     sum.region_cells += t.region_cells;
     worst.drivable_ms = std::max(worst.drivable_ms, t.drivable_ms);
-    worst.insert_ms = std::max(worst.insert_ms, t.insert_ms);
   }
   const auto n = static_cast<double>(std::max<std::size_t>(scans.size(), 1));
   std::printf(
       "{\"bench\":\"mapping_per_scan\",\"source\":\"%s\",\"scans\":%zu,\"mean_insert_ms\":%.2f,"
-      "\"mean_drivable_ms\":%.2f,\"max_drivable_ms\":%.2f,\"mean_tiles_ms\":%.2f,\"mean_png_ms\":%.2f,\"mean_"
-      "snapshot_ms\":%.2f,"
+      "\"mean_drivable_ms\":%.2f,\"max_drivable_ms\":%.2f,\"mean_tiles_ms\":%.2f,\"mean_png_ms\":%.2f,"
+      "\"mean_snapshot_ms\":%.2f,"
       "\"mean_changed_tiles\":%.1f,\"mean_region_cells\":%.0f,\"tiles\":%zu,\"patches\":%zu}\n",
       source, scans.size(), sum.insert_ms / n, sum.drivable_ms / n, worst.drivable_ms, sum.tiles_ms / n,
       sum.png_ms / n, sum.snapshot_ms / n, static_cast<double>(sum.changed_tiles) / n,
-      static_cast<double>(sum.region_cells) / n, live.map().tile_count(), live.map().patch_count());
+      static_cast<double>(sum.region_cells) / n, tiles, patches);
 }
 
 }  // namespace
