@@ -49,10 +49,9 @@ GridQuantization grid_quantization(const std::vector<PatchRow>& rows, double ste
     q.origin[static_cast<std::size_t>(d)] = static_cast<float>(origin_steps * step);
     max_steps = std::max(max_steps, std::ceil(static_cast<double>(high) / step) - origin_steps);
   }
-  const auto steps = static_cast<std::uint64_t>(max_steps);
-  q.bits = std::max(1, static_cast<int>(std::bit_width(steps)));
-  if (q.bits > kMaxQuantizationBits)
+  if (!(max_steps < std::exp2(kMaxQuantizationBits)))  // also NaN
     throw TileCodecError("tile encoding: a tile spans more than 2^30 grid steps");
+  q.bits = std::max(1, static_cast<int>(std::bit_width(static_cast<std::uint64_t>(max_steps))));
   q.range = static_cast<float>(static_cast<double>((std::uint64_t{1} << q.bits) - 1U) * step);
   return q;
 }
@@ -76,6 +75,8 @@ std::vector<PatchRow> rows_of(const MlsTile& tile, TileIndex index, double resol
       if (i < classified.size() && classified[i].traversable)
         klass |= kClassTraversable;
       ++i;
+      if (!std::isfinite(patch.top()) || !std::isfinite(patch.depth))
+        throw TileCodecError("tile encoding: a patch with a non-finite height or depth");
       // A vertical patch stays vertical after rounding: its depth is at least one step.
       const float depth = patch.vertical() ? std::max(patch.depth, static_cast<float>(step)) : 0.0F;
       rows.push_back({{x, y, patch.top()}, depth, variance_code(patch.variance), klass});

@@ -124,6 +124,18 @@ TEST(TileCodec, MarksTraversablePatchesFromTheClassification) {
   EXPECT_EQ(steep, 0U);
 }
 
+TEST(TileCodec, NonFinitePatchesAreRefused) {
+  MlsMap map;
+  ASSERT_TRUE(map.append_patch({0, 0}, {std::numeric_limits<float>::infinity(), 1e-4F, 0.0F}));
+  EXPECT_THROW(static_cast<void>(encode_tile(*map.find_tile({0, 0}), {0, 0}, map.resolution())),
+               TileCodecError);
+  MlsMap far;
+  ASSERT_TRUE(far.append_patch({0, 0}, {0.0F, 1e-4F, 0.0F}));
+  ASSERT_TRUE(far.append_patch({1, 0}, {1e8F, 1e-4F, 0.0F}));  // beyond Draco's 30 bits of grid steps
+  EXPECT_THROW(static_cast<void>(encode_tile(*far.find_tile({0, 0}), {0, 0}, far.resolution())),
+               TileCodecError);
+}
+
 TEST(TileCodec, EmptyTileEncodesToNothing) {
   const MlsTile tile;
   EXPECT_TRUE(encode_tile(tile, {0, 0}, 0.1).empty());
