@@ -21,6 +21,9 @@ struct ScanEvent {
   std::optional<Pose3> truth;  ///< the base's true pose at `stamp`, when simulated
   std::size_t rays = 0;        ///< beams fired, returns or not
   double max_range = 0.0;      ///< m; readings at this range mean "no return" (0: the sensor reports none)
+  /// Wall-clock time (s since the Unix epoch) the pipeline received it: what scan-to-client latency is
+  /// measured from. 0 until the pipeline sets it.
+  double received_at = 0.0;
 };
 
 }  // namespace strata

@@ -9,6 +9,12 @@ namespace strata {
 
 DrivableMap compute_drivable_map(const MlsMap& map, const TraversabilityConfig& config,
                                  const Eigen::Vector3d& robot_ground, const CellRegion& region) {
+  return compute_drivable_map(map, SurfaceGrid(map, region, config), config, robot_ground);
+}
+
+DrivableMap compute_drivable_map(const MlsMap& map, const SurfaceGrid& surfaces,
+                                 const TraversabilityConfig& config, const Eigen::Vector3d& robot_ground) {
+  const CellRegion& region = surfaces.region();
   DrivableMap result;
   LevelGrid& grid = result.grid;
   grid.resolution = map.resolution();
@@ -21,7 +27,6 @@ DrivableMap compute_drivable_map(const MlsMap& map, const TraversabilityConfig& 
   if (cells == 0)
     return result;
 
-  const SurfaceGrid surfaces(map, region, config);
   for (std::size_t c = 0; c < cells; ++c)
     if (!surfaces.surfaces(c).empty())
       grid.cells[c] = Occupancy::occupied;  // observed; free only if the fill reaches it

@@ -23,6 +23,12 @@ struct DrivableMap {
 [[nodiscard]] DrivableMap compute_drivable_map(const MlsMap& map, const TraversabilityConfig& config,
                                                const Eigen::Vector3d& robot_ground, const CellRegion& region);
 
+/// The same over `surfaces`' region, classified already: for a caller that uses the classification for
+/// more than the fill (the mapping worker marks traversable patches in the tiles it streams).
+[[nodiscard]] DrivableMap compute_drivable_map(const MlsMap& map, const SurfaceGrid& surfaces,
+                                               const TraversabilityConfig& config,
+                                               const Eigen::Vector3d& robot_ground);
+
 /// The region of the tiles changed since `version` joined with the tiles around the robot: what a new scan
 /// asks to recompute.
 [[nodiscard]] CellRegion changed_region(const MlsMap& map, std::uint64_t version,

@@ -221,6 +221,10 @@ void write_all(int fd, const std::string& data, const std::string& name) {
 
 }  // namespace
 
+std::string serialize_mls_map(const MlsMap& map) {
+  return encode(map);
+}
+
 void save_mls_map(const MlsMap& map, const std::filesystem::path& path) {
   const std::string data = encode(map);
   const std::filesystem::path temporary = path.string() + ".tmp." + std::to_string(::getpid());

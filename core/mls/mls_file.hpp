@@ -2,6 +2,7 @@
 
 #include <filesystem>
 #include <stdexcept>
+#include <string>
 
 #include "core/mls/mls_map.hpp"
 
@@ -18,6 +19,9 @@ struct MlsFileError : std::runtime_error {
 /// same directory, fsync'ed, then renamed over `path`, so a crash leaves the old file or the new one, never
 /// half.
 void save_mls_map(const MlsMap& map, const std::filesystem::path& path);
+
+/// The bytes save_mls_map writes (for a download without a file).
+[[nodiscard]] std::string serialize_mls_map(const MlsMap& map);
 
 /// Loads a native map file. Throws MlsFileError on a missing, truncated, corrupted or foreign file.
 [[nodiscard]] MlsMap load_mls_map(const std::filesystem::path& path);

@@ -58,6 +58,9 @@ int main(int argc, char** argv) {
                    "(VLP-16-like, scans while driving), none")
       ->capture_default_str()
       ->check(CLI::IsMember({"tilting", "lidar", "none"}));
+  serve_cmd->add_option("--maps-dir", serve.maps_dir,
+                        "Directory of saved maps, created if missing (default: $XDG_DATA_HOME/strata/maps, "
+                        "i.e. ~/.local/share/strata/maps)");
   serve_cmd->add_option("--io-threads", serve.io_threads, "Threads serving network clients")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));

@@ -7,6 +7,7 @@
 #include <boost/asio/signal_set.hpp>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <memory>
 #include <stdexcept>
@@ -21,9 +22,11 @@
 #include "server/net/listener.hpp"
 #include "server/net/server_context.hpp"
 #include "server/pipeline/localizer_worker.hpp"
+#include "server/pipeline/mapping_worker.hpp"
 #include "server/pipeline/periodic_broadcast.hpp"
 #include "server/protocol/client_messages.hpp"
 #include "server/protocol/messages.hpp"
+#include "server/state/map_state.hpp"
 #include "server/state/robot_state.hpp"
 
 namespace strata::app {
@@ -37,6 +40,16 @@ std::filesystem::path default_web_root() {
   if (std::filesystem::exists(beside / "index.html", error))
     return beside;
   return exe.parent_path().parent_path() / "share" / "strata" / "web";
+}
+
+std::filesystem::path default_maps_dir() {
+  const char* data_home = std::getenv("XDG_DATA_HOME");
+  if (data_home != nullptr && *data_home == '/')  // XDG: a relative value is invalid and ignored
+    return std::filesystem::path(data_home) / "strata" / "maps";
+  const char* home = std::getenv("HOME");
+  if (home != nullptr && *home != '\0')
+    return std::filesystem::path(home) / ".local" / "share" / "strata" / "maps";
+  return "maps";
 }
 
 sim::WorldDescription load_world(const std::string& name_or_path) {
@@ -88,7 +101,16 @@ int serve(const ServeOptions& options) {
   // The robot is told where it starts (as an operator sets an initial pose): the map frame is the world's.
   const Eigen::Isometry3d start = simulator.sample().truth.to_isometry();
   const Eigen::Isometry3d map_from_odom = start * simulator.sample().odometry.to_isometry().inverse();
+  // The live map (ARCHITECTURE.md 3, steps 6-8): the localizer hands on each registered scan. Declared
+  // before the localizer, so it outlives the localizer's thread, which feeds it.
+  MapState map_state;
+  const std::filesystem::path maps_dir = options.maps_dir.empty() ? default_maps_dir() : options.maps_dir;
+  pipeline::MappingWorker mapping(map_state, maps_dir);
+  MapCommands& map_commands = mapping;
   pipeline::LocalizerWorker localizer(robot_state, LocalizerOptions{}, map_from_odom);
+  localizer.set_registered_scan_sink([&mapping](ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
+    mapping.submit(std::move(scan), map_from_sensor);
+  });
   sim::SimulatedRobot robot(
       std::move(simulator), {.step_rate = 100.0, .time_scale = options.time_scale},
       [&robot_state](const sim::RobotSample& sample) { robot_state.publish(sample); },
@@ -101,10 +123,11 @@ int serve(const ServeOptions& options) {
   boost::asio::io_context io(options.io_threads);
   net::ServerServices services;
   services.robot = &robot_state;
+  services.map = &map_state;
+  services.maps = &map_commands;
   services.sim_world = &robot.world();
   services.operator_token = operator_token;
   services.web_root = web_root;
-  // TODO(map): services.map, services.maps; TODO(nav): services.motion
   auto context = std::make_shared<net::ServerContext>(std::move(services));
   const boost::asio::ip::tcp::endpoint endpoint(boost::asio::ip::make_address(options.bind_address),
                                                 options.port);
@@ -150,6 +173,7 @@ int serve(const ServeOptions& options) {
     io.stop();
   });
 
+  mapping.start();
   localizer.start();
   robot.start();
   listener->run();
@@ -157,6 +181,7 @@ int serve(const ServeOptions& options) {
     broadcast->start();
 
   const auto bound = listener->local_endpoint();
+  spdlog::info("maps directory: {}", maps_dir.string());
   spdlog::info("simulator: world '{}', {} scanner, seed {}, time scale {}", world->description().name,
                options.scanner, options.seed, options.time_scale);
   // A plain line on stdout that scripts and tests wait for; the port is the real one (--port 0 picks).
@@ -178,6 +203,7 @@ int serve(const ServeOptions& options) {
 
   robot.stop();
   localizer.stop();
+  mapping.stop();
   spdlog::info("stopped");
   return 0;
 }

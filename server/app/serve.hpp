@@ -21,6 +21,7 @@ struct ServeOptions {
   int io_threads = 2;
   /// The operator token (goals, teleop, save, load). Empty: a random one is made and printed at start.
   std::string operator_token;
+  std::filesystem::path maps_dir;  ///< saved maps; empty: default_maps_dir()
 };
 
 /// The token in a file, without surrounding whitespace; throws when the file cannot be read.
@@ -32,6 +33,10 @@ int serve(const ServeOptions& options);
 /// A built-in world by name, or a world file by path; throws with the choices when neither exists.
 [[nodiscard]] sim::WorldDescription load_world(const std::string& name_or_path);
 [[nodiscard]] sim::ScannerKind parse_scanner(const std::string& name);
+
+/// Where saved maps live when no --maps-dir is given: $XDG_DATA_HOME/strata/maps, else
+/// ~/.local/share/strata/maps (the XDG default), else ./maps when there is no HOME either.
+[[nodiscard]] std::filesystem::path default_maps_dir();
 
 /// Where the web bundle is when none is given: `web/` next to the executable (a build tree), or
 /// `../share/strata/web` from it (an installed package).

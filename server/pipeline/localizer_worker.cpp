@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include <chrono>
 #include <string>
 #include <utility>
 
@@ -36,6 +37,9 @@ void LocalizerWorker::stop() {
 }
 
 void LocalizerWorker::submit(ScanEvent scan) {
+  if (scan.received_at == 0.0)
+    scan.received_at =
+        std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
   {
     std::lock_guard lock(mutex_);
     if (pending_)
@@ -57,11 +61,11 @@ void LocalizerWorker::run() {
       pending_.reset();
       status_.dropped = dropped_;
     }
-    process(scan);
+    process(std::move(scan));
   }
 }
 
-void LocalizerWorker::process(const ScanEvent& scan) {
+void LocalizerWorker::process(ScanEvent scan) {
   const PointCloud points = points_in_base(scan);
   const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
   const LocalizationUpdate update = localizer_.add_scan(points, odometry);
@@ -86,6 +90,11 @@ void LocalizerWorker::process(const ScanEvent& scan) {
   }
   state_.set_correction(update.map_from_odom, true);
   state_.set_registration(status_);
+  const bool rejected = update.registration && update.correction == Correction::kNone;
+  if (sink_ && !rejected) {
+    const Eigen::Isometry3d map_from_sensor = update.pose * scan.sensor_to_base;
+    sink_(std::move(scan), map_from_sensor);
+  }
 }
 
 }  // namespace strata::pipeline

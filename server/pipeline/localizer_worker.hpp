@@ -1,6 +1,8 @@
 #pragma once
 
+#include <Eigen/Geometry>
 #include <condition_variable>
+#include <functional>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -23,6 +25,14 @@ class LocalizerWorker {
   LocalizerWorker(const LocalizerWorker&) = delete;
   LocalizerWorker& operator=(const LocalizerWorker&) = delete;
 
+  /// Where each registered scan goes next (the mapping worker): the scan as the driver took it and its
+  /// sensor's corrected pose in the map frame, on the localizer's thread. Scans whose registration fault
+  /// control rejected are not handed on: their pose is the odometry guess, which would smear the map with
+  /// the very error the check caught (the first scan, which has nothing to register against, is).
+  using RegisteredScanSink = std::function<void(ScanEvent scan, const Eigen::Isometry3d& map_from_sensor)>;
+  /// Before start().
+  void set_registered_scan_sink(RegisteredScanSink sink) { sink_ = std::move(sink); }
+
   void start();
   void stop();
   /// Called from the driver thread; returns at once.
@@ -30,9 +40,10 @@ class LocalizerWorker {
 
  private:
   void run();
-  void process(const ScanEvent& scan);
+  void process(ScanEvent scan);
 
   RobotState& state_;
+  RegisteredScanSink sink_;
   ScanToMapLocalizer localizer_;
   RegistrationStatus status_;
   std::mutex mutex_;

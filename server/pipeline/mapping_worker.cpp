@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <fstream>
@@ -58,7 +59,6 @@ bool valid_map_name(const std::string& name) {
 MappingWorker::MappingWorker(MapState& state, std::filesystem::path maps_dir, MappingOptions options)
     : state_(state), maps_dir_(std::move(maps_dir)), options_(std::move(options)), live_(options_.map) {
   std::filesystem::create_directories(maps_dir_);  // throws with the reason when it cannot
-  state_.publish(live_.snapshot());
 }
 
 MappingWorker::~MappingWorker() {
@@ -95,7 +95,7 @@ void MappingWorker::stop() {
 void MappingWorker::submit(ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
   {
     std::lock_guard lock(mutex_);
-    if (waiting_scans_ >= options_.queue_capacity) {
+    if (waiting_scans_ >= std::max<std::size_t>(options_.queue_capacity, 1)) {
       const auto oldest = std::find_if(queue_.begin(), queue_.end(),
                                        [](const Item& item) { return std::holds_alternative<Scan>(item); });
       queue_.erase(oldest);
@@ -130,11 +130,10 @@ void MappingWorker::run() {
       if (std::holds_alternative<Scan>(item))
         --waiting_scans_;
     }
-    if (auto* scan = std::get_if<Scan>(&item)) {
+    if (const auto* scan = std::get_if<Scan>(&item))
       map_scan(*scan);
-    } else {
+    else
       std::get<Task>(item)();
-    }
   }
 }
 
@@ -143,11 +142,17 @@ void MappingWorker::map_scan(const Scan& scan) {
   const PointCloud points = transformed(points_in_base(scan.event, options_.min_range), map_from_base);
   MappingTimes times;
   try {
-    times = live_.add_scan(points, scan.map_from_sensor.translation(), map_from_base.translation());
+    times = live_.add_scan(points, scan.map_from_sensor.translation(), map_from_base.translation(),
+                           scan.event.received_at);
   } catch (const std::exception& error) {  // an encoder failure must not end the mapping thread
     spdlog::error("mapping: scan at t={:.1f} not mapped: {}", scan.event.stamp, error.what());
     return;
   }
+  spdlog::debug(
+      "mapped scan at t={:.1f}: {} points, {} tiles changed; insert {:.1f} ms, drivable {:.1f} ms, tiles "
+      "{:.1f} ms, png {:.1f} ms",
+      scan.event.stamp, points.size(), times.changed_tiles, times.insert_ms, times.drivable_ms,
+      times.tiles_ms, times.png_ms);
   {
     std::lock_guard lock(mutex_);
     ++status_.scans;
@@ -162,8 +167,13 @@ void MappingWorker::publish() {
   if (drivable == nullptr || !live_.robot_ground())
     return;
   const MapUpdate update{live_.map(), *drivable, *live_.robot_ground(), live_.map().version()};
-  for (const MapUpdateListener& listener : listeners_)
-    listener(update);
+  for (const MapUpdateListener& listener : listeners_) {
+    try {
+      listener(update);
+    } catch (const std::exception& error) {  // a listener's failure must not end the mapping thread
+      spdlog::error("map update listener failed: {}", error.what());
+    }
+  }
 }
 
 bool MappingWorker::run_on_mapping_thread(Task task) const {
@@ -189,11 +199,11 @@ bool MappingWorker::run_on_mapping_thread(Task task) const {
 
 CommandResult MappingWorker::save_map(const std::string& name) {
   if (!valid_map_name(name))
-    return CommandResult::failure("bad_request", "'" + name + "' is not a plain file name");
+    return CommandResult::failure("bad_params", "'" + name + "' is not a plain file name");
   CommandResult result = CommandResult::failure("unavailable", "the mapping worker is not running");
   run_on_mapping_thread([&] {
     try {
-      save_mls_map(live_.map(), maps_dir_ / name);
+      save_mls_map(live_.map(), maps_dir_ / name);  // atomic: temporary file, fsync, rename
       result = CommandResult::success();
       spdlog::info("map saved to {}", (maps_dir_ / name).string());
     } catch (const std::exception& error) {
@@ -205,7 +215,7 @@ CommandResult MappingWorker::save_map(const std::string& name) {
 
 CommandResult MappingWorker::load_map(const std::string& name) {
   if (!valid_map_name(name))
-    return CommandResult::failure("bad_request", "'" + name + "' is not a plain file name");
+    return CommandResult::failure("bad_params", "'" + name + "' is not a plain file name");
   const std::filesystem::path path = maps_dir_ / name;
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
@@ -216,7 +226,7 @@ CommandResult MappingWorker::load_map(const std::string& name) {
     try {
       loaded = load_mls_map(path);  // the whole file is checked before anything changes
     } catch (const std::exception& failure) {
-      result = CommandResult::failure("bad_map", failure.what());
+      result = CommandResult::failure("corrupt_file", failure.what());
       return;
     }
     try {
@@ -243,10 +253,8 @@ std::vector<MapFileInfo> MappingWorker::list_maps() const {
     MapFileInfo info;
     info.name = name;
     info.bytes = entry.file_size(error);
-    const auto modified = entry.last_write_time(error);
-    info.modified = std::chrono::duration<double>(
-                        std::chrono::clock_cast<std::chrono::system_clock>(modified).time_since_epoch())
-                        .count();
+    const auto modified = std::chrono::file_clock::to_sys(entry.last_write_time(error));
+    info.modified = std::chrono::duration<double>(modified.time_since_epoch()).count();
     maps.push_back(std::move(info));
   }
   std::sort(maps.begin(), maps.end(),

@@ -1,0 +1,129 @@
+#include "server/pipeline/live_map.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <utility>
+
+#include "server/encoding/occupancy_png.hpp"
+
+namespace strata::pipeline {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double ms_since(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+/// The slope of a patch is estimated from the cells two away on each axis: a region classified with this
+/// margin gives the changed tiles' border cells the same flags as their interior.
+constexpr int kClassificationMargin = 2;
+
+CellRegion grown(const CellRegion& region, int margin) {
+  if (region.width <= 0 || region.height <= 0)
+    return region;
+  return {
+      {region.min.x - margin, region.min.y - margin}, region.width + 2 * margin, region.height + 2 * margin};
+}
+
+/// Height of the level the robot is on: the surface the fill reached in the robot's cell, else the
+/// robot's own ground height.
+double level_height(const LevelGrid& grid, const Eigen::Vector3d& robot_ground) {
+  const auto col = static_cast<int>(std::floor((robot_ground.x() - grid.origin.x()) / grid.resolution));
+  const auto row = static_cast<int>(std::floor((robot_ground.y() - grid.origin.y()) / grid.resolution));
+  if (col >= 0 && row >= 0 && col < grid.width && row < grid.height) {
+    const float height =
+        grid.surface_height[static_cast<std::size_t>(row) * static_cast<std::size_t>(grid.width) +
+                            static_cast<std::size_t>(col)];
+    if (std::isfinite(height))
+      return height;
+  }
+  return robot_ground.z();
+}
+
+}  // namespace
+
+LiveMap::LiveMap(LiveMapOptions options) : options_(std::move(options)), map_(options_.mls) {
+  snapshot_ = std::make_shared<const MapSnapshot>();
+}
+
+MappingTimes LiveMap::add_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
+                               const Eigen::Vector3d& robot_ground, double received_at) {
+  MappingTimes times;
+  received_at_ = received_at;
+  const std::uint64_t before = map_.version();
+  const auto start = Clock::now();
+  map_.insert_scan(points, sensor_origin);
+  times.insert_ms = ms_since(start);
+  robot_ground_ = robot_ground;
+  refresh(changed_region(map_, before, robot_ground), before, times);
+  return times;
+}
+
+void LiveMap::replace(MlsMap map) {
+  const std::uint64_t version = std::max(map.version(), map_.version()) + 1;
+  map.set_version(version);
+  for (const TileIndex& tile : map.tile_indices())
+    map.set_tile_version(tile, version);
+  map_ = std::move(map);
+  tiles_.clear();
+  received_at_ = 0.0;  // not from a scan
+  MappingTimes times;
+  const CellRegion all = CellRegion::of_tiles(map_.tile_indices());
+  const CellRegion region =
+      robot_ground_ ? CellRegion::bounding(all, changed_region(map_, version, *robot_ground_)) : all;
+  refresh(region, version - 1, times);
+}
+
+void LiveMap::refresh(const CellRegion& region, std::uint64_t since, MappingTimes& times) {
+  auto start = Clock::now();
+  const SurfaceGrid surfaces(map_, grown(region, kClassificationMargin), options_.traversability);
+  if (robot_ground_) {
+    drivable_ = compute_drivable_map(map_, surfaces, options_.traversability, *robot_ground_);
+    times.region_cells = drivable_->grid.cells.size();
+  }
+  times.drivable_ms = ms_since(start);
+
+  start = Clock::now();
+  const std::vector<TileIndex> changed = map_.tiles_changed_since(since);
+  times.changed_tiles = changed.size();
+  for (const TileIndex& index : changed) {
+    const MlsTile* tile = map_.find_tile(index);
+    if (tile == nullptr)
+      continue;
+    auto encoded = std::make_shared<EncodedTile>();
+    encoded->tile_x = index.x;
+    encoded->tile_y = index.y;
+    encoded->version = tile->version;
+    encoded->stamp = received_at_;
+    encoded->draco = encoding::encode_tile(*tile, index, map_.resolution(), &surfaces, options_.codec);
+    for (int local = 0; local < kMlsTileCells; ++local)
+      tile->for_each_patch(local, [&](const MlsPatch&) { ++encoded->patches; });
+    tiles_[{index.x, index.y}] = std::move(encoded);
+  }
+  times.tiles_ms = ms_since(start);
+
+  start = Clock::now();
+  if (drivable_) {
+    auto occupancy = std::make_shared<EncodedOccupancy>(encoding::encode_occupancy_png(
+        drivable_->grid, level_height(drivable_->grid, *robot_ground_), map_.version()));
+    occupancy->stamp = received_at_;
+    occupancy_ = std::move(occupancy);
+  }
+  times.png_ms = ms_since(start);
+
+  start = Clock::now();
+  auto snapshot = std::make_shared<MapSnapshot>();
+  snapshot->version = map_.version();
+  snapshot->tiles.reserve(tiles_.size());
+  for (const auto& [key, tile] : tiles_)
+    snapshot->tiles.push_back(tile);
+  snapshot->occupancy = occupancy_;
+  snapshot->cells = map_.occupied_cell_count();
+  snapshot->patches = map_.patch_count();
+  snapshot->memory_bytes = map_.memory_bytes();
+  snapshot_ = std::move(snapshot);
+  times.snapshot_ms = ms_since(start);
+}
+
+}  // namespace strata::pipeline

@@ -1,0 +1,75 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <optional>
+#include <utility>
+
+#include "core/mls/drivable_map.hpp"
+#include "core/mls/mls_map.hpp"
+#include "core/points/point_cloud.hpp"
+#include "server/encoding/tile_codec.hpp"
+#include "server/state/map_state.hpp"
+
+namespace strata::pipeline {
+
+struct LiveMapOptions {
+  MlsConfig mls;
+  TraversabilityConfig traversability;
+  encoding::TileCodecOptions codec;
+};
+
+/// Where one scan's mapping time went (ARCHITECTURE.md 3, steps 6-8), milliseconds.
+struct MappingTimes {
+  double insert_ms = 0.0;    ///< step 6: points into the MLS map
+  double drivable_ms = 0.0;  ///< step 7: classification and flood fill over the changed region
+  double tiles_ms = 0.0;     ///< step 8: Draco for the changed tiles
+  double png_ms = 0.0;       ///< step 8: the occupancy image
+  double snapshot_ms = 0.0;  ///< step 8: the snapshot's tile list and map statistics
+  std::size_t changed_tiles = 0;
+  std::size_t region_cells = 0;
+};
+
+/// The map the server builds while the robot drives, and its wire form: the MLS map, the drivable map at
+/// the robot's level over the last change, and the encoded tiles, of which only the changed ones are
+/// re-encoded (unchanged tiles keep their shared encodings, so snapshots share them too). Not
+/// thread-safe: the mapping worker owns it on its thread.
+class LiveMap {
+ public:
+  explicit LiveMap(LiveMapOptions options = {});
+
+  /// Steps 6-8 for one registered scan: `points` in the map frame at full resolution, measured from
+  /// `sensor_origin`; `robot_ground` the map-frame point the robot stands on.
+  /// `received_at`: wall-clock time the scan reached the pipeline, stamped on what it changes.
+  MappingTimes add_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
+                        const Eigen::Vector3d& robot_ground, double received_at = 0.0);
+
+  /// Replaces the map (a loaded file). Its version becomes newer than any before, and so do all its tiles,
+  /// so clients that track versions redraw everything; the drivable map is recomputed around the last
+  /// known robot position over the whole new map.
+  void replace(MlsMap map);
+
+  [[nodiscard]] const MlsMap& map() const { return map_; }
+  /// Null before the first scan or load.
+  [[nodiscard]] const DrivableMap* drivable() const { return drivable_ ? &*drivable_ : nullptr; }
+  [[nodiscard]] const std::optional<Eigen::Vector3d>& robot_ground() const { return robot_ground_; }
+  /// The state to publish; a new object after every change.
+  [[nodiscard]] std::shared_ptr<const MapSnapshot> snapshot() const { return snapshot_; }
+
+ private:
+  /// Steps 7 and 8 for `region` (changed tiles since `since`).
+  void refresh(const CellRegion& region, std::uint64_t since, MappingTimes& times);
+
+  LiveMapOptions options_;
+  MlsMap map_;
+  std::optional<DrivableMap> drivable_;
+  std::optional<Eigen::Vector3d> robot_ground_;
+  std::map<std::pair<int, int>, std::shared_ptr<const EncodedTile>> tiles_;  // sorted by (x, y)
+  std::shared_ptr<const EncodedOccupancy> occupancy_;
+  std::shared_ptr<const MapSnapshot> snapshot_;
+  double received_at_ = 0.0;  // of the scan being added: stamped on the tiles and image it changes
+};
+
+}  // namespace strata::pipeline

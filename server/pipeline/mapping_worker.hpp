@@ -1,0 +1,104 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <variant>
+#include <vector>
+
+#include "drivers/scan_event.hpp"
+#include "server/control/robot_commands.hpp"
+#include "server/pipeline/live_map.hpp"
+#include "server/pipeline/map_update.hpp"
+#include "server/state/map_state.hpp"
+
+namespace strata::pipeline {
+
+struct MappingOptions {
+  LiveMapOptions map;
+  /// Registered scans waiting to be mapped; when full the oldest waiting scan is dropped (counted), so the
+  /// localizer never waits for the mapping.
+  std::size_t queue_capacity = 4;
+  /// Returns nearer the sensor than this are the robot itself (as for registration), metres.
+  double min_range = 0.3;
+};
+
+/// What the mapping worker has done, for status and tests.
+struct MappingStatus {
+  std::size_t scans = 0;    ///< mapped
+  std::size_t dropped = 0;  ///< dropped from a full queue
+  MappingTimes last;
+};
+
+/// The pipeline worker for the map (ARCHITECTURE.md 3, steps 6-8) on its own thread: inserts each
+/// registered scan at full resolution into the live map, recomputes the drivable map at the robot's level
+/// for the changed region, re-encodes the changed tiles and the occupancy image, publishes the snapshot
+/// into MapState, then tells the listeners. Map commands (save, load, list, download) run on the same
+/// thread, in order with the scans, so they see the map between two scans, never during one.
+class MappingWorker final : public MapCommands {
+ public:
+  /// `maps_dir` holds saved maps; it is created if missing.
+  MappingWorker(MapState& state, std::filesystem::path maps_dir, MappingOptions options = {});
+  ~MappingWorker() override;
+  MappingWorker(const MappingWorker&) = delete;
+  MappingWorker& operator=(const MappingWorker&) = delete;
+
+  /// Listeners are added before start(); they run on the mapping thread after every map change.
+  void add_listener(MapUpdateListener listener);
+  void start();
+  /// Finishes the scan or command under way, abandons waiting scans, fails waiting commands.
+  void stop();
+
+  /// A registered scan: `scan` as the driver took it (sensor frame) and where its sensor was in the map
+  /// frame. Returns at once.
+  void submit(ScanEvent scan, const Eigen::Isometry3d& map_from_sensor);
+  /// Waits until everything submitted before is done (tests, tools).
+  void flush();
+  [[nodiscard]] MappingStatus status() const;
+
+  CommandResult save_map(const std::string& name) override;
+  CommandResult load_map(const std::string& name) override;
+  [[nodiscard]] std::vector<MapFileInfo> list_maps() const override;
+  [[nodiscard]] std::vector<std::uint8_t> download(const std::string& format) const override;
+
+  [[nodiscard]] const std::filesystem::path& maps_dir() const { return maps_dir_; }
+
+ private:
+  struct Scan {
+    ScanEvent event;
+    Eigen::Isometry3d map_from_sensor;
+  };
+  using Task = std::function<void()>;
+  using Item = std::variant<Scan, Task>;
+
+  void run();
+  void map_scan(const Scan& scan);
+  void publish();
+  /// Runs `task` on the mapping thread and waits for it; false when the worker is not running.
+  bool run_on_mapping_thread(Task task) const;
+
+  MapState& state_;
+  std::filesystem::path maps_dir_;
+  MappingOptions options_;
+  LiveMap live_;  // mapping thread only
+  std::vector<MapUpdateListener> listeners_;
+
+  mutable std::mutex mutex_;
+  mutable std::condition_variable wake_;
+  mutable std::deque<Item> queue_;
+  std::size_t waiting_scans_ = 0;
+  MappingStatus status_;
+  bool running_ = false;
+  std::thread thread_;
+};
+
+/// Whether `name` may name a map file: a plain file name (no '/', not '.' or '..', not hidden, not empty,
+/// at most 255 bytes, no control characters).
+[[nodiscard]] bool valid_map_name(const std::string& name);
+
+}  // namespace strata::pipeline

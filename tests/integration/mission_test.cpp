@@ -1,0 +1,234 @@
+// A user's scripted mission against the real server and simulator, over the real protocol: watch the map
+// arrive, drive to a goal, fail on an unreachable one, cancel, teleoperate, save, load and download the map
+// (issue #7 item 7). The yard world keeps it short; the simulator runs faster than real time.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "integration/clients.hpp"
+#include "integration/server_process.hpp"
+
+namespace strata::testing {
+namespace {
+
+/// Reads until a `goal` message with goal `id` reaches one of `phases` (at most `limit` messages).
+nlohmann::json wait_for_goal(WsClient& client, std::uint64_t id, std::initializer_list<std::string> phases,
+                             int limit = 20000) {
+  for (int i = 0; i < limit; ++i) {
+    const auto message = client.read(std::chrono::seconds(30));
+    if (message["op"] != "goal" || message["id"] != id)
+      continue;
+    for (const auto& phase : phases) {
+      if (message["phase"] == phase)
+        return message;
+    }
+  }
+  throw std::runtime_error("goal " + std::to_string(id) + " did not reach the phase");
+}
+
+/// Reads poses until the true position has not moved by more than 1 mm over 20 poses; returns that pose.
+nlohmann::json wait_until_still(WsClient& client, int limit = 5000) {
+  std::vector<nlohmann::json> recent;
+  for (int i = 0; i < limit; ++i) {
+    const auto message = client.read();
+    if (message["op"] != "pose")
+      continue;
+    recent.push_back(message["truth"]);
+    if (recent.size() < 20)
+      continue;
+    const auto& first = recent[recent.size() - 20];
+    const auto& last = recent.back();
+    if (std::hypot(last["x"].get<double>() - first["x"].get<double>(),
+                   last["y"].get<double>() - first["y"].get<double>()) < 1e-3)
+      return last;
+  }
+  throw std::runtime_error("the robot did not stand still");
+}
+
+class Mission : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    maps_dir_ = std::filesystem::temp_directory_path() / ("strata-mission-" + std::to_string(::getpid()));
+    std::filesystem::remove_all(maps_dir_);
+    server_ = new ServerProcess(
+        {"--world", "yard", "--scanner", "tilting", "--time-scale", "8", "--maps-dir", maps_dir_.string()});
+  }
+  static void TearDownTestSuite() {
+    delete server_;
+    server_ = nullptr;
+    std::filesystem::remove_all(maps_dir_);
+  }
+  static std::uint16_t port() { return server_->port(); }
+  static inline ServerProcess* server_ = nullptr;
+  static inline std::filesystem::path maps_dir_;
+};
+
+std::uint8_t frame_kind(const std::string& frame) {
+  return frame.empty() ? 0 : static_cast<std::uint8_t>(frame[0]);
+}
+
+TEST_F(Mission, TheMapArrivesAsTilesAndAnOccupancyImage) {
+  WsClient client(port());
+  bool tile = false;
+  bool occupancy = false;
+  for (int i = 0; i < 20000 && !(tile && occupancy); ++i) {
+    client.read(std::chrono::seconds(60));
+    for (const auto& frame : client.binary_frames()) {
+      tile = tile || frame_kind(frame) == 1;
+      occupancy = occupancy || frame_kind(frame) == 2;
+    }
+  }
+  ASSERT_TRUE(tile && occupancy);
+  for (const auto& frame : client.binary_frames()) {
+    ASSERT_GE(frame.size(), 24u);
+    std::uint16_t header_bytes = 0;
+    std::memcpy(&header_bytes, frame.data() + 2, 2);
+    EXPECT_LE(header_bytes, frame.size());
+    if (frame_kind(frame) == 1 && frame.size() > header_bytes) {
+      EXPECT_EQ(frame.substr(header_bytes, 5), "DRACO");
+    }
+    if (frame_kind(frame) == 2) {
+      EXPECT_EQ(frame.substr(header_bytes + 1, 3), "PNG");
+    }
+  }
+  // A late joiner gets the map at once.
+  WsClient late(port());
+  late.read_op("hello");
+  for (int i = 0; i < 50 && late.binary_frames().empty(); ++i)
+    late.read();
+  EXPECT_FALSE(late.binary_frames().empty());
+  // And REST serves the same tiles with ETags.
+  const auto index = nlohmann::json::parse(http_get(port(), "/api/v1/tiles").body());
+  expect_schema("rest", "tiles", index);
+  ASSERT_FALSE(index["tiles"].empty());
+  const auto& first = index["tiles"][0];
+  const std::string target =
+      "/api/v1/tiles/" + std::to_string(first["x"].get<int>()) + "/" + std::to_string(first["y"].get<int>());
+  const auto tile_response = http_get(port(), target);
+  EXPECT_EQ(tile_response.result(), http::status::ok);
+  EXPECT_FALSE(tile_response[http::field::etag].empty());
+}
+
+TEST_F(Mission, DrivesToAGoalAndRefusesAnUnreachableOne) {
+  auto op = WsClient::operator_client(port(), kTestOperatorToken);
+  op->read_op("hello");
+  // Wait for the first map so the goal is on known ground.
+  for (int i = 0; i < 20000; ++i) {
+    op->read(std::chrono::seconds(60));
+    bool occupancy = false;
+    for (const auto& frame : op->binary_frames())
+      occupancy = occupancy || frame_kind(frame) == 2;
+    if (occupancy)
+      break;
+  }
+  op->send_text(R"({"op":"set_goal","x":-7,"y":-3,"id":"g1"})");
+  const auto ack = op->read_op("ack");
+  EXPECT_EQ(ack["id"], "g1");
+  const auto goal = nlohmann::json::parse(http_get(port(), "/api/v1/goal").body());
+  expect_schema("rest", "goal", goal);
+  const std::uint64_t id = goal["id"];
+  const auto reached = wait_for_goal(*op, id, {"reached", "failed", "cancelled"});
+  ASSERT_EQ(reached["phase"], "reached") << reached.dump();
+  const auto pose = op->read_op("pose");
+  EXPECT_LT(std::hypot(pose["x"].get<double>() + 7.0, pose["y"].get<double>() + 3.0), 0.6) << pose.dump();
+  expect_schema("rest", "path", nlohmann::json::parse(http_get(port(), "/api/v1/path").body()));
+
+  // The crate's top is 1.2 m up: no way there.
+  op->send_text(R"({"op":"set_goal","x":0,"y":0})");
+  op->read_op("ack");
+  const auto crate = wait_for_goal(*op, id + 1, {"reached", "failed", "cancelled"});
+  EXPECT_EQ(crate["phase"], "failed");
+  EXPECT_EQ(crate["reason"], "unreachable");
+}
+
+TEST_F(Mission, CancelStopsTheRobot) {
+  auto op = WsClient::operator_client(port(), kTestOperatorToken);
+  op->read_op("hello");
+  op->send_text(R"({"op":"set_goal","x":-7,"y":4})");
+  op->read_op("ack");
+  const std::uint64_t id = nlohmann::json::parse(http_get(port(), "/api/v1/goal").body())["id"];
+  wait_for_goal(*op, id, {"driving", "failed"});
+  op->send_text(R"({"op":"cancel_goal","id":"c"})");
+  EXPECT_EQ(op->read_op("ack")["id"], "c");
+  EXPECT_EQ(wait_for_goal(*op, id, {"cancelled"})["phase"], "cancelled");
+  wait_until_still(*op);
+}
+
+TEST_F(Mission, TeleopMovesTheRobotAndStopsWhenTheCommandsStop) {
+  auto op = WsClient::operator_client(port(), kTestOperatorToken);
+  op->read_op("hello");
+  const auto start = wait_until_still(*op);
+  for (int i = 0; i < 20; ++i) {
+    op->send_text(R"({"op":"teleop","v":0.3,"w":0.4})");
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  }
+  // No more commands: it stops by itself (the commands expire after 0.5 s).
+  const auto stopped = wait_until_still(*op);
+  EXPECT_GT(std::hypot(stopped["x"].get<double>() - start["x"].get<double>(),
+                       stopped["y"].get<double>() - start["y"].get<double>()) +
+                std::abs(stopped["yaw"].get<double>() - start["yaw"].get<double>()),
+            0.01)
+      << "teleop did not move the robot";
+}
+
+TEST_F(Mission, ClosingTheConnectionStopsATeleoperatedRobot) {
+  WsClient observer(port());
+  {
+    auto op = WsClient::operator_client(port(), kTestOperatorToken);
+    op->read_op("hello");
+    for (int i = 0; i < 10; ++i) {
+      // An id asks for an ack: proof each command was taken.
+      op->send_text(R"({"op":"teleop","v":-0.2,"w":0,"id":1})");
+      op->read_op("ack");
+    }
+  }  // closed while the last command is still valid
+  wait_until_still(observer);
+}
+
+TEST_F(Mission, SavesLoadsAndDownloadsTheMap) {
+  auto op = WsClient::operator_client(port(), kTestOperatorToken);
+  op->read_op("hello");
+  op->send_text(R"({"op":"save_map","name":"yard.strata","id":"s"})");
+  const auto saved = op->read_op("ack");
+  EXPECT_EQ(saved["id"], "s");
+  EXPECT_TRUE(std::filesystem::exists(maps_dir_ / "yard.strata"));
+
+  const auto list = http_request(port(), http::verb::get, "/api/v1/maps", {}, kTestOperatorToken);
+  ASSERT_EQ(list.result(), http::status::ok);
+  const auto maps = nlohmann::json::parse(list.body());
+  expect_schema("rest", "maps", maps);
+  ASSERT_EQ(maps["maps"].size(), 1u);
+  EXPECT_EQ(maps["maps"][0]["name"], "yard.strata");
+
+  op->send_text(R"({"op":"load_map","name":"missing.strata","id":"l1"})");
+  const auto missing = op->read_op("error");
+  EXPECT_EQ(missing["code"], "not_found");
+  EXPECT_EQ(missing["id"], "l1");
+
+  // A corrupt file is refused and the map is kept.
+  {
+    std::ofstream corrupt(maps_dir_ / "corrupt.strata", std::ios::binary);
+    corrupt << "definitely not a map";
+  }
+  op->send_text(R"({"op":"load_map","name":"corrupt.strata","id":"l2"})");
+  EXPECT_EQ(op->read_op("error")["code"], "corrupt_file");
+
+  op->send_text(R"({"op":"load_map","name":"yard.strata","id":"l3"})");
+  EXPECT_EQ(op->read_op("ack")["id"], "l3");
+
+  for (const char* format : {"strata", "ply", "pgm", "yaml"}) {
+    const auto download = http_get(port(), std::string("/api/v1/map?format=") + format);
+    EXPECT_EQ(download.result(), http::status::ok) << format;
+    EXPECT_GT(download.body().size(), 16u) << format;
+  }
+  EXPECT_EQ(http_get(port(), "/api/v1/map?format=ply").body().substr(0, 3), "ply");
+  EXPECT_EQ(http_get(port(), "/api/v1/map?format=pgm").body().substr(0, 2), "P5");
+}
+
+}  // namespace
+}  // namespace strata::testing

@@ -1,0 +1,58 @@
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "drivers/sim/simulator.hpp"
+#include "drivers/sim/world/world_file.hpp"
+#include "server/pipeline/localizer_worker.hpp"
+
+namespace strata::pipeline {
+namespace {
+
+// The localizer hands each registered scan on with its sensor's corrected map-frame pose: the mapping
+// worker's input. Scans go in one at a time (each waits for the previous to come out), so none is
+// replaced while waiting; the wait is for an event, with a generous limit only against a hang.
+TEST(LocalizerWorkerSink, HandsOnRegisteredScansWithTheirSensorPose) {
+  sim::Simulator simulator(std::make_shared<const sim::World>(sim::builtin_world("campus")), {.seed = 5});
+  const Eigen::Isometry3d map_from_odom =
+      simulator.sample().truth.to_isometry() * simulator.sample().odometry.to_isometry().inverse();
+  RobotState state;
+  LocalizerWorker localizer(state, LocalizerOptions{}, map_from_odom);
+
+  std::mutex mutex;
+  std::condition_variable arrived;
+  std::vector<std::pair<ScanEvent, Eigen::Isometry3d>> received;
+  localizer.set_registered_scan_sink([&](ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
+    std::lock_guard lock(mutex);
+    received.emplace_back(std::move(scan), map_from_sensor);
+    arrived.notify_all();
+  });
+  localizer.start();
+
+  std::size_t submitted = 0;
+  while (submitted < 3 && simulator.sample().stamp < 600.0) {
+    simulator.step(0.02);
+    for (ScanEvent& scan : simulator.take_scans()) {
+      localizer.submit(std::move(scan));
+      ++submitted;
+      std::unique_lock lock(mutex);
+      ASSERT_TRUE(
+          arrived.wait_for(lock, std::chrono::seconds(120), [&] { return received.size() == submitted; }))
+          << "scan " << submitted << " was not handed on";
+    }
+  }
+  localizer.stop();
+  ASSERT_EQ(received.size(), 3U);
+  for (const auto& [scan, map_from_sensor] : received) {
+    EXPECT_FALSE(scan.points.empty()) << "full resolution, as the driver took it";
+    const Eigen::Isometry3d truth = scan.truth->to_isometry() * scan.sensor_to_base;
+    EXPECT_LT((map_from_sensor.translation() - truth.translation()).norm(), 0.3);
+  }
+}
+
+}  // namespace
+}  // namespace strata::pipeline
