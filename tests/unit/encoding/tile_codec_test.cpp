@@ -174,7 +174,7 @@ TEST(TileCodec, RealTilesRoundTripWithinTheBound) {
   if (!fs::exists(dir / "scan000.3d") || !fs::exists(dir / "reference_slam6d_2009/scan000.frames"))
     GTEST_SKIP() << "no 3DTK scans in " << dir << " (set STRATA_DATA_DIR)";
   MlsMap map;
-  for (int i = 0; i < 2; ++i) {
+  for (int i = 0; i < 1; ++i) {  // one scan: enough tiles, and quick under ASan
     const std::string name = "scan00" + std::to_string(i);
     const Eigen::Isometry3d pose = io::read_3dtk_frames(dir / "reference_slam6d_2009" / (name + ".frames"));
     map.insert_scan(transformed(io::read_3dtk_scan(dir / (name + ".3d")).points, pose), pose.translation());

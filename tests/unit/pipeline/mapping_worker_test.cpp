@@ -9,32 +9,18 @@
 #include <string>
 #include <vector>
 
-#include "drivers/sim/simulator.hpp"
-#include "drivers/sim/world/world_file.hpp"
 #include "server/encoding/occupancy_png.hpp"
 #include "server/encoding/tile_codec.hpp"
+#include "tests/unit/pipeline/campus_scans.hpp"
 
 namespace strata::pipeline {
 namespace {
 
 namespace fs = std::filesystem;
 
-/// The first stop-and-go scans of the simulated robot on the campus, taken once for all tests: stepped
-/// in-process, no wall clock; placed with the true poses (as a perfect localizer would).
-const std::vector<ScanEvent>& campus_scans() {
-  static const std::vector<ScanEvent> scans = [] {
-    sim::Simulator simulator(std::make_shared<const sim::World>(sim::builtin_world("campus")), {.seed = 5});
-    std::vector<ScanEvent> taken;
-    while (taken.size() < 3 && simulator.sample().stamp < 600.0) {
-      simulator.step(0.02);
-      for (ScanEvent& scan : simulator.take_scans())
-        taken.push_back(std::move(scan));
-    }
-    return taken;
-  }();
-  return scans;
-}
+using testing::campus_scans;
 
+/// Where the sensor was, from the true pose (as a perfect localizer would place the scan).
 Eigen::Isometry3d map_from_sensor(const ScanEvent& scan) {
   return scan.truth->to_isometry() * scan.sensor_to_base;
 }
