@@ -158,11 +158,11 @@ int serve(const ServeOptions& options) {
       }));
   if (context->map_stream) {
     broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
-        io, context->hub, 10.0, [stream = context->map_stream.get()] { return stream->poll(); }));
+        io, context->hub, 50.0, [stream = context->map_stream.get()] { return stream->poll(); }));
   }
   if (context->navigation_stream) {
     broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
-        io, context->hub, 10.0, [stream = context->navigation_stream.get()] { return stream->poll(); }));
+        io, context->hub, 20.0, [stream = context->navigation_stream.get()] { return stream->poll(); }));
   }
 
   boost::asio::signal_set signals(io, SIGINT, SIGTERM);

@@ -101,7 +101,7 @@ double percentile(std::vector<double> values, double p) {
 int main(int argc, char** argv) {
   const int clients = argc > 1 ? std::stoi(argv[1]) : 50;
   const int seconds = argc > 2 ? std::stoi(argv[2]) : 20;
-  std::vector<std::string> extra{"--time-scale", "1", "--pose-rate", "25"};
+  std::vector<std::string> extra;
   for (int i = 3; i < argc; ++i)
     extra.emplace_back(argv[i]);
   strata::testing::ServerProcess server(extra);
