@@ -8,6 +8,7 @@
 #include <csignal>
 #include <cstdio>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -19,6 +20,7 @@
 #include "server/net/listener.hpp"
 #include "server/net/server_context.hpp"
 #include "server/pipeline/localizer_worker.hpp"
+#include "server/pipeline/navigator.hpp"
 #include "server/pipeline/periodic_broadcast.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/state/robot_state.hpp"
@@ -76,12 +78,26 @@ int serve(const ServeOptions& options) {
   const Eigen::Isometry3d start = simulator.sample().truth.to_isometry();
   const Eigen::Isometry3d map_from_odom = start * simulator.sample().odometry.to_isometry().inverse();
   pipeline::LocalizerWorker localizer(robot_state, LocalizerOptions{}, map_from_odom);
+  pipeline::Navigator navigator;  // before the robot: the robot's thread asks it for commands
   sim::SimulatedRobot robot(
       std::move(simulator), {.step_rate = 100.0, .time_scale = options.time_scale},
       [&robot_state](const sim::RobotSample& sample) { robot_state.publish(sample); },
       [&localizer](ScanEvent scan) { localizer.submit(std::move(scan)); });
+  // The navigator drives the base once an operator sends a goal or teleop; until then the demo route.
+  robot.set_command_source(
+      [&robot_state, &navigator](const sim::RobotSample& sample) -> std::optional<sim::VelocityCommand> {
+        const auto snapshot = robot_state.snapshot();
+        const auto command = navigator.drive(snapshot ? snapshot->estimate : sample.odometry, sample.stamp);
+        if (!command)
+          return std::nullopt;
+        return sim::VelocityCommand{command->v, command->w};
+      });
+  // TODO(map): register navigator.map_listener() with the mapping worker (pipeline::MappingWorker), so
+  // goals are planned on the live map; until then every goal fails with "no_map".
 
   boost::asio::io_context io(options.io_threads);
+  // TODO(net): hand &navigator to the ServerContext as its MotionCommands (goal, cancel, teleop; the goal
+  // and path streams read navigator.goal_status() and navigator.path()).
   auto context = std::make_shared<net::ServerContext>(robot_state, web_root, &robot.world());
   const boost::asio::ip::tcp::endpoint endpoint(boost::asio::ip::make_address(options.bind_address),
                                                 options.port);
@@ -117,6 +133,7 @@ int serve(const ServeOptions& options) {
   });
 
   localizer.start();
+  navigator.start();
   robot.start();
   listener->run();
   pose_stream->start();
@@ -138,6 +155,7 @@ int serve(const ServeOptions& options) {
     thread.join();
 
   robot.stop();
+  navigator.stop();
   localizer.stop();
   spdlog::info("stopped");
   return 0;

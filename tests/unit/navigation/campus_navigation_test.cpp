@@ -1,0 +1,170 @@
+// The navigator driving the simulated robot on the campus (drivers/sim/worlds/campus.json): the
+// simulator is stepped in-process without a wall clock and the robot is localized by its true pose, so
+// every run is the same. The map is a survey of the world (tests/unit/navigation/world_survey.hpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <numbers>
+
+#include "core/mls/drivable_map.hpp"
+#include "drivers/sim/simulator.hpp"
+#include "drivers/sim/world/world_file.hpp"
+#include "server/pipeline/navigator.hpp"
+#include "tests/unit/navigation/world_survey.hpp"
+
+namespace strata {
+namespace {
+
+struct Area {
+  double x0, y0, x1, y1;
+};
+
+/// The campus with the robot put down at (x, y) facing `yaw_deg`, on the surface just below z + 0.5.
+std::shared_ptr<const sim::World> campus_with_spawn(double x, double y, double z, double yaw_deg) {
+  sim::WorldDescription description = sim::builtin_world("campus");
+  description.spawn = {x, y, yaw_deg * std::numbers::pi / 180.0};
+  description.spawn_z = z;
+  return std::make_shared<const sim::World>(std::move(description));
+}
+
+/// One simulated trip: a robot, a map of `area`, and a navigator that the test drives step by step.
+class Trip {
+ public:
+  Trip(std::shared_ptr<const sim::World> world, const Area& area,
+       sim::ScannerKind scanner = sim::ScannerKind::kNone)
+      : world_(std::move(world)),
+        map_(test::survey_world(*world_, area.x0, area.y0, area.x1, area.y1)),
+        simulator_(world_, config(scanner)) {
+    const DrivableMap drivable;
+    navigator_.on_map_update({map_, drivable, simulator_.sample().truth.position, map_.version()});
+    step();  // the navigator learns where the robot is
+  }
+
+  static sim::SimulatorConfig config(sim::ScannerKind scanner) {
+    sim::SimulatorConfig config;
+    config.scanner = scanner;
+    config.tilting.rotation_step_deg = 6.0;  // a coarse tilting scan: the stops are what matters here
+    config.tilting.slice_step_deg = 3.0;
+    return config;
+  }
+
+  /// One step of 0.05 s: the navigator's command, the simulator, then any pending plan.
+  void step() {
+    const sim::RobotSample sample = simulator_.sample();
+    if (const auto command = navigator_.drive(sample.truth, sample.stamp))
+      simulator_.command({command->v, command->w});
+    simulator_.step(kStep);
+    scanned_ = scanned_ || simulator_.sample().scanning;
+    (void)simulator_.take_scans();
+    navigator_.plan_pending();
+  }
+
+  /// Steps until the goal is no longer active or `seconds` of simulated time have passed.
+  GoalStatus drive_to(const GoalRequest& goal, double seconds) {
+    EXPECT_TRUE(navigator_.set_goal(goal).ok);
+    navigator_.plan_pending();
+    for (double t = 0.0; t < seconds; t += kStep) {
+      const GoalPhase phase = navigator_.goal_status().phase;
+      if (phase != GoalPhase::kAccepted && phase != GoalPhase::kPlanning && phase != GoalPhase::kDriving)
+        break;
+      step();
+    }
+    return navigator_.goal_status();
+  }
+
+  [[nodiscard]] Pose3 truth() const { return simulator_.sample().truth; }
+  [[nodiscard]] double distance_to(double x, double y) const {
+    return std::hypot(truth().position.x() - x, truth().position.y() - y);
+  }
+  pipeline::Navigator& navigator() { return navigator_; }
+  sim::Simulator& simulator() { return simulator_; }
+  [[nodiscard]] bool scanned() const { return scanned_; }
+
+  static constexpr double kStep = 0.05;
+
+ private:
+  std::shared_ptr<const sim::World> world_;
+  MlsMap map_;
+  sim::Simulator simulator_;
+  pipeline::Navigator navigator_;
+  bool scanned_ = false;
+};
+
+TEST(CampusNavigation, GoalDownTheHallwayIsReached) {
+  // From the lab (the world's spawn) out through its door and east along the hallway.
+  Trip trip(campus_with_spawn(4.0, 9.5, 0.45, 0.0), {-1, -1, 49, 13});
+  const GoalStatus status = trip.drive_to({30.0, 5.25, {}}, 200.0);
+  EXPECT_EQ(status.phase, GoalPhase::kReached) << to_string(status.phase) << " " << status.reason;
+  EXPECT_LT(trip.distance_to(30.0, 5.25), 0.3);
+  EXPECT_NEAR(trip.truth().position.z(), 0.45, 0.05);
+}
+
+TEST(CampusNavigation, StopAndGoScansOnTheWay) {
+  Trip trip(campus_with_spawn(20.0, 5.25, 0.45, 0.0), {14, 3, 35, 7}, sim::ScannerKind::kTilting);
+  const GoalStatus status = trip.drive_to({28.0, 5.25, {}}, 120.0);
+  EXPECT_EQ(status.phase, GoalPhase::kReached) << to_string(status.phase) << " " << status.reason;
+  EXPECT_LT(trip.distance_to(28.0, 5.25), 0.3);
+  EXPECT_TRUE(trip.scanned());  // stopped to scan at least once along the 8 m
+}
+
+TEST(CampusNavigation, GoalUpTheEntranceRampIsReached) {
+  // From the campus up the 1:12 ramp onto the landing and into the hallway.
+  Trip trip(campus_with_spawn(57.0, 2.0, 0.0, 180.0), {40, -4, 62, 12});
+  const GoalStatus status = trip.drive_to({44.0, 5.25, {}}, 200.0);
+  EXPECT_EQ(status.phase, GoalPhase::kReached) << to_string(status.phase) << " " << status.reason;
+  EXPECT_LT(trip.distance_to(44.0, 5.25), 0.3);
+  EXPECT_NEAR(trip.truth().position.z(), 0.45, 0.05);
+}
+
+TEST(CampusNavigation, GoalOnTheBridgeDeckIsReachedOverTheRamp) {
+  Trip trip(campus_with_spawn(42.0, -28.75, 0.0, 0.0), {38, -40, 93, -5});
+  const GoalStatus status = trip.drive_to({84.0, -28.75, 3.0}, 300.0);
+  EXPECT_EQ(status.phase, GoalPhase::kReached) << to_string(status.phase) << " " << status.reason;
+  EXPECT_LT(trip.distance_to(84.0, -28.75), 0.3);
+  EXPECT_NEAR(trip.truth().position.z(), 3.0, 0.1);  // on the deck, not on the road below
+}
+
+TEST(CampusNavigation, GoalOnTheRoadUnderTheBridgeIsReachedUnderIt) {
+  Trip trip(campus_with_spawn(84.0, -18.0, 0.0, -90.0), {70, -40, 93, -5});
+  const GoalStatus status = trip.drive_to({84.0, -36.0, 0.0}, 200.0);
+  EXPECT_EQ(status.phase, GoalPhase::kReached) << to_string(status.phase) << " " << status.reason;
+  EXPECT_LT(trip.distance_to(84.0, -36.0), 0.3);
+  EXPECT_LT(trip.truth().position.z(), 0.3);
+}
+
+TEST(CampusNavigation, GoalsInAWallOrOnTheStairsAreUnreachable) {
+  Trip trip(campus_with_spawn(46.0, 5.25, 0.45, 0.0), {40, 0, 58, 12});
+  const GoalStatus in_wall = trip.drive_to({44.0, 3.9, {}}, 5.0);  // hallway-wall-south
+  EXPECT_EQ(in_wall.phase, GoalPhase::kFailed);
+  EXPECT_EQ(in_wall.reason, "unreachable");
+  const GoalStatus on_stairs = trip.drive_to({50.05, 7.5, {}}, 5.0);  // the middle step
+  EXPECT_EQ(on_stairs.phase, GoalPhase::kFailed);
+  EXPECT_EQ(on_stairs.reason, "unreachable");
+  const GoalStatus top_step = trip.drive_to({49.7, 7.5, 0.45}, 5.0);  // the top step, at the landing's height
+  EXPECT_EQ(top_step.phase, GoalPhase::kFailed);
+  EXPECT_EQ(top_step.reason, "unreachable");
+  EXPECT_LT(trip.distance_to(46.0, 5.25), 0.05);  // the robot never moved
+}
+
+TEST(CampusNavigation, CancelStopsTheRobot) {
+  Trip trip(campus_with_spawn(20.0, 5.25, 0.45, 0.0), {14, 3, 40, 7});
+  ASSERT_TRUE(trip.navigator().set_goal({36.0, 5.25, {}}).ok);
+  for (int i = 0; i < 100; ++i)  // 5 s: under way
+    trip.step();
+  ASSERT_EQ(trip.navigator().goal_status().phase, GoalPhase::kDriving);
+  ASSERT_GT(trip.simulator().sample().velocity.v, 0.3);
+  ASSERT_TRUE(trip.navigator().cancel_goal().ok);
+  for (int i = 0; i < 40; ++i)  // 2 s: enough to brake from cruising speed
+    trip.step();
+  EXPECT_EQ(trip.navigator().goal_status().phase, GoalPhase::kCancelled);
+  EXPECT_EQ(trip.simulator().sample().velocity.v, 0.0);
+  const double x = trip.truth().position.x();
+  for (int i = 0; i < 40; ++i)
+    trip.step();
+  EXPECT_EQ(trip.truth().position.x(), x);  // and stays
+  EXPECT_LT(x, 36.0 - 5.0);
+}
+
+}  // namespace
+}  // namespace strata
