@@ -32,8 +32,49 @@ PatchGraph::PatchGraph(std::shared_ptr<const SurfaceGrid> surfaces, double resol
         traversable_[first + i] = cell_surfaces[i].traversable && !cell_surfaces[i].vertical ? 1 : 0;
       }
     }
+  drive_over_seams(config.traversability);
   link(config.traversability);
   measure_clearance();
+}
+
+void PatchGraph::drive_over_seams(const TraversabilityConfig& config) {
+  // Where one structure ends against another (a ramp's end under a bridge deck), the cell at the seam
+  // holds the end face seen from below and the surface seen from above: one vertical patch. Its top is
+  // drivable when drivable patches continue it within a step on opposite sides.
+  const SurfaceGrid& grid = *surfaces_;
+  const CellRegion& region = grid.region();
+  const auto max_step = static_cast<float>(config.max_step);
+  const auto continues = [&](int col, int row, float top) {
+    if (col < 0 || row < 0 || col >= region.width || row >= region.height)
+      return false;
+    const std::size_t c = grid.cell(col, row);
+    const std::uint32_t first = grid.first_surface(c);
+    const auto candidates = grid.surfaces(c);
+    for (std::size_t i = 0; i < candidates.size(); ++i)
+      if (traversable_[first + i] != 0 && std::abs(candidates[i].top - top) <= max_step)
+        return true;
+    return false;
+  };
+  std::vector<Node> seams;
+  for (int row = 0; row < region.height; ++row)
+    for (int col = 0; col < region.width; ++col) {
+      const std::size_t c = grid.cell(col, row);
+      const std::uint32_t first = grid.first_surface(c);
+      const auto cell_surfaces = grid.surfaces(c);
+      for (std::size_t i = 0; i < cell_surfaces.size(); ++i) {
+        const SurfaceGrid::Surface& s = cell_surfaces[i];
+        if (!s.vertical)
+          continue;
+        if (i + 1 < cell_surfaces.size() &&
+            cell_surfaces[i + 1].bottom - s.top < static_cast<float>(config.robot_height))
+          continue;
+        if ((continues(col - 1, row, s.top) && continues(col + 1, row, s.top)) ||
+            (continues(col, row - 1, s.top) && continues(col, row + 1, s.top)))
+          seams.push_back(first + static_cast<Node>(i));
+      }
+    }
+  for (const Node node : seams)
+    traversable_[node] = 1;
 }
 
 std::pair<int, int> PatchGraph::cell(Node node) const {

@@ -13,8 +13,14 @@ namespace strata {
 struct PatchGraphConfig {
   TraversabilityConfig traversability;
   /// Patches whose centre is nearer than this to the edge of their level (a wall, a drop, a step, the end
-  /// of the known map) are no place for the robot's centre, metres.
+  /// of the known map) are no place for the robot's centre, metres. The wheelchair's body is 1.05 x 0.66 m:
+  /// 0.33 m to its sides, 0.62 m to its corners, so it fits where it drives about straight (doors, ramps).
   double robot_radius = 0.45;
+  /// Paths may keep away from edges: a step onto a patch with less clearance than `comfortable_clearance`
+  /// costs up to (1 + clearance_weight) times its length, so the robot goes through the middle of doors
+  /// and approaches them straight. 0 gives the plain shortest path.
+  double clearance_weight = 0.0;
+  double comfortable_clearance = 1.0;
 };
 
 /// The drivable surfaces of an MLS map as a graph (ARCHITECTURE.md 4.3, across levels): one node per
@@ -62,6 +68,7 @@ class PatchGraph {
 
  private:
   [[nodiscard]] bool local_cell(double x, double y, int& col, int& row) const;
+  void drive_over_seams(const TraversabilityConfig& config);
   void link(const TraversabilityConfig& config);
   void measure_clearance();
 

@@ -57,6 +57,14 @@ PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_
     const double dy = std::abs(row - goal_row);
     return resolution * (std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy));
   };
+  const PatchGraphConfig& config = graph.config();
+  const double comfort_span = std::max(config.comfortable_clearance - config.robot_radius, 1e-6);
+  const auto step_factor = [&](Node node) {
+    if (config.clearance_weight <= 0.0)
+      return 1.0;
+    const double tightness = (config.comfortable_clearance - static_cast<double>(graph.clearance(node))) / comfort_span;
+    return 1.0 + config.clearance_weight * std::clamp(tightness, 0.0, 1.0);
+  };
   const std::size_t count = graph.node_count();
   std::vector<double> cost(count, std::numeric_limits<double>::infinity());
   std::vector<Node> parent(count, PatchGraph::kNone);
@@ -81,7 +89,7 @@ PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_
       // Into a patch with room, or, while still too near an edge, away from it.
       if (!graph.passable(next) && (room || graph.clearance(next) < graph.clearance(node)))
         continue;
-      const double candidate = cost[node] + PatchGraph::step_length(d) * resolution;
+      const double candidate = cost[node] + PatchGraph::step_length(d) * resolution * step_factor(next);
       if (candidate < cost[next]) {
         cost[next] = candidate;
         parent[next] = node;
@@ -96,7 +104,10 @@ PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_
   for (Node node = *target; node != PatchGraph::kNone; node = parent[node])
     result.points.push_back(graph.position(node));
   std::reverse(result.points.begin(), result.points.end());
-  result.length = cost[*target];
+  // End where the operator asked, not at the centre of that cell (at most half a cell away).
+  result.points.back().head<2>() = Eigen::Vector2d(goal.x, goal.y);
+  for (std::size_t i = 1; i < result.points.size(); ++i)
+    result.length += (result.points[i] - result.points[i - 1]).head<2>().norm();
   result.status = PatchPlanStatus::found;
   return result;
 }

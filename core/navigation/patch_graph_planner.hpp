@@ -37,7 +37,8 @@ struct PatchGoal {
   double level_tolerance = 0.5;
 };
 
-/// Shortest path (A*, steps of 1 and sqrt 2 cells, octile heuristic: optimal) across levels from the
+/// Shortest path (A*, steps of 1 and sqrt 2 cells, octile heuristic: optimal; with a clearance weight,
+/// optimal for the length weighted by the closeness to edges) across levels from the
 /// patch the robot stands on (`robot_ground`: the map-frame point under it) to the goal's patch. Only
 /// patches with room for the robot are entered, except that a robot which already stands too near an edge
 /// may drive away from it (to patches of growing clearance) until it has room.

@@ -15,6 +15,8 @@ namespace {
 constexpr double kSearchAhead = 3.0;
 /// A later part of the path at another level is not where the robot is, however close in the plane.
 constexpr double kLevelPenalty = 4.0;
+/// Farther than this from the path near the progress, the robot is looked for along all of it, metres.
+constexpr double kLost = 1.0;
 
 }  // namespace
 
@@ -36,29 +38,36 @@ void PurePursuit::clear() {
 void PurePursuit::advance(const Eigen::Vector3d& position) {
   if (path_.size() < 2)
     return;
-  double best = std::numeric_limits<double>::infinity();
-  std::size_t best_segment = progress_;
-  double best_along = progress_along_;
-  for (std::size_t i = progress_; i + 1 < path_.size(); ++i) {
-    if (along_[i] > progress_along_ + kSearchAhead)
-      break;
-    const Eigen::Vector2d a = path_[i].head<2>();
-    const Eigen::Vector2d ab = path_[i + 1].head<2>() - a;
-    const double squared = ab.squaredNorm();
-    const double t = squared > 0.0 ? std::clamp((position.head<2>() - a).dot(ab) / squared, 0.0, 1.0) : 0.0;
-    const Eigen::Vector2d closest = a + t * ab;
-    const double height = path_[i].z() + t * (path_[i + 1].z() - path_[i].z());
-    const double distance =
-        (position.head<2>() - closest).norm() + kLevelPenalty * std::abs(position.z() - height);
-    if (distance < best) {
-      best = distance;
-      best_segment = i;
-      best_along = along_[i] + t * std::sqrt(squared);
+  // Nearest segment a little ahead of the progress; if the robot is far from all of them (it was moved,
+  // or stood still while the path was replaced), the nearest of the whole rest of the path.
+  for (const double window : {kSearchAhead, std::numeric_limits<double>::infinity()}) {
+    double best = std::numeric_limits<double>::infinity();
+    std::size_t best_segment = progress_;
+    double best_along = progress_along_;
+    for (std::size_t i = progress_; i + 1 < path_.size(); ++i) {
+      if (along_[i] > progress_along_ + window)
+        break;
+      const Eigen::Vector2d a = path_[i].head<2>();
+      const Eigen::Vector2d ab = path_[i + 1].head<2>() - a;
+      const double squared = ab.squaredNorm();
+      const double t =
+          squared > 0.0 ? std::clamp((position.head<2>() - a).dot(ab) / squared, 0.0, 1.0) : 0.0;
+      const Eigen::Vector2d closest = a + t * ab;
+      const double height = path_[i].z() + t * (path_[i + 1].z() - path_[i].z());
+      const double distance =
+          (position.head<2>() - closest).norm() + kLevelPenalty * std::abs(position.z() - height);
+      if (distance < best) {
+        best = distance;
+        best_segment = i;
+        best_along = along_[i] + t * std::sqrt(squared);
+      }
     }
-  }
-  if (best_along >= progress_along_) {
-    progress_ = best_segment;
-    progress_along_ = best_along;
+    if (best_along >= progress_along_) {
+      progress_ = best_segment;
+      progress_along_ = best_along;
+    }
+    if (best <= kLost)
+      return;
   }
 }
 

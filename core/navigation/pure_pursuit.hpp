@@ -10,11 +10,11 @@
 namespace strata {
 
 struct PurePursuitConfig {
-  double lookahead = 0.8;       ///< metres ahead along the path to steer for
+  double lookahead = 0.6;       ///< metres ahead along the path to steer for
   double cruise_speed = 0.6;    ///< m/s on straight stretches
   double min_speed = 0.1;       ///< m/s: slower than this the base barely moves
   double max_turn_rate = 1.0;   ///< rad/s
-  double turn_in_place = 0.7;   ///< rad: a larger heading error is turned away on the spot first
+  double turn_in_place = 0.6;   ///< rad: a larger heading error is turned away on the spot first
   double slow_down = 1.0;       ///< metres before the goal where the speed starts to fall
   double goal_tolerance = 0.2;  ///< metres: closer than this to the last point is arrived
   double turn_gain = 1.5;       ///< rad/s per rad of heading error when turning on the spot

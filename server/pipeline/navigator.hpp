@@ -20,7 +20,7 @@
 namespace strata::pipeline {
 
 struct NavigatorConfig {
-  PatchGraphConfig graph;
+  PatchGraphConfig graph{.clearance_weight = 2.0};
   PurePursuitConfig pursuit;
   double teleop_timeout = 0.5;  ///< seconds (steady clock) a teleop command lasts unless renewed
   double max_speed = 1.0;       ///< m/s, teleop is clamped to it

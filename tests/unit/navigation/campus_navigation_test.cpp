@@ -4,6 +4,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <numbers>
 
@@ -55,6 +57,13 @@ class Trip {
     if (const auto command = navigator_.drive(sample.truth, sample.stamp))
       simulator_.command({command->v, command->w});
     simulator_.step(kStep);
+    if (std::getenv("STRATA_TRACE") && ++steps_ % 20 == 0) {
+      const auto s = simulator_.sample();
+      std::printf("t %.1f pose %.2f %.2f %.2f yaw %.2f v %.2f w %.2f blocked '%s' phase %s %s\n", s.stamp,
+                  s.truth.position.x(), s.truth.position.y(), s.truth.position.z(), s.truth.yaw, s.velocity.v,
+                  s.velocity.w, s.blocked_by.c_str(), to_string(navigator_.goal_status().phase),
+                  navigator_.goal_status().reason.c_str());
+    }
     scanned_ = scanned_ || simulator_.sample().scanning;
     (void)simulator_.take_scans();
     navigator_.plan_pending();
@@ -89,6 +98,7 @@ class Trip {
   sim::Simulator simulator_;
   pipeline::Navigator navigator_;
   bool scanned_ = false;
+  int steps_ = 0;
 };
 
 TEST(CampusNavigation, GoalDownTheHallwayIsReached) {
