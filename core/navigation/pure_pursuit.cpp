@@ -50,8 +50,7 @@ void PurePursuit::advance(const Eigen::Vector3d& position) {
       const Eigen::Vector2d a = path_[i].head<2>();
       const Eigen::Vector2d ab = path_[i + 1].head<2>() - a;
       const double squared = ab.squaredNorm();
-      const double t =
-          squared > 0.0 ? std::clamp((position.head<2>() - a).dot(ab) / squared, 0.0, 1.0) : 0.0;
+      const double t = squared > 0.0 ? std::clamp((position.head<2>() - a).dot(ab) / squared, 0.0, 1.0) : 0.0;
       const Eigen::Vector2d closest = a + t * ab;
       const double height = path_[i].z() + t * (path_[i + 1].z() - path_[i].z());
       const double distance =

@@ -18,7 +18,7 @@ struct Trajectory {
 };
 
 Trajectory follow(PurePursuit& follower, Pose3 pose, const std::vector<Eigen::Vector3d>& path,
-           double limit = 120.0) {
+                  double limit = 120.0) {
   constexpr double dt = 0.05;
   Trajectory run;
   for (double t = 0.0; t < limit; t += dt) {
