@@ -35,6 +35,29 @@ PatchGraph::PatchGraph(std::shared_ptr<const SurfaceGrid> surfaces, double resol
   drive_over_seams(config.traversability);
   link(config.traversability);
   measure_clearance();
+  label_components();
+}
+
+void PatchGraph::label_components() {
+  component_.assign(neighbours_.size(), kNone);
+  std::uint32_t next_label = 0;
+  std::vector<Node> stack;
+  for (Node seed = 0; seed < neighbours_.size(); ++seed) {
+    if (component_[seed] != kNone || !passable(seed))
+      continue;
+    component_[seed] = next_label;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const Node node = stack.back();
+      stack.pop_back();
+      for (const Node next : neighbours_[node])
+        if (next != kNone && component_[next] == kNone && passable(next)) {
+          component_[next] = next_label;
+          stack.push_back(next);
+        }
+    }
+    ++next_label;
+  }
 }
 
 void PatchGraph::drive_over_seams(const TraversabilityConfig& config) {

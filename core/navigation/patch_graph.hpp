@@ -54,6 +54,9 @@ class PatchGraph {
   [[nodiscard]] bool passable(Node node) const {
     return traversable(node) && clearance_[node] >= static_cast<float>(config_.robot_radius);
   }
+  /// Passable nodes joined by edges between passable nodes share a component; kNone for the others. Two
+  /// passable nodes in different components have no path: answered without a search.
+  [[nodiscard]] std::uint32_t component(Node node) const { return component_[node]; }
   [[nodiscard]] Eigen::Vector3d position(Node node) const;
   /// Local (col, row) of the node's cell in the surface grid's region.
   [[nodiscard]] std::pair<int, int> cell(Node node) const;
@@ -71,6 +74,7 @@ class PatchGraph {
   void drive_over_seams(const TraversabilityConfig& config);
   void link(const TraversabilityConfig& config);
   void measure_clearance();
+  void label_components();
 
   std::shared_ptr<const SurfaceGrid> surfaces_;
   double resolution_;
@@ -79,6 +83,7 @@ class PatchGraph {
   std::vector<std::uint8_t> traversable_;
   std::vector<std::array<Node, 8>> neighbours_;
   std::vector<float> clearance_;
+  std::vector<std::uint32_t> component_;
 };
 
 }  // namespace strata

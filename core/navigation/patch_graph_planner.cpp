@@ -49,6 +49,11 @@ PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_
     return result;
   }
 
+  if (graph.passable(*start) && graph.component(*start) != graph.component(*target)) {
+    result.status = PatchPlanStatus::no_path;  // known without searching
+    return result;
+  }
+
   const auto [goal_col, goal_row] = graph.cell(*target);
   const double resolution = graph.resolution();
   const auto heuristic = [&, goal_col = goal_col, goal_row = goal_row](Node node) {

@@ -101,6 +101,7 @@ int main(int argc, char** argv) {
       {"bridge_deck", 84.0, -28.75, 3.0, false},
       {"under_bridge", 84.0, -36.0, 0.0, false},
       {"stairs_unreachable", 50.05, 7.5, std::nullopt, false},
+      {"table_top_blocked", 4.0, 10.8, 1.21, false},
       {"wall_unreachable", 44.0, 3.9, std::nullopt, true},
   };
   for (const Goal& goal : goals) {
