@@ -3,7 +3,9 @@
 // every run is the same. The map is a survey of the world (tests/unit/navigation/world_survey.hpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -65,8 +67,11 @@ class Trip {
                   navigator_.goal_status().reason.c_str());
     }
     scanned_ = scanned_ || simulator_.sample().scanning;
-    (void)simulator_.take_scans();
+    for (const ScanEvent& scan : simulator_.take_scans())
+      map_scan(scan);
     navigator_.plan_pending();
+    if (const auto path = navigator_.path())
+      latest_path_version_ = std::max(latest_path_version_, path->version);
   }
 
   /// Steps until the goal is no longer active or `seconds` of simulated time have passed.
@@ -81,6 +86,21 @@ class Trip {
     }
     return navigator_.goal_status();
   }
+
+  /// Maps a scan at its true pose and hands the map to the navigator, as the mapping worker does.
+  void map_scan(const ScanEvent& scan) {
+    const Eigen::Isometry3d map_from_sensor = scan.truth->to_isometry() * scan.sensor_to_base;
+    PointCloud points;
+    for (const Eigen::Vector3f& p : scan.points)
+      if (scan.max_range <= 0.0 || p.cast<double>().norm() < scan.max_range - 1e-3)
+        points.push_back(map_from_sensor * p.cast<double>());
+    map_.insert_scan(points, map_from_sensor.translation());
+    const DrivableMap drivable;
+    navigator_.on_map_update({map_, drivable, scan.truth->position, map_.version()});
+    ++scans_mapped_;
+  }
+  [[nodiscard]] int scans_mapped() const { return scans_mapped_; }
+  [[nodiscard]] std::uint64_t latest_path_version() const { return latest_path_version_; }
 
   [[nodiscard]] Pose3 truth() const { return simulator_.sample().truth; }
   [[nodiscard]] double distance_to(double x, double y) const {
@@ -99,6 +119,8 @@ class Trip {
   pipeline::Navigator navigator_;
   bool scanned_ = false;
   int steps_ = 0;
+  int scans_mapped_ = 0;
+  std::uint64_t latest_path_version_ = 0;
 };
 
 TEST(CampusNavigation, GoalDownTheHallwayIsReached) {
@@ -115,7 +137,9 @@ TEST(CampusNavigation, StopAndGoScansOnTheWay) {
   const GoalStatus status = trip.drive_to({28.0, 5.25, {}}, 120.0);
   EXPECT_EQ(status.phase, GoalPhase::kReached) << to_string(status.phase) << " " << status.reason;
   EXPECT_LT(trip.distance_to(28.0, 5.25), 0.3);
-  EXPECT_TRUE(trip.scanned());  // stopped to scan at least once along the 8 m
+  EXPECT_TRUE(trip.scanned());  // stopped to scan along the 8 m, and each scan updated the map and the plan
+  EXPECT_GE(trip.scans_mapped(), 2);
+  EXPECT_GE(trip.latest_path_version(), 2U);  // replanned on a new map
 }
 
 TEST(CampusNavigation, GoalUpTheEntranceRampIsReached) {
