@@ -12,6 +12,9 @@
 namespace strata::pipeline {
 namespace {
 
+/// Metres the robot must move to count as making progress towards its goal.
+constexpr double kProgress = 0.25;
+
 /// The goal's failure reason when no path was found: what the status stream reports (goal_state.hpp).
 std::string reason_for(PatchPlanStatus status, bool replanning) {
   if (replanning && status != PatchPlanStatus::start_off_map)
@@ -142,6 +145,14 @@ std::optional<DriveCommand> Navigator::drive(const Pose3& estimate, double stamp
     teleop_until_.reset();  // expired: the operator stopped renewing it
   }
   if (tracker_.status().phase == GoalPhase::kDriving && pursuit_.has_path()) {
+    if ((estimate.position - progress_position_).norm() > kProgress) {
+      progress_position_ = estimate.position;
+      progress_stamp_ = stamp;
+    } else if (stamp - progress_stamp_ > config_.stuck_after) {
+      tracker_.fail(tracker_.status().id, "stuck", stamp);
+      drop_path();
+      return DriveCommand{};
+    }
     const PurePursuit::Output output = pursuit_.update(estimate);
     if (!output.arrived)
       return output.command;
@@ -214,6 +225,10 @@ bool Navigator::plan_pending() {
   path->length = planned.length;
   path_ = std::move(path);
   pursuit_.set_path(planned.points);
+  if (!replanning) {
+    progress_position_ = pose_.position;
+    progress_stamp_ = stamp_;
+  }
   tracker_.driving(id, stamp_);
   return true;
 }

@@ -25,6 +25,9 @@ struct NavigatorConfig {
   double teleop_timeout = 0.5;  ///< seconds (steady clock) a teleop command lasts unless renewed
   double max_speed = 1.0;       ///< m/s, teleop is clamped to it
   double max_turn_rate = 1.2;   ///< rad/s, teleop is clamped to it
+  /// A goal fails as "stuck" when the robot, driving to it, has not moved 0.25 m in this many robot seconds
+  /// (a bumper stop the map does not explain). Longer than a stop-and-go scan plus a turn on the spot.
+  double stuck_after = 20.0;
 };
 
 /// Drives the robot to operators' goals (ARCHITECTURE.md 4.4): plans across levels on the patch graph of
@@ -90,6 +93,8 @@ class Navigator : public MotionCommands {
   Pose3 pose_;
   double stamp_ = 0.0;
   bool commanded_ = false;  // an operator has taken over from the demo route
+  Eigen::Vector3d progress_position_ = Eigen::Vector3d::Zero();  // where the robot last made progress
+  double progress_stamp_ = 0.0;                                  // and when
   DriveCommand teleop_;
   std::optional<std::chrono::steady_clock::time_point> teleop_until_;
   bool stopping_ = false;

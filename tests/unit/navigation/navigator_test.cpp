@@ -191,6 +191,22 @@ TEST(Navigator, TeleopCancelsTheGoal) {
   EXPECT_EQ(navigator.path(), nullptr);
 }
 
+TEST(Navigator, ARobotThatDoesNotMoveFailsAsStuck) {
+  const MlsMap map = test::bridge_scene();
+  Navigator navigator;
+  publish(navigator, map);
+  (void)navigator.drive(at(5.05, 0.05, 0.0), 0.0);
+  ASSERT_TRUE(navigator.set_goal({8.05, 0.05, {}}).ok);
+  ASSERT_TRUE(navigator.plan_pending());
+  for (double t = 0.0; t < 19.0; t += 1.0)  // bumped into something the map does not show
+    EXPECT_GT(navigator.drive(at(5.1, 0.05, 0.0), t)->v, 0.0);
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
+  const auto command = navigator.drive(at(5.1, 0.05, 0.0), 21.0);
+  EXPECT_EQ(command->v, 0.0);
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kFailed);
+  EXPECT_EQ(navigator.goal_status().reason, "stuck");
+}
+
 TEST(Navigator, PlansOnItsOwnThread) {
   const MlsMap map = test::bridge_scene();
   Navigator navigator;
