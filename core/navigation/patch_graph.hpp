@@ -28,7 +28,9 @@ struct PatchGraphConfig {
 /// within max_step (diagonals only when both cells beside the diagonal meet it too: no corner cutting).
 /// Because nodes are patches, not cells, the deck of a bridge and the road under it are different nodes of
 /// the same cell, and the ramp joins them. Each node knows its clearance: the distance along the graph to
-/// the nearest edge of its level, so the robot's radius is respected on every level on its own.
+/// the nearest edge of its level, so the robot's radius is respected on every level on its own. A vertical
+/// patch is a node too where drivable patches continue its top on opposite sides (a seam: the ramp's end
+/// face under a bridge deck merges with the surface above it into one vertical patch).
 class PatchGraph {
  public:
   using Node = std::uint32_t;
