@@ -142,7 +142,9 @@ TEST(Simulator, ACommandReplacesTheDemoRouteForGood) {
 }
 
 TEST(Simulator, StopAndGoHoldsACommandedRobotWhileScanning) {
-  Simulator sim(builtin("yard"), {.seed = 2, .scanner = ScannerKind::kTilting});
+  Simulator sim(builtin("yard"), {.seed = 2,
+                                  .scanner = ScannerKind::kTilting,
+                                  .tilting = {.slice_step_deg = 3.0, .rotation_step_deg = 6.0}});  // coarse
   sim.command({0.5, 0.0});
   int scans = 0;
   for (int i = 0; i < 3000 && scans < 2; ++i) {
