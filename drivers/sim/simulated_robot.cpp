@@ -41,6 +41,10 @@ void SimulatedRobot::run() {
       std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(dt / config_.time_scale));
   auto next = clock::now();
   while (running_) {
+    if (command_source_) {
+      if (const auto command = command_source_(simulator_.sample()))
+        simulator_.command(*command);
+    }
     simulator_.step(dt);
     on_sample_(simulator_.sample());
     for (ScanEvent& scan : simulator_.take_scans()) {

@@ -3,7 +3,9 @@
 #include <atomic>
 #include <functional>
 #include <mutex>
+#include <optional>
 #include <thread>
+#include <utility>
 
 #include "drivers/sim/simulator.hpp"
 
@@ -20,6 +22,9 @@ class SimulatedRobot {
  public:
   using SampleCallback = std::function<void(const RobotSample&)>;
   using ScanCallback = std::function<void(ScanEvent)>;
+  /// Asked before every step with the latest sample: a (v, w) command for the base, or nothing to leave
+  /// the simulator as it is (the demo route, or the last command). A controller such as the navigator.
+  using CommandSource = std::function<std::optional<VelocityCommand>(const RobotSample&)>;
 
   SimulatedRobot(Simulator simulator, SimulatedRobotConfig config, SampleCallback on_sample,
                  ScanCallback on_scan = {});
@@ -27,6 +32,8 @@ class SimulatedRobot {
   SimulatedRobot(const SimulatedRobot&) = delete;
   SimulatedRobot& operator=(const SimulatedRobot&) = delete;
 
+  /// Set before start(): called on the simulator's thread.
+  void set_command_source(CommandSource source) { command_source_ = std::move(source); }
   void start();
   void stop();
   [[nodiscard]] const World& world() const { return simulator_.world(); }
@@ -38,6 +45,7 @@ class SimulatedRobot {
   SimulatedRobotConfig config_;
   SampleCallback on_sample_;
   ScanCallback on_scan_;
+  CommandSource command_source_;
   std::atomic<bool> running_{false};
   std::thread thread_;
 };

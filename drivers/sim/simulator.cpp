@@ -19,7 +19,7 @@ Simulator::Simulator(std::shared_ptr<const World> world, SimulatorConfig config)
 
 void Simulator::step(double dt) {
   const bool stop_and_go = config_.scanner == ScannerKind::kTilting;
-  VelocityCommand command = driver_.command(base_.pose());
+  VelocityCommand command = commanded_ ? command_ : driver_.command(base_.pose());
   if (stop_and_go && (tilting_.scanning() || since_last_scan_ >= config_.scan_spacing)) {
     command = {};  // stand still to scan (thesis section 3.1)
     const bool stopped = base_.velocity().v == 0.0 && base_.velocity().w == 0.0;
@@ -52,6 +52,11 @@ void Simulator::step(double dt) {
       finish_scan(std::move(*scan));
   }
   time_ += dt;
+}
+
+void Simulator::command(const VelocityCommand& command) {
+  commanded_ = true;
+  command_ = command;
 }
 
 void Simulator::finish_scan(ScanEvent scan) {

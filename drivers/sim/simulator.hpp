@@ -53,6 +53,12 @@ class Simulator {
   Simulator(std::shared_ptr<const World> world, SimulatorConfig config);
 
   void step(double dt);
+  /// Drives with (v, w) from now on instead of the demo route. Once a controller has taken over, the route
+  /// is not resumed: an operator's goal or teleop ends the demo for good. The command holds until the next
+  /// one; stop-and-go scans still hold the robot still while they last.
+  void command(const VelocityCommand& command);
+  /// True until the first command(): the robot drives the world's demo route.
+  [[nodiscard]] bool following_route() const { return !commanded_; }
   [[nodiscard]] RobotSample sample() const;
   /// Scans completed since the last call, oldest first.
   [[nodiscard]] std::vector<ScanEvent> take_scans();
@@ -71,6 +77,8 @@ class Simulator {
   Stance stance_;
   WheelOdometry odometry_;
   RouteDriver driver_;
+  bool commanded_ = false;
+  VelocityCommand command_;
   TiltingScanner tilting_;
   SpinningLidar lidar_;
   std::vector<ScanEvent> finished_scans_;

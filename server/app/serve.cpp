@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <system_error>
@@ -23,6 +24,7 @@
 #include "server/net/server_context.hpp"
 #include "server/pipeline/localizer_worker.hpp"
 #include "server/pipeline/mapping_worker.hpp"
+#include "server/pipeline/navigator.hpp"
 #include "server/pipeline/periodic_broadcast.hpp"
 #include "server/protocol/client_messages.hpp"
 #include "server/protocol/messages.hpp"
@@ -101,6 +103,9 @@ int serve(const ServeOptions& options) {
   // The robot is told where it starts (as an operator sets an initial pose): the map frame is the world's.
   const Eigen::Isometry3d start = simulator.sample().truth.to_isometry();
   const Eigen::Isometry3d map_from_odom = start * simulator.sample().odometry.to_isometry().inverse();
+  // Declared first, destroyed last: the mapping thread (its map listener) and the robot's thread (its
+  // command source) call into it.
+  pipeline::Navigator navigator;
   // The live map (ARCHITECTURE.md 3, steps 6-8): the localizer hands on each registered scan. Declared
   // before the localizer, so it outlives the localizer's thread, which feeds it.
   MapState map_state;
@@ -111,10 +116,21 @@ int serve(const ServeOptions& options) {
   localizer.set_registered_scan_sink([&mapping](ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
     mapping.submit(std::move(scan), map_from_sensor);
   });
+  // Goals are planned on the live map: the navigator copies the map's surfaces after every change.
+  mapping.add_listener(navigator.map_listener());
   sim::SimulatedRobot robot(
       std::move(simulator), {.step_rate = 100.0, .time_scale = options.time_scale},
       [&robot_state](const sim::RobotSample& sample) { robot_state.publish(sample); },
       [&localizer](ScanEvent scan) { localizer.submit(std::move(scan)); });
+  // The navigator drives the base once an operator sends a goal or teleop; until then the demo route.
+  robot.set_command_source(
+      [&robot_state, &navigator](const sim::RobotSample& sample) -> std::optional<sim::VelocityCommand> {
+        const auto snapshot = robot_state.snapshot();
+        const auto command = navigator.drive(snapshot ? snapshot->estimate : sample.odometry, sample.stamp);
+        if (!command)
+          return std::nullopt;
+        return sim::VelocityCommand{command->v, command->w};
+      });
 
   std::string operator_token = options.operator_token;
   if (operator_token.empty())
@@ -125,6 +141,7 @@ int serve(const ServeOptions& options) {
   services.robot = &robot_state;
   services.map = &map_state;
   services.maps = &map_commands;
+  services.motion = &navigator;
   services.sim_world = &robot.world();
   services.operator_token = operator_token;
   services.web_root = web_root;
@@ -175,6 +192,7 @@ int serve(const ServeOptions& options) {
 
   mapping.start();
   localizer.start();
+  navigator.start();
   robot.start();
   listener->run();
   for (const auto& broadcast : broadcasts)
@@ -202,6 +220,7 @@ int serve(const ServeOptions& options) {
     thread.join();
 
   robot.stop();
+  navigator.stop();
   localizer.stop();
   mapping.stop();
   spdlog::info("stopped");

@@ -124,6 +124,39 @@ TEST(Simulator, StopAndGoStandsStillWhileScanning) {
   EXPECT_NEAR(moved, 2.0, 0.3);
 }
 
+TEST(Simulator, ACommandReplacesTheDemoRouteForGood) {
+  Simulator sim(builtin("yard"), {.scanner = ScannerKind::kNone});
+  EXPECT_TRUE(sim.following_route());
+  sim.command({0.0, 0.5});  // turn on the spot
+  EXPECT_FALSE(sim.following_route());
+  const Eigen::Vector3d start = sim.sample().truth.position;
+  for (int i = 0; i < 200; ++i)
+    sim.step(0.01);
+  EXPECT_LT((sim.sample().truth.position - start).norm(), 0.01);
+  EXPECT_NEAR(sim.sample().velocity.w, 0.5, 1e-9);
+  sim.command({});
+  for (int i = 0; i < 200; ++i)
+    sim.step(0.01);
+  EXPECT_EQ(sim.sample().velocity.v, 0.0);  // stays stopped: the route does not come back
+  EXPECT_EQ(sim.sample().velocity.w, 0.0);
+}
+
+TEST(Simulator, StopAndGoHoldsACommandedRobotWhileScanning) {
+  Simulator sim(builtin("yard"), {.seed = 2,
+                                  .scanner = ScannerKind::kTilting,
+                                  .tilting = {.slice_step_deg = 3.0, .rotation_step_deg = 6.0}});  // coarse
+  sim.command({0.5, 0.0});
+  int scans = 0;
+  for (int i = 0; i < 3000 && scans < 2; ++i) {
+    sim.step(0.01);
+    if (sim.sample().scanning) {
+      EXPECT_EQ(sim.sample().velocity.v, 0.0);
+    }
+    scans += static_cast<int>(sim.take_scans().size());
+  }
+  EXPECT_EQ(scans, 2);  // the first at the start, the second 2 m on
+}
+
 TEST(Simulator, LidarScansWhileDriving) {
   Simulator sim(builtin("yard"), {.scanner = ScannerKind::kLidar});
   std::vector<ScanEvent> scans;

@@ -1,0 +1,256 @@
+#include "core/navigation/patch_graph.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <utility>
+
+namespace strata {
+namespace {
+
+constexpr int kDirections[8][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
+
+}  // namespace
+
+PatchGraph::PatchGraph(std::shared_ptr<const SurfaceGrid> surfaces, double resolution,
+                       const PatchGraphConfig& config)
+    : surfaces_(std::move(surfaces)), resolution_(resolution), config_(config) {
+  const SurfaceGrid& grid = *surfaces_;
+  const std::size_t count = grid.surface_count();
+  cell_of_.resize(count);
+  traversable_.assign(count, 0);
+  const CellRegion& region = grid.region();
+  for (int row = 0; row < region.height; ++row)
+    for (int col = 0; col < region.width; ++col) {
+      const std::size_t c = grid.cell(col, row);
+      const std::uint32_t first = grid.first_surface(c);
+      const auto cell_surfaces = grid.surfaces(c);
+      for (std::size_t i = 0; i < cell_surfaces.size(); ++i) {
+        cell_of_[first + i] = static_cast<std::uint32_t>(c);
+        traversable_[first + i] = cell_surfaces[i].traversable && !cell_surfaces[i].vertical ? 1 : 0;
+      }
+    }
+  drive_over_seams(config.traversability);
+  link(config.traversability);
+  measure_clearance();
+  label_components();
+}
+
+void PatchGraph::label_components() {
+  component_.assign(neighbours_.size(), kNone);
+  std::uint32_t next_label = 0;
+  std::vector<Node> stack;
+  for (Node seed = 0; seed < neighbours_.size(); ++seed) {
+    if (component_[seed] != kNone || !passable(seed))
+      continue;
+    component_[seed] = next_label;
+    stack.push_back(seed);
+    while (!stack.empty()) {
+      const Node node = stack.back();
+      stack.pop_back();
+      for (const Node next : neighbours_[node])
+        if (next != kNone && component_[next] == kNone && passable(next)) {
+          component_[next] = next_label;
+          stack.push_back(next);
+        }
+    }
+    ++next_label;
+  }
+}
+
+void PatchGraph::drive_over_seams(const TraversabilityConfig& config) {
+  // Where one structure ends against another (a ramp's end under a bridge deck), the cell at the seam
+  // holds the end face seen from below and the surface seen from above: one vertical patch. Its top is
+  // drivable when drivable patches continue it within a step on opposite sides.
+  const SurfaceGrid& grid = *surfaces_;
+  const CellRegion& region = grid.region();
+  const auto max_step = static_cast<float>(config.max_step);
+  const auto continues = [&](int col, int row, float top) {
+    if (col < 0 || row < 0 || col >= region.width || row >= region.height)
+      return false;
+    const std::size_t c = grid.cell(col, row);
+    const std::uint32_t first = grid.first_surface(c);
+    const auto candidates = grid.surfaces(c);
+    for (std::size_t i = 0; i < candidates.size(); ++i)
+      if (traversable_[first + i] != 0 && std::abs(candidates[i].top - top) <= max_step)
+        return true;
+    return false;
+  };
+  std::vector<Node> seams;
+  for (int row = 0; row < region.height; ++row)
+    for (int col = 0; col < region.width; ++col) {
+      const std::size_t c = grid.cell(col, row);
+      const std::uint32_t first = grid.first_surface(c);
+      const auto cell_surfaces = grid.surfaces(c);
+      for (std::size_t i = 0; i < cell_surfaces.size(); ++i) {
+        const SurfaceGrid::Surface& s = cell_surfaces[i];
+        if (!s.vertical)
+          continue;
+        if (i + 1 < cell_surfaces.size() &&
+            cell_surfaces[i + 1].bottom - s.top < static_cast<float>(config.robot_height))
+          continue;
+        if ((continues(col - 1, row, s.top) && continues(col + 1, row, s.top)) ||
+            (continues(col, row - 1, s.top) && continues(col, row + 1, s.top)))
+          seams.push_back(first + static_cast<Node>(i));
+      }
+    }
+  for (const Node node : seams)
+    traversable_[node] = 1;
+}
+
+std::pair<int, int> PatchGraph::cell(Node node) const {
+  const auto width = static_cast<std::uint32_t>(surfaces_->region().width);
+  return {static_cast<int>(cell_of_[node] % width), static_cast<int>(cell_of_[node] / width)};
+}
+
+Eigen::Vector3d PatchGraph::position(Node node) const {
+  const auto [col, row] = cell(node);
+  const CellRegion& region = surfaces_->region();
+  const std::size_t c = cell_of_[node];
+  const float top = surfaces_->surfaces(c)[node - surfaces_->first_surface(c)].top;
+  return {(region.min.x + col + 0.5) * resolution_, (region.min.y + row + 0.5) * resolution_,
+          static_cast<double>(top)};
+}
+
+void PatchGraph::link(const TraversabilityConfig& config) {
+  const SurfaceGrid& grid = *surfaces_;
+  const CellRegion& region = grid.region();
+  const auto max_step = static_cast<float>(config.max_step);
+  neighbours_.assign(grid.surface_count(), {kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone});
+  // The traversable patch of (col, row) that a patch at `top` meets: the nearest in height within a step.
+  const auto meet = [&](int col, int row, float top) -> Node {
+    if (col < 0 || row < 0 || col >= region.width || row >= region.height)
+      return kNone;
+    const std::size_t c = grid.cell(col, row);
+    const std::uint32_t first = grid.first_surface(c);
+    const auto candidates = grid.surfaces(c);
+    Node best = kNone;
+    float best_difference = max_step;
+    for (std::size_t i = 0; i < candidates.size(); ++i) {
+      const float difference = std::abs(candidates[i].top - top);
+      if (traversable_[first + i] != 0 && difference <= best_difference) {
+        best_difference = difference;
+        best = first + static_cast<Node>(i);
+      }
+    }
+    return best;
+  };
+  for (int row = 0; row < region.height; ++row)
+    for (int col = 0; col < region.width; ++col) {
+      const std::size_t c = grid.cell(col, row);
+      const std::uint32_t first = grid.first_surface(c);
+      const auto cell_surfaces = grid.surfaces(c);
+      for (std::size_t i = 0; i < cell_surfaces.size(); ++i) {
+        const Node node = first + static_cast<Node>(i);
+        if (traversable_[node] == 0)
+          continue;
+        const float top = cell_surfaces[i].top;
+        std::array<Node, 8>& out = neighbours_[node];
+        for (int d = 0; d < 8; d += 2)
+          out[static_cast<std::size_t>(d)] = meet(col + kDirections[d][0], row + kDirections[d][1], top);
+        for (int d = 1; d < 8; d += 2) {
+          if (out[static_cast<std::size_t>(d - 1)] == kNone ||
+              out[static_cast<std::size_t>((d + 1) % 8)] == kNone)
+            continue;  // no corner cutting
+          out[static_cast<std::size_t>(d)] = meet(col + kDirections[d][0], row + kDirections[d][1], top);
+        }
+      }
+    }
+}
+
+void PatchGraph::measure_clearance() {
+  // Multi-source Dijkstra from the level's edges: a node missing an orthogonal neighbour touches an
+  // obstacle half a cell from its centre; one missing only a diagonal neighbour touches it at a corner.
+  const std::size_t count = neighbours_.size();
+  clearance_.assign(count, std::numeric_limits<float>::infinity());
+  using Item = std::pair<float, Node>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  const auto half = static_cast<float>(0.5 * resolution_);
+  const auto corner = static_cast<float>(0.5 * std::sqrt(2.0) * resolution_);
+  for (Node node = 0; node < count; ++node) {
+    if (traversable_[node] == 0) {
+      clearance_[node] = 0.0F;
+      continue;
+    }
+    const auto& out = neighbours_[node];
+    float seed = std::numeric_limits<float>::infinity();
+    for (int d = 0; d < 8; ++d)
+      if (out[static_cast<std::size_t>(d)] == kNone)
+        seed = std::min(seed, d % 2 == 0 ? half : corner);
+    if (std::isfinite(seed)) {
+      clearance_[node] = seed;
+      open.emplace(seed, node);
+    }
+  }
+  while (!open.empty()) {
+    const auto [distance, node] = open.top();
+    open.pop();
+    if (distance > clearance_[node])
+      continue;
+    const auto& out = neighbours_[node];
+    for (int d = 0; d < 8; ++d) {
+      const Node next = out[static_cast<std::size_t>(d)];
+      if (next == kNone)
+        continue;
+      const auto candidate = distance + static_cast<float>(step_length(d) * resolution_);
+      if (candidate < clearance_[next]) {
+        clearance_[next] = candidate;
+        open.emplace(candidate, next);
+      }
+    }
+  }
+}
+
+bool PatchGraph::local_cell(double x, double y, int& col, int& row) const {
+  const CellRegion& region = surfaces_->region();
+  col = static_cast<int>(std::floor(x / resolution_)) - region.min.x;
+  row = static_cast<int>(std::floor(y / resolution_)) - region.min.y;
+  return std::isfinite(x) && std::isfinite(y) && col >= 0 && row >= 0 && col < region.width &&
+         row < region.height;
+}
+
+bool PatchGraph::mapped(double x, double y) const {
+  int col = 0;
+  int row = 0;
+  return local_cell(x, y, col, row) && !surfaces_->surfaces(surfaces_->cell(col, row)).empty();
+}
+
+std::optional<PatchGraph::Node> PatchGraph::locate(double x, double y, double z, double tolerance,
+                                                   double search_radius) const {
+  int centre_col = 0;
+  int centre_row = 0;
+  if (!local_cell(x, y, centre_col, centre_row) || !std::isfinite(z))
+    return std::nullopt;
+  const CellRegion& region = surfaces_->region();
+  const int rings = static_cast<int>(std::ceil(std::max(search_radius, 0.0) / resolution_));
+  for (int ring = 0; ring <= rings; ++ring) {
+    std::optional<Node> best;
+    double best_difference = tolerance;
+    for (int dy = -ring; dy <= ring; ++dy)
+      for (int dx = -ring; dx <= ring; ++dx) {
+        if (std::max(std::abs(dx), std::abs(dy)) != ring)
+          continue;
+        const int col = centre_col + dx;
+        const int row = centre_row + dy;
+        if (col < 0 || row < 0 || col >= region.width || row >= region.height)
+          continue;
+        const std::size_t c = surfaces_->cell(col, row);
+        const std::uint32_t first = surfaces_->first_surface(c);
+        const auto candidates = surfaces_->surfaces(c);
+        for (std::size_t i = 0; i < candidates.size(); ++i) {
+          const double difference = std::abs(static_cast<double>(candidates[i].top) - z);
+          if (traversable_[first + i] != 0 && difference <= best_difference) {
+            best_difference = difference;
+            best = first + static_cast<Node>(i);
+          }
+        }
+      }
+    if (best)
+      return best;
+  }
+  return std::nullopt;
+}
+
+}  // namespace strata

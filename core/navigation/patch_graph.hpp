@@ -1,0 +1,91 @@
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "core/mls/traversability.hpp"
+
+namespace strata {
+
+struct PatchGraphConfig {
+  TraversabilityConfig traversability;
+  /// Patches whose centre is nearer than this to the edge of their level (a wall, a drop, a step, the end
+  /// of the known map) are no place for the robot's centre, metres. The wheelchair's body is 1.05 x 0.66 m:
+  /// 0.33 m to its sides, 0.62 m to its corners, so it fits where it drives about straight (doors, ramps).
+  double robot_radius = 0.45;
+  /// Paths may keep away from edges: a step onto a patch with less clearance than `comfortable_clearance`
+  /// costs up to (1 + clearance_weight) times its length, so the robot goes through the middle of doors
+  /// and approaches them straight. 0 gives the plain shortest path.
+  double clearance_weight = 0.0;
+  double comfortable_clearance = 1.0;
+};
+
+/// The drivable surfaces of an MLS map as a graph (ARCHITECTURE.md 4.3, across levels): one node per
+/// traversable horizontal patch, an edge to the patch of each of the 8 neighbouring cells that it meets
+/// within max_step (diagonals only when both cells beside the diagonal meet it too: no corner cutting).
+/// Because nodes are patches, not cells, the deck of a bridge and the road under it are different nodes of
+/// the same cell, and the ramp joins them. Each node knows its clearance: the distance along the graph to
+/// the nearest edge of its level, so the robot's radius is respected on every level on its own. A vertical
+/// patch is a node too where drivable patches continue its top on opposite sides (a seam: the ramp's end
+/// face under a bridge deck merges with the surface above it into one vertical patch).
+class PatchGraph {
+ public:
+  using Node = std::uint32_t;
+  static constexpr Node kNone = 0xFFFFFFFFU;
+
+  PatchGraph(std::shared_ptr<const SurfaceGrid> surfaces, double resolution, const PatchGraphConfig& config);
+
+  [[nodiscard]] const SurfaceGrid& surfaces() const { return *surfaces_; }
+  [[nodiscard]] double resolution() const { return resolution_; }
+  [[nodiscard]] const PatchGraphConfig& config() const { return config_; }
+  [[nodiscard]] std::size_t node_count() const { return cell_of_.size(); }
+
+  /// The 8 neighbours (kNone where there is no edge), east first, counter-clockwise.
+  [[nodiscard]] const std::array<Node, 8>& neighbours(Node node) const { return neighbours_[node]; }
+  [[nodiscard]] static double step_length(int direction) {
+    return (direction % 2 == 0) ? 1.0 : 1.4142135623730951;
+  }
+  /// Whether the node is a surface the robot may drive on at all (traversable and horizontal).
+  [[nodiscard]] bool traversable(Node node) const { return traversable_[node] != 0; }
+  /// Metres from the node's centre to the nearest edge of its level.
+  [[nodiscard]] float clearance(Node node) const { return clearance_[node]; }
+  /// Traversable with room for the robot.
+  [[nodiscard]] bool passable(Node node) const {
+    return traversable(node) && clearance_[node] >= static_cast<float>(config_.robot_radius);
+  }
+  /// Passable nodes joined by edges between passable nodes share a component; kNone for the others. Two
+  /// passable nodes in different components have no path: answered without a search.
+  [[nodiscard]] std::uint32_t component(Node node) const { return component_[node]; }
+  [[nodiscard]] Eigen::Vector3d position(Node node) const;
+  /// Local (col, row) of the node's cell in the surface grid's region.
+  [[nodiscard]] std::pair<int, int> cell(Node node) const;
+
+  /// The traversable patch of the cell under (x, y) nearest the height z and within `tolerance` of it,
+  /// if any. With `search_radius` > 0 the nearest ring of cells around that has one is taken when the
+  /// cell itself has none (the robot's own cell is often unseen).
+  [[nodiscard]] std::optional<Node> locate(double x, double y, double z, double tolerance,
+                                           double search_radius = 0.0) const;
+  /// Whether the cell under (x, y) has any patch at all (is mapped).
+  [[nodiscard]] bool mapped(double x, double y) const;
+
+ private:
+  [[nodiscard]] bool local_cell(double x, double y, int& col, int& row) const;
+  void drive_over_seams(const TraversabilityConfig& config);
+  void link(const TraversabilityConfig& config);
+  void measure_clearance();
+  void label_components();
+
+  std::shared_ptr<const SurfaceGrid> surfaces_;
+  double resolution_;
+  PatchGraphConfig config_;
+  std::vector<std::uint32_t> cell_of_;  ///< per node (= surface index): its cell index
+  std::vector<std::uint8_t> traversable_;
+  std::vector<std::array<Node, 8>> neighbours_;
+  std::vector<float> clearance_;
+  std::vector<std::uint32_t> component_;
+};
+
+}  // namespace strata

@@ -1,0 +1,121 @@
+#include "core/navigation/patch_graph_planner.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
+#include <utility>
+
+namespace strata {
+
+std::string_view describe(PatchPlanStatus status) {
+  switch (status) {
+    case PatchPlanStatus::found:
+      return "found";
+    case PatchPlanStatus::start_off_map:
+      return "the robot is not on a mapped drivable surface";
+    case PatchPlanStatus::goal_off_map:
+      return "the goal is outside the known map";
+    case PatchPlanStatus::goal_blocked:
+      return "the goal is not a drivable place with room for the robot";
+    case PatchPlanStatus::no_path:
+      return "no drivable connection to the goal";
+  }
+  return "unknown";
+}
+
+PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_ground,
+                          const PatchGoal& goal) {
+  using Node = PatchGraph::Node;
+  PatchPath result;
+  const TraversabilityConfig& traversability = graph.config().traversability;
+  const std::optional<Node> start =
+      graph.locate(robot_ground.x(), robot_ground.y(), robot_ground.z(), traversability.start_tolerance,
+                   traversability.start_search_radius);
+  if (!start) {
+    result.status = PatchPlanStatus::start_off_map;
+    return result;
+  }
+  if (!graph.mapped(goal.x, goal.y)) {
+    result.status = PatchPlanStatus::goal_off_map;
+    return result;
+  }
+  const double reference = goal.z.value_or(robot_ground.z());
+  const double tolerance = goal.z ? goal.level_tolerance : std::numeric_limits<double>::infinity();
+  const std::optional<Node> target = graph.locate(goal.x, goal.y, reference, tolerance);
+  if (!target || !graph.passable(*target)) {
+    result.status = PatchPlanStatus::goal_blocked;
+    return result;
+  }
+
+  if (graph.passable(*start) && graph.component(*start) != graph.component(*target)) {
+    result.status = PatchPlanStatus::no_path;  // known without searching
+    return result;
+  }
+
+  const auto [goal_col, goal_row] = graph.cell(*target);
+  const double resolution = graph.resolution();
+  const auto heuristic = [&, goal_col = goal_col, goal_row = goal_row](Node node) {
+    const auto [col, row] = graph.cell(node);
+    const double dx = std::abs(col - goal_col);
+    const double dy = std::abs(row - goal_row);
+    return resolution * (std::max(dx, dy) + (std::sqrt(2.0) - 1.0) * std::min(dx, dy));
+  };
+  const PatchGraphConfig& config = graph.config();
+  const double comfort_span = std::max(config.comfortable_clearance - config.robot_radius, 1e-6);
+  const auto step_factor = [&](Node node) {
+    if (config.clearance_weight <= 0.0)
+      return 1.0;
+    const double tightness =
+        (config.comfortable_clearance - static_cast<double>(graph.clearance(node))) / comfort_span;
+    return 1.0 + config.clearance_weight * std::clamp(tightness, 0.0, 1.0);
+  };
+  const std::size_t count = graph.node_count();
+  std::vector<double> cost(count, std::numeric_limits<double>::infinity());
+  std::vector<Node> parent(count, PatchGraph::kNone);
+  using Item = std::pair<double, Node>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
+  cost[*start] = 0.0;
+  open.emplace(heuristic(*start), *start);
+  while (!open.empty()) {
+    const auto [estimate, node] = open.top();
+    open.pop();
+    if (estimate - heuristic(node) > cost[node] + 1e-9)
+      continue;  // a stale entry
+    ++result.expanded;
+    if (node == *target)
+      break;
+    const bool room = graph.passable(node);
+    const auto& out = graph.neighbours(node);
+    for (int d = 0; d < 8; ++d) {
+      const Node next = out[static_cast<std::size_t>(d)];
+      if (next == PatchGraph::kNone)
+        continue;
+      // Into a patch with room, or, while still too near an edge, away from it.
+      if (!graph.passable(next) && (room || graph.clearance(next) < graph.clearance(node)))
+        continue;
+      const double candidate = cost[node] + PatchGraph::step_length(d) * resolution * step_factor(next);
+      if (candidate < cost[next]) {
+        cost[next] = candidate;
+        parent[next] = node;
+        open.emplace(candidate + heuristic(next), next);
+      }
+    }
+  }
+  if (!std::isfinite(cost[*target])) {
+    result.status = PatchPlanStatus::no_path;
+    return result;
+  }
+  for (Node node = *target; node != PatchGraph::kNone; node = parent[node])
+    result.points.push_back(graph.position(node));
+  std::reverse(result.points.begin(), result.points.end());
+  // End where the operator asked, not at the centre of that cell (at most half a cell away).
+  result.points.back().head<2>() = Eigen::Vector2d(goal.x, goal.y);
+  for (std::size_t i = 1; i < result.points.size(); ++i)
+    result.length += (result.points[i] - result.points[i - 1]).head<2>().norm();
+  result.status = PatchPlanStatus::found;
+  return result;
+}
+
+}  // namespace strata

@@ -1,0 +1,48 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <cstddef>
+#include <optional>
+#include <string_view>
+#include <vector>
+
+#include "core/navigation/patch_graph.hpp"
+
+namespace strata {
+
+/// Why there is no path on the patch graph, or that there is one.
+enum class PatchPlanStatus {
+  found,
+  start_off_map,  ///< no traversable patch under or near the robot
+  goal_off_map,   ///< the goal's cell was never seen
+  goal_blocked,   ///< the goal's cell has no drivable patch at that level with room for the robot
+  no_path,        ///< both ends fine, nothing connects them
+};
+[[nodiscard]] std::string_view describe(PatchPlanStatus status);
+
+struct PatchPath {
+  PatchPlanStatus status = PatchPlanStatus::no_path;
+  std::vector<Eigen::Vector3d> points;  ///< cell centres at their surface heights, start to goal
+  double length = 0.0;                  ///< metres, in the plane
+  std::size_t expanded = 0;
+  [[nodiscard]] bool found() const { return status == PatchPlanStatus::found; }
+};
+
+/// Where to go: (x, y) and, if given, the height of the level (within `level_tolerance`); without it the
+/// level nearest the robot's own height.
+struct PatchGoal {
+  double x = 0.0;
+  double y = 0.0;
+  std::optional<double> z;
+  double level_tolerance = 0.5;
+};
+
+/// Shortest path (A*, steps of 1 and sqrt 2 cells, octile heuristic: optimal; with a clearance weight,
+/// optimal for the length weighted by the closeness to edges) across levels from the
+/// patch the robot stands on (`robot_ground`: the map-frame point under it) to the goal's patch. Only
+/// patches with room for the robot are entered, except that a robot which already stands too near an edge
+/// may drive away from it (to patches of growing clearance) until it has room.
+[[nodiscard]] PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_ground,
+                                        const PatchGoal& goal);
+
+}  // namespace strata

@@ -1,0 +1,236 @@
+#include "server/pipeline/navigator.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "core/navigation/patch_graph_planner.hpp"
+
+namespace strata::pipeline {
+namespace {
+
+/// Metres the robot must move to count as making progress towards its goal.
+constexpr double kProgress = 0.25;
+
+/// The goal's failure reason when no path was found: what the status stream reports (goal_state.hpp).
+std::string reason_for(PatchPlanStatus status, bool replanning) {
+  if (replanning && status != PatchPlanStatus::start_off_map)
+    return "blocked";  // it was reachable; a new scan closed the way
+  switch (status) {
+    case PatchPlanStatus::start_off_map:
+      return "robot_off_map";
+    case PatchPlanStatus::goal_off_map:
+      return "off_map";
+    default:
+      return "unreachable";
+  }
+}
+
+}  // namespace
+
+Navigator::Navigator(NavigatorConfig config, Clock clock)
+    : config_(std::move(config)), clock_(std::move(clock)), pursuit_(config_.pursuit) {}
+
+Navigator::~Navigator() {
+  stop();
+}
+
+void Navigator::start() {
+  std::lock_guard lock(mutex_);
+  if (thread_.joinable())
+    return;
+  stopping_ = false;
+  thread_ = std::thread([this] {
+    for (;;) {
+      {
+        std::unique_lock waiting(mutex_);
+        wake_.wait(waiting, [this] { return stopping_ || planning_wanted(); });
+        if (stopping_)
+          return;
+      }
+      plan_pending();
+    }
+  });
+}
+
+void Navigator::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable())
+    thread_.join();
+}
+
+CommandResult Navigator::set_goal(const GoalRequest& goal) {
+  if (!std::isfinite(goal.x) || !std::isfinite(goal.y) || (goal.z && !std::isfinite(*goal.z)))
+    return CommandResult::failure("bad_params", "goal coordinates must be finite numbers");
+  {
+    std::lock_guard lock(mutex_);
+    commanded_ = true;
+    teleop_until_.reset();
+    tracker_.accept(goal, stamp_);
+    drop_path();
+    goal_waiting_ = true;
+  }
+  wake_.notify_all();
+  return CommandResult::success();
+}
+
+CommandResult Navigator::cancel_goal() {
+  std::lock_guard lock(mutex_);
+  commanded_ = true;
+  teleop_until_.reset();
+  tracker_.cancel(stamp_);
+  drop_path();
+  goal_waiting_ = false;
+  return CommandResult::success();
+}
+
+CommandResult Navigator::teleop(double v, double w) {
+  if (!std::isfinite(v) || !std::isfinite(w))
+    return CommandResult::failure("bad_params", "teleop v and w must be finite numbers");
+  std::lock_guard lock(mutex_);
+  commanded_ = true;
+  tracker_.cancel(stamp_);  // the operator drives now
+  drop_path();
+  goal_waiting_ = false;
+  teleop_ = {std::clamp(v, -config_.max_speed, config_.max_speed),
+             std::clamp(w, -config_.max_turn_rate, config_.max_turn_rate)};
+  teleop_until_ = clock_() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                 std::chrono::duration<double>(config_.teleop_timeout));
+  return CommandResult::success();
+}
+
+void Navigator::stop_teleop() {
+  std::lock_guard lock(mutex_);
+  teleop_until_.reset();
+}
+
+GoalStatus Navigator::goal_status() const {
+  std::lock_guard lock(mutex_);
+  return tracker_.status();
+}
+
+std::shared_ptr<const PlannedPath> Navigator::path() const {
+  std::lock_guard lock(mutex_);
+  return path_;
+}
+
+void Navigator::on_map_update(const MapUpdate& update) {
+  // The only work on the mapping thread: flatten and classify the map's patches (a copy the planner owns).
+  const CellRegion region = CellRegion::of_tiles(update.map.tile_indices());
+  auto surfaces = std::make_shared<const SurfaceGrid>(update.map, region, config_.graph.traversability);
+  {
+    std::lock_guard lock(mutex_);
+    surfaces_ = std::move(surfaces);
+    resolution_ = update.map.resolution();
+    ++map_version_;
+    map_changed_ = true;
+  }
+  wake_.notify_all();
+}
+
+std::optional<DriveCommand> Navigator::drive(const Pose3& estimate, double stamp) {
+  std::lock_guard lock(mutex_);
+  pose_ = estimate;
+  stamp_ = stamp;
+  if (teleop_until_) {
+    if (clock_() < *teleop_until_)
+      return teleop_;
+    teleop_until_.reset();  // expired: the operator stopped renewing it
+  }
+  if (tracker_.status().phase == GoalPhase::kDriving && pursuit_.has_path()) {
+    if ((estimate.position - progress_position_).norm() > kProgress) {
+      progress_position_ = estimate.position;
+      progress_stamp_ = stamp;
+    } else if (stamp - progress_stamp_ > config_.stuck_after) {
+      tracker_.fail(tracker_.status().id, "stuck", stamp);
+      drop_path();
+      return DriveCommand{};
+    }
+    const PurePursuit::Output output = pursuit_.update(estimate);
+    if (!output.arrived)
+      return output.command;
+    tracker_.reached(tracker_.status().id, stamp);
+    drop_path();
+  }
+  if (!commanded_)
+    return std::nullopt;
+  return DriveCommand{};
+}
+
+bool Navigator::planning_wanted() const {
+  return goal_waiting_ || (map_changed_ && tracker_.status().phase == GoalPhase::kDriving);
+}
+
+void Navigator::drop_path() {
+  pursuit_.clear();
+  path_.reset();
+}
+
+bool Navigator::plan_pending() {
+  std::lock_guard planning(planning_mutex_);
+  std::uint64_t id = 0;
+  GoalRequest goal;
+  Pose3 pose;
+  bool replanning = false;
+  std::shared_ptr<const SurfaceGrid> surfaces;
+  double resolution = 0.1;
+  std::uint64_t map_version = 0;
+  {
+    std::lock_guard lock(mutex_);
+    if (!planning_wanted())
+      return false;
+    replanning = !goal_waiting_;
+    goal_waiting_ = false;
+    map_changed_ = false;
+    id = tracker_.status().id;
+    goal = tracker_.status().target;
+    if (!replanning)
+      tracker_.planning(id, stamp_);
+    pose = pose_;
+    surfaces = surfaces_;
+    resolution = resolution_;
+    map_version = map_version_;
+    if (!surfaces) {
+      tracker_.fail(id, "no_map", stamp_);
+      return true;
+    }
+  }
+  if (!graph_ || graph_version_ != map_version) {
+    graph_ = std::make_shared<const PatchGraph>(surfaces, resolution, config_.graph);
+    graph_version_ = map_version;
+  }
+  const PatchPath planned = plan_on_patches(*graph_, pose.position,
+                                            {.x = goal.x, .y = goal.y, .z = goal.z, .level_tolerance = 0.5});
+
+  std::lock_guard lock(mutex_);
+  if (!tracker_.is_active(id))
+    return true;  // cancelled or replaced while planning
+  if (!planned.found()) {
+    spdlog::info("goal {}: {} ({})", id, describe(planned.status), replanning ? "replan" : "plan");
+    tracker_.fail(id, reason_for(planned.status, replanning), stamp_);
+    drop_path();
+    return true;
+  }
+  auto path = std::make_shared<PlannedPath>();
+  path->goal_id = id;
+  path->version = ++path_version_;
+  path->points = planned.points;
+  path->length = planned.length;
+  path_ = std::move(path);
+  pursuit_.set_path(planned.points);
+  if (!replanning) {
+    progress_position_ = pose_.position;
+    progress_stamp_ = stamp_;
+  }
+  tracker_.driving(id, stamp_);
+  return true;
+}
+
+}  // namespace strata::pipeline
