@@ -36,6 +36,9 @@ struct LocalizerOptions {
     RegistrationOptions options;
     options.min_range = 0.0;
     options.icp.metric = IcpMetric::kPointToPlane;
+    // Point-to-plane settles in few steps; the tighter fine-stage stop for point-to-point scan pairs is
+    // unmeasured here, so every stage keeps the one threshold.
+    options.fine_mse_change_threshold = options.icp.mse_change_threshold;
     return options;
   }
 };

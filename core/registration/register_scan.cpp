@@ -39,6 +39,8 @@ RegistrationResult ScanRegistration::register_scan(const PointCloud& source, con
   for (const double bound : options_.correspondence_schedule) {
     IcpOptions stage = options_.icp;
     stage.max_correspondence_distance = bound;
+    if (&bound == &options_.correspondence_schedule.back())
+      stage.mse_change_threshold = options_.fine_mse_change_threshold;
     const int iterations_so_far = icp.iterations;
     icp = align(points, *target_, normals_.get(), icp.transform, stage);
     icp.iterations += iterations_so_far;
