@@ -36,10 +36,11 @@ RegistrationResult ScanRegistration::register_scan(const PointCloud& source, con
 
   IcpResult icp;
   icp.transform = guess;
-  for (const double bound : options_.correspondence_schedule) {
+  const std::vector<double>& schedule = options_.correspondence_schedule;
+  for (std::size_t k = 0; k < schedule.size(); ++k) {
     IcpOptions stage = options_.icp;
-    stage.max_correspondence_distance = bound;
-    if (&bound == &options_.correspondence_schedule.back())
+    stage.max_correspondence_distance = schedule[k];
+    if (k + 1 == schedule.size())
       stage.mse_change_threshold = options_.fine_mse_change_threshold;
     const int iterations_so_far = icp.iterations;
     icp = align(points, *target_, normals_.get(), icp.transform, stage);
