@@ -9,6 +9,8 @@
 
 namespace strata {
 namespace {
+/// Unseen gaps bridged between drivable surfaces, cells (see link()).
+constexpr int kMaxHoleCells = 2;
 
 constexpr int kDirections[8][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
 
@@ -137,6 +139,11 @@ void PatchGraph::link(const TraversabilityConfig& config) {
     }
     return best;
   };
+  // A cell inside the region without any patch: not seen yet.
+  const auto empty = [&](int col, int row) {
+    return col >= 0 && row >= 0 && col < region.width && row < region.height &&
+           grid.surfaces(grid.cell(col, row)).empty();
+  };
   for (int row = 0; row < region.height; ++row)
     for (int col = 0; col < region.width; ++col) {
       const std::size_t c = grid.cell(col, row);
@@ -148,8 +155,18 @@ void PatchGraph::link(const TraversabilityConfig& config) {
           continue;
         const float top = cell_surfaces[i].top;
         std::array<Node, 8>& out = neighbours_[node];
-        for (int d = 0; d < 8; d += 2)
-          out[static_cast<std::size_t>(d)] = meet(col + kDirections[d][0], row + kDirections[d][1], top);
+        for (int d = 0; d < 8; d += 2) {
+          const int dx = kDirections[d][0];
+          const int dy = kDirections[d][1];
+          Node next = meet(col + dx, row + dy, top);
+          // A scanner leaves rings of unseen cells on open ground (the tilting laser's slices, a lidar's
+          // rings). A gap of up to kMaxHoleCells cells without any patch, between surfaces that meet within
+          // a step per cell, is bridged: unseen is not an obstacle, and a wall or a drop has patches.
+          for (int gap = 1; next == kNone && gap <= kMaxHoleCells && empty(col + gap * dx, row + gap * dy);
+               ++gap)
+            next = meet(col + (gap + 1) * dx, row + (gap + 1) * dy, top);
+          out[static_cast<std::size_t>(d)] = next;
+        }
         for (int d = 1; d < 8; d += 2) {
           if (out[static_cast<std::size_t>(d - 1)] == kNone ||
               out[static_cast<std::size_t>((d + 1) % 8)] == kNone)
