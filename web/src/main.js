@@ -361,6 +361,7 @@ window.strata = {
   colorMode: () => view.tiles.colorMode,
   follow: () => view.follow,
   cameraDistance: () => view.controls.getDistance(),
+  cameraAzimuth: () => view.controls.getAzimuthalAngle(),
   frames: () => view.frames,
   occupancy: () => (view.occupancy.frames ? { frames: view.occupancy.frames, visible: view.occupancy.plane.visible, ...view.occupancy.census() } : null),
   goal: () => ({ ...lastGoal }),

@@ -1,7 +1,7 @@
 // Messages for the operator: what the server refused and why, in words, not codes (proto/PROTOCOL.md,
 // "Errors"). The newest shows in the message bar until it times out or the next one replaces it.
 const EXPLANATIONS = {
-  unauthorized: 'needs the operator token: enter it with the key button',
+  unauthorized: 'needs the operator token (enter it with the Token button)',
   rate_limited: 'too many commands at once; try again in a moment',
   unavailable: 'not available on this server right now',
   not_found: 'not found',

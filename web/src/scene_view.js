@@ -59,11 +59,26 @@ export class SceneView {
     window.addEventListener('resize', () => this.resize(container));
     // Draw on demand: only when something changed (a pose, a tile, the camera), not 60 times a second,
     // so a robot standing still costs no GPU time and the page stays responsive on slow GPUs.
+    // Updates that only move things along (poses at 25 Hz, tiles) wait for at least twice what the last
+    // frame cost, so a slow (or software) GPU never keeps the page too busy to answer a touch; the user
+    // moving the camera is drawn at once.
     this.dirty = true;
+    this.frameCostMs = 16;
+    this.renderedAt = -Infinity;
     this.controls.addEventListener('change', () => this.requestRender());
-    this.renderer.setAnimationLoop(() => {
+    this.renderer.setAnimationLoop((now) => {
+      if (this.justRendered) {
+        // The first tick after a frame arrives when the GPU has taken it: that gap is the frame's cost.
+        this.frameCostMs = 0.7 * this.frameCostMs + 0.3 * (now - this.renderedAt);
+        this.justRendered = false;
+      }
       const moving = this.controls.update(); // damping keeps the camera gliding for a few frames
-      if (this.dirty || moving) this.render();
+      const due = now - this.renderedAt >= Math.min(2 * this.frameCostMs, 1000);
+      if (moving || (this.dirty && due)) {
+        this.render();
+        this.renderedAt = now;
+        this.justRendered = true;
+      }
     });
   }
 

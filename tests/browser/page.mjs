@@ -1,0 +1,44 @@
+// Opening the app in a test: a 1280 x 800 page (the robot's touch screen), collecting uncaught errors,
+// waiting for the live connection.
+export const TOKEN = 'browser-test-operator-token-0123';
+
+export async function openApp(browser, url, { touch = false, token = null } = {}) {
+  const context = await browser.newContext({ viewport: { width: 1280, height: 800 }, hasTouch: touch, isMobile: false });
+  const page = await context.newPage();
+  page.errors = [];
+  page.on('pageerror', (error) => page.errors.push(error.message));
+  if (token) {
+    // As if the operator had entered it earlier in this session.
+    await page.addInitScript((t) => sessionStorage.setItem('strata.operatorToken', t), token);
+  }
+  await page.goto(url);
+  await page.locator('#connection[data-state="connected"]').waitFor({ timeout: 15000 });
+  return page;
+}
+
+/** Waits until fn(page's window.strata) is truthy; returns its value. */
+export async function until(page, fn, arg, timeout = 60000) {
+  const handle = await page.waitForFunction(fn, arg, { timeout, polling: 200 });
+  return handle.jsonValue();
+}
+
+/** The screen point of a traversable floor patch near the robot (at least minDistance away), or null. */
+export async function floorPointNearRobot(page, { radius = 4, minDistance = 1.5 } = {}) {
+  return page.evaluate(
+    ({ radius, minDistance }) => {
+      const [x, y] = window.strata.robotPosition();
+      const rect = document.querySelector('.panel').getBoundingClientRect();
+      for (let r = radius; r <= radius * 3; r += radius) {
+        const surface = window.strata.findSurface({ x, y, radius: r, minDistance });
+        if (!surface) continue;
+        const point = window.strata.screenPoint([surface.x, surface.y, surface.z]);
+        // On screen, clear of the panel and the top bar.
+        if (point.visible && point.x > 0 && point.x < rect.left - 10 && point.y > 70 && point.y < 790) {
+          return { surface, point };
+        }
+      }
+      return null;
+    },
+    { radius, minDistance },
+  );
+}
