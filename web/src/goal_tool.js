@@ -48,7 +48,8 @@ export class GoalTool {
     const [hit] = this.raycaster.intersectObjects(tiles.group.children, false);
     if (!hit) return null;
     const patch = tiles.patchAt(hit);
-    // A wall is no place to stand: take the cell's surface where the ray met it, the floor at its foot.
+    // A wall or a step is no place to stand, and guessing which floor was meant could send the robot to
+    // the wrong storey: ask for another tap instead.
     if (patch.vertical) return null;
     return { x: patch.x, y: patch.y, z: patch.z };
   }

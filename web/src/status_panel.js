@@ -25,7 +25,8 @@ export class StatusPanel {
     field('scan-rate').textContent = `${(status.scan_rate * 60).toFixed(1)} / min`;
     if (status.map) {
       const kib = status.map.bytes / 1024;
-      field('map-size').textContent = `${status.map.tiles} tiles · ${status.map.patches.toLocaleString('en')} patches`;
+      const patches = status.map.patches >= 10000 ? `${(status.map.patches / 1000).toFixed(0)}k` : status.map.patches;
+      field('map-size').textContent = `${status.map.tiles} tiles · ${patches} patches`;
       field('map-bytes').textContent = kib > 1024 ? `${(kib / 1024).toFixed(1)} MiB` : `${kib.toFixed(0)} KiB`;
     }
     if (!r.last) return;
