@@ -26,10 +26,10 @@ export async function until(page, fn, arg, timeout = 60000) {
 export async function floorPointNearRobot(page, { radius = 4, minDistance = 1.5 } = {}) {
   return page.evaluate(
     ({ radius, minDistance }) => {
-      const [x, y] = window.strata.robotPosition();
+      const [x, y, level] = window.strata.robotPosition(); // the robot's ground: goals on its storey
       const rect = document.querySelector('.panel').getBoundingClientRect();
       for (let r = radius; r <= radius * 3; r += radius) {
-        const surface = window.strata.findSurface({ x, y, radius: r, minDistance });
+        const surface = window.strata.findSurface({ x, y, radius: r, minDistance, level });
         if (!surface) continue;
         const point = window.strata.screenPoint([surface.x, surface.y, surface.z]);
         // On screen, clear of the panel and the top bar.

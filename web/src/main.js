@@ -325,13 +325,15 @@ filesDialog.addEventListener('close', () => {
 });
 
 // ---- the test handle ----------------------------------------------------------------------------------
-/** The nearest drawn, traversable, horizontal patch to (x, y) within `radius` m, or null. */
-function findSurface({ x, y, radius = 3, minDistance = 0 }) {
+/** The nearest drawn, traversable, horizontal patch to (x, y) within `radius` m (and within 0.5 m of
+ * height `level`, when given), or null. */
+function findSurface({ x, y, radius = 3, minDistance = 0, level = null }) {
   let best = null;
   for (const tile of view.tiles.tiles.values()) {
     const { position, classBits } = tile.patches;
     for (const i of tile.meshes.flatMap((mesh) => [...mesh.userData.shown])) {
       if (classBits[i] & CLASS_VERTICAL || !(classBits[i] & CLASS_TRAVERSABLE)) continue;
+      if (level !== null && Math.abs(position[3 * i + 2] - level) > 0.5) continue;
       const d = Math.hypot(position[3 * i] - x, position[3 * i + 1] - y);
       if (d > radius || d < minDistance) continue;
       if (!best || d < best.d) best = { x: position[3 * i], y: position[3 * i + 1], z: position[3 * i + 2], d };

@@ -24,6 +24,30 @@ export const PATCH_FILTERS = {
 const unitBox = new THREE.BoxGeometry(1, 1, 1);
 const floorSquare = new THREE.PlaneGeometry(1, 1);
 
+/** A sphere around the listed patches' boxes (x, y of cell centres; z from bottoms to tops). */
+function tileBounds({ position, depth }, shown, vertical) {
+  let minX = Infinity, minY = Infinity, minZ = Infinity;
+  let maxX = -Infinity, maxY = -Infinity, maxZ = -Infinity;
+  for (let k = 0; k < shown.length; k++) {
+    const i = shown[k];
+    const x = position[3 * i];
+    const y = position[3 * i + 1];
+    const z = position[3 * i + 2];
+    if (x < minX) minX = x;
+    if (x > maxX) maxX = x;
+    if (y < minY) minY = y;
+    if (y > maxY) maxY = y;
+    if (z > maxZ) maxZ = z;
+    const bottom = vertical ? z - depth[i] : z;
+    if (bottom < minZ) minZ = bottom;
+  }
+  const box = new THREE.Box3(
+    new THREE.Vector3(minX - CELL, minY - CELL, minZ - SLAB),
+    new THREE.Vector3(maxX + CELL, maxY + CELL, maxZ + SLAB),
+  );
+  return box.getBoundingSphere(new THREE.Sphere());
+}
+
 export class TileLayer {
   constructor(scene) {
     this.group = new THREE.Group();
@@ -118,9 +142,12 @@ export class TileLayer {
       matrices[m + 15] = 1;
     }
     mesh.instanceMatrix.needsUpdate = true;
+    mesh.instanceColor = new THREE.InstancedBufferAttribute(new Float32Array(3 * n), 3);
     mesh.userData = { tile, shown };
     this.colorMesh(mesh);
-    mesh.computeBoundingSphere();
+    // The bounds for culling and picking from the tile's extent, rather than InstancedMesh's per-instance
+    // pass over every matrix: this runs on the main thread for each tile update.
+    mesh.boundingSphere = tileBounds(tile.patches, shown, vertical);
     return mesh;
   }
 
@@ -135,10 +162,11 @@ export class TileLayer {
   colorMesh(mesh) {
     const { tile, shown } = mesh.userData;
     const color = new THREE.Color();
+    const colors = mesh.instanceColor.array;
     const { position, classBits } = tile.patches;
     for (let k = 0; k < shown.length; k++) {
       const i = shown[k];
-      mesh.setColorAt(k, patchColor(this.colorMode, position[3 * i + 2], classBits[i], color));
+      patchColor(this.colorMode, position[3 * i + 2], classBits[i], color).toArray(colors, 3 * k);
     }
     mesh.instanceColor.needsUpdate = true;
   }
