@@ -75,9 +75,24 @@ async function receiveTile(frame) {
   perf.tileUpdates += 1;
 }
 
+// The ground truth is for orientation until there is a map; then the map replaces it, unless the user
+// asked for it with the World button.
+let worldChosen = false;
+function mapArrived() {
+  if (!worldChosen && view.worldShown) showWorld(false);
+}
+
+function showWorld(shown) {
+  view.setWorldShown(shown);
+  $('world-toggle').setAttribute('aria-pressed', String(shown));
+}
+
 function receiveBinary(buffer) {
   const frame = parseFrame(buffer);
-  if (frame?.kind === FRAME_TILE) receiveTile(frame);
+  if (frame?.kind === FRAME_TILE) {
+    mapArrived();
+    receiveTile(frame);
+  }
   else if (frame?.kind === FRAME_OCCUPANCY) view.occupancy.add(frame).then(() => view.requestRender());
 }
 
@@ -137,7 +152,10 @@ const handlers = {
     panel.showPose(m);
     view.setPose(m);
   },
-  status: (m) => panel.showStatus(m),
+  status: (m) => {
+    panel.showStatus(m);
+    if (m.map?.tiles > 0) mapArrived();
+  },
   goal: showGoal,
   path: (m) => {
     view.paths.showPath(m);
@@ -215,6 +233,11 @@ $('color-mode').addEventListener('click', () => {
   view.tiles.setColorMode(next);
   view.requestRender();
   $('color-mode').textContent = `Colour: ${next}`;
+});
+
+$('world-toggle').addEventListener('click', () => {
+  worldChosen = true;
+  showWorld(!view.worldShown);
 });
 
 $('follow').addEventListener('click', () => {
@@ -354,6 +377,7 @@ window.strata = {
   robotPosition: () => view.robot.position.toArray(),
   robotVisible: () => view.robot.visible,
   worldShapes: () => view.worldShapes?.children.length ?? 0,
+  worldShown: () => view.worldShown,
   connection: () => connectionState,
   role: () => role,
   tileCount: () => view.tiles.tileCount,

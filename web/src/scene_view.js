@@ -49,6 +49,7 @@ export class SceneView {
     this.scene.add(this.robot, this.truth);
 
     this.follow = true;
+    this.worldShown = true;
     this.level = 0; // m: the height of the ground the robot stands on
     this.view = null;
     this.frames = 0;
@@ -121,6 +122,17 @@ export class SceneView {
     const shapes = buildWorld(world);
     shapes.name = 'shapes';
     this.worldGroup.add(shapes);
+  }
+
+  /**
+   * Whether the simulator's ground truth is drawn. It is for orientation until the map arrives, then the
+   * map replaces it (and it is costly: its large transparent shapes make a software-rendered frame ten
+   * times slower). The top-down views never draw it.
+   */
+  setWorldShown(shown) {
+    this.worldShown = shown;
+    this.worldGroup.visible = shown && !VIEW_IS_TOP_DOWN(this.view);
+    this.requestRender();
   }
 
   get worldShapes() {

@@ -15,7 +15,7 @@ export function applyView(scene, name) {
   const view = VIEWS[name];
   scene.tiles.group.visible = view.tiles;
   scene.occupancy.setVisible(view.occupancy);
-  scene.worldGroup.visible = !view.topDown; // the faint ground truth would clutter a map seen from above
+  scene.worldGroup.visible = scene.worldShown && !view.topDown; // from above it would only clutter the map
   scene.tiles.setFilter(view.filter, scene.level);
   const { controls, camera } = scene;
   if (view.topDown) {
