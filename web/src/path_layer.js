@@ -1,8 +1,9 @@
-// The goal and the planned path in the 3D view: a pin at the goal (its colour says the phase) and a line
+// The goal and the planned path in the 3D view: a pin at the goal (its colour says the phase) and a tube
 // along the path, lifted a little above the surfaces so it is not hidden in them.
 import * as THREE from 'three';
 
 const LIFT = 0.12; // m above the surface
+const TUBE_RADIUS = 0.05; // m
 const PHASE_COLORS = {
   accepted: 0xd29922, planning: 0xd29922, driving: 0x58a6ff, reached: 0x3fb950, failed: 0xf85149,
   cancelled: 0x8b98a9,
@@ -21,9 +22,9 @@ export class PathLayer {
     ring.position.z = 0.03;
     this.pin.add(head, stem, ring);
     this.pin.visible = false;
-    this.line = new THREE.Line(new THREE.BufferGeometry(), new THREE.LineBasicMaterial({ color: 0xf0f6fc }));
+    // A tube, not a THREE.Line: WebGL draws lines one pixel wide, too thin to see on a touch screen.
+    this.line = new THREE.Mesh(new THREE.BufferGeometry(), new THREE.MeshBasicMaterial({ color: 0xf0f6fc }));
     this.line.visible = false;
-    this.line.frustumCulled = false;
     scene.add(this.pin, this.line);
     this.pointCount = 0;
   }
@@ -40,10 +41,14 @@ export class PathLayer {
     const points = path.points ?? [];
     this.pointCount = points.length;
     this.line.visible = points.length >= 2;
-    const positions = new Float32Array(points.length * 3);
-    points.forEach(([x, y, z], i) => positions.set([x, y, z + LIFT], 3 * i));
     this.line.geometry.dispose();
-    this.line.geometry = new THREE.BufferGeometry();
-    this.line.geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
+    if (points.length < 2) {
+      this.line.geometry = new THREE.BufferGeometry();
+      return;
+    }
+    const vertices = points.map(([x, y, z]) => new THREE.Vector3(x, y, z + LIFT));
+    // Tension 0: the tube follows the planned polyline instead of rounding its corners off.
+    const curve = new THREE.CatmullRomCurve3(vertices, false, 'catmullrom', 0);
+    this.line.geometry = new THREE.TubeGeometry(curve, Math.min(4 * points.length, 2000), TUBE_RADIUS, 6, false);
   }
 }
