@@ -9,7 +9,7 @@ import path from 'node:path';
 import { after, before, test } from 'node:test';
 
 import { launchBrowser } from './browser.mjs';
-import { floorPointNearRobot, openApp, TOKEN, until } from './page.mjs';
+import { floorPointNearRobot, nextFrame, openApp, TOKEN, until } from './page.mjs';
 import { startServer } from './server.mjs';
 import { touchSession } from './touch.mjs';
 
@@ -39,6 +39,7 @@ test('the map appears and grows as the robot scans', async () => {
   // The robot drives on and scans again: the map takes in more patches, tile by tile.
   await until(page, (n) => window.strata.patchCount() > n * 1.05, first, 120000);
   await page.locator('#map-size').filter({ hasText: 'tiles' }).waitFor();
+  await nextFrame(page);
   await page.screenshot({ path: path.join(artifacts, 'view_3d.png') });
   assert.equal(await page.evaluate(() => window.strata.view()), '3d');
   assert.deepEqual(page.errors, [], 'no uncaught errors in the page');
@@ -54,6 +55,7 @@ test('switching views: top view, the drivable map image, colours by traversabili
   assert.equal(await page.locator('#views [data-view="top"]').getAttribute('aria-pressed'), 'true');
   // The top view draws only the surfaces at the robot's level: never more than the 3D view.
   await until(page, () => window.strata.drawnPatches() > 0);
+  await nextFrame(page);
   await page.screenshot({ path: path.join(artifacts, 'view_top.png') });
 
   await page.getByRole('button', { name: 'Drivable' }).click();
@@ -63,12 +65,14 @@ test('switching views: top view, the drivable map image, colours by traversabili
   });
   assert.ok(occupancy.free > 0, 'the drivable map shows free cells');
   assert.ok(occupancy.occupied + occupancy.unknown > 0, 'and cells that are not drivable');
+  await nextFrame(page);
   await page.screenshot({ path: path.join(artifacts, 'view_drivable.png') });
 
   await page.getByRole('button', { name: '3D' }).click();
   await page.getByRole('button', { name: /^Colour/ }).click();
   assert.equal(await page.evaluate(() => window.strata.colorMode()), 'traversability');
   await page.locator('#color-mode', { hasText: 'traversability' }).waitFor();
+  await nextFrame(page);
   await page.screenshot({ path: path.join(artifacts, 'view_3d_traversability.png') });
 
   await page.getByRole('button', { name: 'Follow robot' }).click();
@@ -97,6 +101,7 @@ test('touch: pinching zooms the view, two fingers turn it', async () => {
     const turn = Math.abs(Math.atan2(Math.sin(window.strata.cameraAzimuth() - a), Math.cos(window.strata.cameraAzimuth() - a)));
     return turn > 0.5;
   }, azimuth, 15000);
+  await nextFrame(page);
   await page.screenshot({ path: path.join(artifacts, 'touch_pinch.png') });
   assert.deepEqual(page.errors, []);
   await page.context().close();

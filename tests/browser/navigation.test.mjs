@@ -47,7 +47,7 @@ test('tapping a spot on the map sets a goal there; the path appears and the robo
 
   const sent = await until(page, () => window.strata.goalSent(), null, 10000);
   assert.ok(distance2d([sent.x, sent.y], [target.surface.x, target.surface.y]) < 1.0, 'the goal is where the tap was');
-  assert.ok(Math.abs(sent.z - target.surface.z) < 0.5, 'on the level of the tapped surface');
+  assert.ok(Math.abs(sent.z - target.surface.z) < 0.5, `on the level of the tapped surface (${JSON.stringify({ sent, target })})`);
   await page.locator('#follow').click(); // follow the robot again while it drives
 
   // The server takes the goal and plans: the path is drawn, the panel says what is happening.
@@ -92,13 +92,16 @@ test('the joystick drives the robot, and letting go stops it', { skip }, async (
   await touch.release();
   assert.equal((await page.evaluate(() => window.strata.joystick())).held, false, 'released');
 
-  // Stopped: once it has come to rest, the robot stays where it is.
-  const rest = await until(page, async () => {
-    const p = window.strata.robotPosition();
-    await new Promise((resolve) => setTimeout(resolve, 1000));
-    const q = window.strata.robotPosition();
-    return Math.hypot(q[0] - p[0], q[1] - p[1]) < 0.02 && q;
-  }, null, 15000);
+  // Stopped: once it has come to rest (it brakes), the robot stays where it is.
+  const position = () => page.evaluate(() => window.strata.robotPosition());
+  let rest = await position();
+  for (let waited = 0; ; waited += 1) {
+    await page.waitForTimeout(1000);
+    const now = await position();
+    if (distance2d(rest, now) < 0.02) break;
+    assert.ok(waited < 15, 'the robot comes to rest after the joystick is released');
+    rest = now;
+  }
   await page.waitForTimeout(2000);
   const later = await page.evaluate(() => window.strata.robotPosition());
   assert.ok(distance2d(rest, later) < 0.05, 'the robot does not move on after the joystick is released');

@@ -22,18 +22,23 @@ export async function until(page, fn, arg, timeout = 60000) {
   return handle.jsonValue();
 }
 
-/** The screen point of a traversable floor patch near the robot (at least minDistance away), or null. */
+/**
+ * A traversable floor patch near the robot (at least minDistance away, on its storey) that a tap would
+ * pick (nothing in front of it on screen), with its screen point; or null.
+ */
 export async function floorPointNearRobot(page, { radius = 4, minDistance = 1.5 } = {}) {
   return page.evaluate(
     ({ radius, minDistance }) => {
       const [x, y, level] = window.strata.robotPosition(); // the robot's ground: goals on its storey
       const rect = document.querySelector('.panel').getBoundingClientRect();
-      for (let r = radius; r <= radius * 3; r += radius) {
-        const surface = window.strata.findSurface({ x, y, radius: r, minDistance, level });
+      for (let near = minDistance; near <= minDistance + 3 * radius; near += 0.3) {
+        const surface = window.strata.findSurface({ x, y, radius: near + 0.3, minDistance: near, level });
         if (!surface) continue;
         const point = window.strata.screenPoint([surface.x, surface.y, surface.z]);
         // On screen, clear of the panel and the top bar.
-        if (point.visible && point.x > 0 && point.x < rect.left - 10 && point.y > 70 && point.y < 790) {
+        if (!point.visible || point.x <= 0 || point.x >= rect.left - 10 || point.y <= 70 || point.y >= 790) continue;
+        const picked = window.strata.surfaceAt(point.x, point.y);
+        if (picked && Math.abs(picked.z - surface.z) < 0.1 && Math.hypot(picked.x - surface.x, picked.y - surface.y) < 0.3) {
           return { surface, point };
         }
       }
@@ -41,4 +46,10 @@ export async function floorPointNearRobot(page, { radius = 4, minDistance = 1.5 
     },
     { radius, minDistance },
   );
+}
+
+/** Waits until the page has drawn a new frame (so a screenshot shows what was just switched on). */
+export async function nextFrame(page) {
+  const frames = await page.evaluate(() => window.strata.frames());
+  await until(page, (n) => window.strata.frames() > n, frames, 15000);
 }

@@ -231,7 +231,7 @@ for (const button of document.querySelectorAll('#views button')) {
 $('color-mode').addEventListener('click', () => {
   const next = COLOR_MODES[(COLOR_MODES.indexOf(view.tiles.colorMode) + 1) % COLOR_MODES.length];
   view.tiles.setColorMode(next);
-  view.requestRender();
+  view.requestRender({ now: true });
   $('color-mode').textContent = `Colour: ${next}`;
 });
 
@@ -399,4 +399,5 @@ window.strata = {
   perf: () => structuredClone(perf),
   findSurface,
   screenPoint,
+  surfaceAt: (clientX, clientY) => goalTool.surfaceAt(clientX, clientY), // what a tap there would pick
 };

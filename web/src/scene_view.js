@@ -66,16 +66,24 @@ export class SceneView {
     this.dirty = true;
     this.frameCostMs = 16;
     this.renderedAt = -Infinity;
-    this.controls.addEventListener('change', () => this.requestRender());
+    this.interactingUntil = -Infinity; // while the user moves the camera, and its damped glide after
+    this.controls.addEventListener('start', () => {
+      this.interactingUntil = Infinity;
+    });
+    this.controls.addEventListener('end', () => {
+      this.interactingUntil = performance.now() + 1000;
+    });
     this.renderer.setAnimationLoop((now) => {
       if (this.justRendered) {
         // The first tick after a frame arrives when the GPU has taken it: that gap is the frame's cost.
         this.frameCostMs = 0.7 * this.frameCostMs + 0.3 * (now - this.renderedAt);
         this.justRendered = false;
       }
-      const moving = this.controls.update(); // damping keeps the camera gliding for a few frames
+      // The camera moves when the user moves it (and glides on, damped), or when it follows the robot.
+      if (this.controls.update()) this.dirty = true;
+      const interacting = now < this.interactingUntil;
       const due = now - this.renderedAt >= Math.min(2 * this.frameCostMs, 1000);
-      if (moving || (this.dirty && due)) {
+      if (this.dirty && (interacting || this.urgent || due)) {
         this.render();
         this.renderedAt = now;
         this.justRendered = true;
@@ -83,8 +91,10 @@ export class SceneView {
     });
   }
 
-  requestRender() {
+  /** Draw again: at once for what the user did (`now`), when due for what streamed in. */
+  requestRender({ now = false } = {}) {
     this.dirty = true;
+    if (now) this.urgent = true;
   }
 
   resize(container) {
@@ -132,7 +142,7 @@ export class SceneView {
   setWorldShown(shown) {
     this.worldShown = shown;
     this.worldGroup.visible = shown && !VIEW_IS_TOP_DOWN(this.view);
-    this.requestRender();
+    this.requestRender({ now: true });
   }
 
   get worldShapes() {
@@ -141,12 +151,13 @@ export class SceneView {
 
   setView(name) {
     applyView(this, name);
-    this.requestRender();
+    this.requestRender({ now: true });
   }
 
   setFollow(follow) {
     this.follow = follow;
     if (follow && this.robot.visible) this.centreOn(this.robot.position);
+    this.requestRender({ now: true });
   }
 
   centreOn(position) {
@@ -183,6 +194,7 @@ export class SceneView {
   render() {
     const start = performance.now();
     this.dirty = false;
+    this.urgent = false;
     this.renderer.render(this.scene, this.camera);
     this.frames += 1;
     this.onFrame?.(performance.now() - start);
