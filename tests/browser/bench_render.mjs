@@ -68,6 +68,7 @@ for (let run = 0; run < Number(options.runs); run++) {
     firstMapRenderMs: Math.round(perf.firstMapRenderMs),
     allTilesOnScreenMs: Math.round(allTilesMs),
     maxTileMainThreadMs: Math.round(perf.maxTileMainThreadMs * 10) / 10,
+    slowTileUpdates: perf.slowTileUpdates,
     longTasksMs: perf.longTasks,
   });
   await page.close();
@@ -86,6 +87,7 @@ console.log(JSON.stringify({
   liveUpdates: {
     tileUpdates: live.tileUpdates,
     maxTileMainThreadMs: Math.round(live.maxTileMainThreadMs * 10) / 10,
+    slowTileUpdates: live.slowTileUpdates,
     longTasksMs: live.longTasks,
     medianRenderCallMs: median(live.renderMs),
   },

@@ -33,6 +33,7 @@ const perf = {
   firstMapRenderMs: null, // when the first frame with map patches in it was drawn
   maxTileMainThreadMs: 0, // the longest main-thread part of one tile update
   tileUpdates: 0,
+  slowTileUpdates: [], // tile updates whose main-thread part took over 16 ms: { n (which update), ms, patches }
   longTasks: [], // durations of main-thread tasks over 50 ms (PerformanceObserver 'longtask')
   renderMs: [], // the last 120 frames' render() durations on the main thread
 };
@@ -71,7 +72,9 @@ async function receiveTile(frame) {
   const start = performance.now();
   view.tiles.setTile(frame.tileX, frame.tileY, frame.version, patches);
   view.requestRender();
-  perf.maxTileMainThreadMs = Math.max(perf.maxTileMainThreadMs, performance.now() - start);
+  const took = performance.now() - start;
+  perf.maxTileMainThreadMs = Math.max(perf.maxTileMainThreadMs, took);
+  if (took > 16) perf.slowTileUpdates.push({ n: perf.tileUpdates, ms: Math.round(took * 10) / 10, patches: patches?.count ?? 0 });
   perf.tileUpdates += 1;
 }
 
