@@ -1,13 +1,22 @@
-// The 3D view: ground, the simulated world's geometry, the robot and its ground-truth ghost.
-// Everything is in the robot's map frame: x east, y north, z up.
+// The 3D scene: the MLS map, the drivable map, the simulated world's ground truth (faint), the robot and
+// its ground-truth ghost, the goal and path. Everything is in the map frame: x east, y north, z up.
+// The camera follows the robot (thesis 3.3.1: the robot stays in the centre of the screen) unless the user
+// switches to the free camera.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { OccupancyLayer } from './occupancy_layer.js';
+import { PathLayer } from './path_layer.js';
 import { applyPose, createRobotModel } from './robot_model.js';
+import { TileLayer } from './tile_layer.js';
+import { enableTouchTwist } from './touch_twist.js';
+import { applyView } from './views.js';
 import { buildWorld, fadeAbove } from './world_view.js';
 
 export class SceneView {
   constructor(container) {
-    this.renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
+    // No MSAA: the map is tens of thousands of small boxes, and on a robot's integrated (or software)
+    // GPU multisampling them costs more than the smoother edges are worth.
+    this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
     this.renderer.setPixelRatio(Math.min(window.devicePixelRatio, 2));
     container.appendChild(this.renderer.domElement);
 
@@ -23,10 +32,15 @@ export class SceneView {
     this.camera.position.set(-6, -10, 9);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.enableDamping = true;
-    this.controls.maxPolarAngle = Math.PI / 2 - 0.05; // stay above the ground
+    this.controls.minDistance = 2;
+    this.controls.maxDistance = 200;
+    enableTouchTwist(this.renderer.domElement, this.camera, this.controls);
 
     this.worldGroup = new THREE.Group();
     this.scene.add(this.worldGroup);
+    this.tiles = new TileLayer(this.scene);
+    this.occupancy = new OccupancyLayer(this.scene);
+    this.paths = new PathLayer(this.scene);
 
     this.robot = createRobotModel();
     this.truth = createRobotModel({ color: 0xffffff, opacity: 0.25 });
@@ -34,14 +48,59 @@ export class SceneView {
     this.truth.visible = false;
     this.scene.add(this.robot, this.truth);
 
+    this.follow = true;
+    this.worldShown = true;
+    this.level = 0; // m: the height of the ground the robot stands on
+    this.view = null;
+    this.frames = 0;
+    this.onFrame = null;
+    applyView(this, '3d');
+
     this.resize(container);
     window.addEventListener('resize', () => this.resize(container));
-    this.renderer.setAnimationLoop(() => this.render());
+    // Draw on demand: only when something changed (a pose, a tile, the camera), not 60 times a second,
+    // so a robot standing still costs no GPU time and the page stays responsive on slow GPUs.
+    // Updates that only move things along (poses at 25 Hz, tiles) wait for at least twice what the last
+    // frame cost, so a slow (or software) GPU never keeps the page too busy to answer a touch; the user
+    // moving the camera is drawn at once.
+    this.dirty = true;
+    this.frameCostMs = 16;
+    this.renderedAt = -Infinity;
+    this.interactingUntil = -Infinity; // while the user moves the camera, and its damped glide after
+    this.controls.addEventListener('start', () => {
+      this.interactingUntil = Infinity;
+    });
+    this.controls.addEventListener('end', () => {
+      this.interactingUntil = performance.now() + 1000;
+    });
+    this.renderer.setAnimationLoop((now) => {
+      if (this.justRendered) {
+        // The first tick after a frame arrives when the GPU has taken it: that gap is the frame's cost.
+        this.frameCostMs = 0.7 * this.frameCostMs + 0.3 * (now - this.renderedAt);
+        this.justRendered = false;
+      }
+      // The camera moves when the user moves it (and glides on, damped), or when it follows the robot.
+      if (this.controls.update()) this.dirty = true;
+      const interacting = now < this.interactingUntil;
+      const due = now - this.renderedAt >= Math.min(2 * this.frameCostMs, 1000);
+      if (this.dirty && (interacting || this.urgent || due)) {
+        this.render();
+        this.renderedAt = now;
+        this.justRendered = true;
+      }
+    });
+  }
+
+  /** Draw again: at once for what the user did (`now`), when due for what streamed in. */
+  requestRender({ now = false } = {}) {
+    this.dirty = true;
+    if (now) this.urgent = true;
   }
 
   resize(container) {
     const { clientWidth: width, clientHeight: height } = container;
     this.renderer.setSize(width, height);
+    this.requestRender();
     this.camera.aspect = width / Math.max(height, 1);
     this.camera.updateProjectionMatrix();
   }
@@ -55,46 +114,91 @@ export class SceneView {
       new THREE.PlaneGeometry(size, size),
       new THREE.MeshStandardMaterial({ color: 0x2b3340, roughness: 1 }),
     );
+    plane.position.z = -0.03; // under the map's floor slabs
     const grid = new THREE.GridHelper(size, size, 0x4a5565, 0x38414f);
     grid.rotation.x = Math.PI / 2; // GridHelper lies in x-z; our ground is x-y
-    grid.position.z = 0.002;
+    grid.position.z = -0.028;
     this.ground.add(plane, grid);
-    this.scene.add(this.ground);
+    this.worldGroup.add(this.ground);
   }
 
   /** The simulator's ground-truth geometry, drawn faintly for orientation. */
   setWorld(world) {
     this.worldGroup.clear();
-    this.ground?.removeFromParent();
     if (!world.terrain) {
       const size = Math.max(world.bounds.max[0] - world.bounds.min[0], world.bounds.max[1] - world.bounds.min[1]);
       this.setGround(Math.ceil(size / 2));
     }
-    this.worldGroup.add(buildWorld(world));
+    const shapes = buildWorld(world);
+    shapes.name = 'shapes';
+    this.worldGroup.add(shapes);
+  }
+
+  /**
+   * Whether the simulator's ground truth is drawn. It is for orientation until the map arrives, then the
+   * map replaces it (and it is costly: its large transparent shapes make a software-rendered frame ten
+   * times slower). The top-down views never draw it.
+   */
+  setWorldShown(shown) {
+    this.worldShown = shown;
+    this.worldGroup.visible = shown && !VIEW_IS_TOP_DOWN(this.view);
+    this.requestRender({ now: true });
+  }
+
+  get worldShapes() {
+    return this.worldGroup.getObjectByName('shapes');
+  }
+
+  setView(name) {
+    applyView(this, name);
+    this.requestRender({ now: true });
+  }
+
+  setFollow(follow) {
+    this.follow = follow;
+    if (follow && this.robot.visible) this.centreOn(this.robot.position);
+    this.requestRender({ now: true });
+  }
+
+  centreOn(position) {
+    const delta = position.clone().sub(this.controls.target);
+    this.camera.position.add(delta);
+    this.controls.target.add(delta);
   }
 
   setPose(pose) {
-    // Keep the robot centred (thesis 3.3.1): move the camera with it, keeping the user's angle and zoom.
-    const previous = this.robot.position.clone();
+    this.requestRender();
+    const wasVisible = this.robot.visible;
     applyPose(this.robot, pose);
-    if (this.robot.visible) {
-      const delta = this.robot.position.clone().sub(previous);
-      this.camera.position.add(delta);
-    } else {
-      this.camera.position.copy(this.robot.position).add(new THREE.Vector3(-4, -6, 9)); // behind, above
-    }
-    this.controls.target.copy(this.robot.position);
     this.robot.visible = true;
+    if (!wasVisible) {
+      this.controls.target.copy(this.robot.position);
+      this.camera.position.copy(this.robot.position).add(new THREE.Vector3(-4, -6, 9)); // behind, above
+      if (VIEW_IS_TOP_DOWN(this.view)) applyView(this, this.view);
+    } else if (this.follow) {
+      // Keep the robot centred: move the camera with it, keeping the user's angle and zoom.
+      this.centreOn(this.robot.position);
+    }
     if (pose.truth) {
       applyPose(this.truth, pose.truth);
       this.truth.visible = true;
     }
-    const world = this.worldGroup.children[0];
-    if (world) fadeAbove(world, (pose.truth ?? pose).z + 1.6);
+    if (this.worldShapes) fadeAbove(this.worldShapes, (pose.truth ?? pose).z + 1.6);
+    // Which storey the robot is on decides what the top and 3D views draw.
+    if (Math.abs(pose.z - this.level) >= 0.25) {
+      this.level = pose.z;
+      this.tiles.setFilter(this.tiles.filter, this.level);
+    }
   }
 
   render() {
-    this.controls.update();
+    const start = performance.now();
+    this.dirty = false;
+    this.urgent = false;
     this.renderer.render(this.scene, this.camera);
+    this.frames += 1;
+    this.onFrame?.(performance.now() - start);
   }
 }
+
+const VIEW_IS_TOP_DOWN = (name) => name === 'top' || name === 'occupancy';

@@ -1,0 +1,110 @@
+// Driving from the page: tap a spot on the map to set a goal, see the path, the robot reaches it (the
+// simulator sped up); the joystick drives the robot and letting go stops it. Needs a server with the
+// navigator; against one without it (set_goal answers `unavailable`) these tests are skipped, saying so.
+// Usage: node --test navigation.test.mjs   (env STRATA_BINARY, STRATA_ARTIFACTS)
+import assert from 'node:assert/strict';
+import { mkdirSync, mkdtempSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { after, test } from 'node:test';
+
+import { launchBrowser } from './browser.mjs';
+import { floorPointNearRobot, openApp, TOKEN, until } from './page.mjs';
+import { startServer } from './server.mjs';
+import { touchSession } from './touch.mjs';
+
+const binary = process.env.STRATA_BINARY;
+const artifacts = process.env.STRATA_ARTIFACTS || path.resolve('browser-artifacts');
+assert.ok(binary, 'STRATA_BINARY must name the strata executable');
+mkdirSync(artifacts, { recursive: true });
+
+const mapsDir = mkdtempSync(path.join(tmpdir(), 'strata-maps-'));
+const server = await startServer(binary, ['--time-scale', '4', '--operator-token', TOKEN, '--maps-dir', mapsDir]);
+const browser = await launchBrowser();
+
+// Does this server navigate? Cancelling (no goal) answers 503 `unavailable` when there is no navigator.
+const probe = await fetch(`${server.url}/api/v1/goal`, { method: 'DELETE', headers: { Authorization: `Bearer ${TOKEN}` } });
+const navigation = probe.status !== 503;
+const skip = navigation ? false : 'this strata has no navigator (goal commands answer `unavailable`)';
+
+after(async () => {
+  await browser.close();
+  assert.equal(await server.stop(), 0, 'strata exits cleanly on SIGTERM');
+});
+
+const distance2d = ([x0, y0], [x1, y1]) => Math.hypot(x1 - x0, y1 - y0);
+
+test('tapping a spot on the map sets a goal there; the path appears and the robot reaches it', { skip }, async () => {
+  const page = await openApp(browser, server.url, { touch: true, token: TOKEN });
+  await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
+  await until(page, () => window.strata.drawnPatches() > 1000 && window.strata.robotVisible(), null, 90000);
+
+  await page.getByRole('button', { name: 'Follow robot' }).click(); // hold the camera still while aiming
+  await page.getByRole('button', { name: 'Set goal' }).click();
+  const target = await floorPointNearRobot(page, { radius: 4, minDistance: 2 });
+  assert.ok(target, 'a drivable floor patch 2-12 m from the robot is on screen');
+  await (await touchSession(page)).tap([target.point.x, target.point.y]);
+
+  const sent = await until(page, () => window.strata.goalSent(), null, 10000);
+  assert.ok(distance2d([sent.x, sent.y], [target.surface.x, target.surface.y]) < 1.0, 'the goal is where the tap was');
+  assert.ok(Math.abs(sent.z - target.surface.z) < 0.5, `on the level of the tapped surface (${JSON.stringify({ sent, target })})`);
+  await page.locator('#follow').click(); // follow the robot again while it drives
+
+  // The server takes the goal and plans: the path is drawn, the panel says what is happening.
+  await until(page, () => ['planning', 'driving', 'reached'].includes(window.strata.goal().phase), null, 30000);
+  await until(page, () => window.strata.pathPoints() >= 2 || window.strata.goal().phase === 'reached', null, 60000);
+  await page.screenshot({ path: path.join(artifacts, 'goal_path.png') });
+
+  await until(page, () => window.strata.goal().phase === 'reached', null, 180000);
+  await page.locator('#goal-state', { hasText: 'goal reached' }).waitFor();
+  const at = await page.evaluate(() => window.strata.robotPosition());
+  assert.ok(distance2d(at, [sent.x, sent.y]) < 1.0, `the robot stands at the goal (${at} vs ${sent.x}, ${sent.y})`);
+  await page.screenshot({ path: path.join(artifacts, 'goal_reached.png') });
+
+  // Another goal, then Stop: it is cancelled.
+  await page.getByRole('button', { name: 'Set goal' }).click();
+  const second = await floorPointNearRobot(page, { radius: 4, minDistance: 3 });
+  await page.mouse.click(second.point.x, second.point.y);
+  await until(page, () => ['accepted', 'planning', 'driving'].includes(window.strata.goal().phase), null, 30000);
+  await page.getByRole('button', { name: 'Stop' }).click();
+  await until(page, () => window.strata.goal().phase === 'cancelled', null, 30000);
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+test('the joystick drives the robot, and letting go stops it', { skip }, async () => {
+  const page = await openApp(browser, server.url, { touch: true, token: TOKEN });
+  await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
+  await until(page, () => window.strata.robotVisible());
+
+  const box = await page.locator('#joystick').boundingBox();
+  const centre = [box.x + box.width / 2, box.y + box.height / 2];
+  const start = await page.evaluate(() => window.strata.robotPosition());
+  const touch = await touchSession(page);
+  await touch.hold(centre, [centre[0], centre[1] - box.height * 0.45]); // push forward
+  const held = await until(page, () => window.strata.joystick().held && window.strata.joystick());
+  assert.ok(held.v > 0.2, 'forward speed while pushed forward');
+  await until(page, (p0) => {
+    const [x, y] = window.strata.robotPosition();
+    return Math.hypot(x - p0[0], y - p0[1]) > 0.4;
+  }, start, 30000);
+  await page.screenshot({ path: path.join(artifacts, 'joystick_driving.png') });
+  await touch.release();
+  assert.equal((await page.evaluate(() => window.strata.joystick())).held, false, 'released');
+
+  // Stopped: once it has come to rest (it brakes), the robot stays where it is.
+  const position = () => page.evaluate(() => window.strata.robotPosition());
+  let rest = await position();
+  for (let waited = 0; ; waited += 1) {
+    await page.waitForTimeout(1000);
+    const now = await position();
+    if (distance2d(rest, now) < 0.02) break;
+    assert.ok(waited < 15, 'the robot comes to rest after the joystick is released');
+    rest = now;
+  }
+  await page.waitForTimeout(2000);
+  const later = await page.evaluate(() => window.strata.robotPosition());
+  assert.ok(distance2d(rest, later) < 0.05, 'the robot does not move on after the joystick is released');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});

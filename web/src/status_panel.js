@@ -1,0 +1,47 @@
+// The status panel: the robot's pose, how well the last scan registered, the scan rate, the map's size and
+// the link's latency (ping round trip, and the age of the newest pose by the server's clock).
+const degrees = (radians) => (radians * 180) / Math.PI;
+const field = (id) => document.getElementById(id);
+
+export class StatusPanel {
+  constructor() {
+    this.latency = { roundTripMs: null, poseAgeMs: null };
+  }
+
+  showPose(pose) {
+    field('pose-x').textContent = `${pose.x.toFixed(2)} m`;
+    field('pose-y').textContent = `${pose.y.toFixed(2)} m`;
+    field('pose-z').textContent = `${pose.z.toFixed(2)} m`;
+    field('pose-yaw').textContent = `${degrees(pose.yaw).toFixed(1)}°`;
+    field('pose-tilt').textContent = `${degrees(pose.roll).toFixed(1)}° / ${degrees(pose.pitch).toFixed(1)}°`;
+    field('pose-mode').textContent = pose.mode ?? '–';
+    field('loc-source').textContent = pose.source === 'registration' ? 'scan matching' : 'odometry only';
+    if (pose.server_time) this.latency.poseAgeMs = Date.now() - pose.server_time * 1000;
+  }
+
+  showStatus(status) {
+    const r = status.registration;
+    field('loc-scans').textContent = `${r.scans} (${r.accepted} ok, ${r.rejected} rejected)`;
+    field('scan-rate').textContent = `${(status.scan_rate * 60).toFixed(1)} / min`;
+    if (status.map) {
+      const kib = status.map.bytes / 1024;
+      const patches = status.map.patches >= 10000 ? `${(status.map.patches / 1000).toFixed(0)}k` : status.map.patches;
+      field('map-size').textContent = `${status.map.tiles} tiles · ${patches} patches`;
+      field('map-bytes').textContent = kib > 1024 ? `${(kib / 1024).toFixed(1)} MiB` : `${kib.toFixed(0)} KiB`;
+    }
+    if (!r.last) return;
+    const correction = { full: 'corrected', partial: 'partly corrected', none: 'kept odometry' };
+    field('loc-last').textContent = correction[r.last.correction] ?? r.last.correction;
+    field('loc-fit').textContent = `${(r.last.rmse * 100).toFixed(1)} cm, ${(r.last.seconds * 1000).toFixed(0)} ms`;
+    field('loc-message').textContent = r.last.verdict === 'rejected' || r.last.correction === 'partial' ? r.last.message : '';
+  }
+
+  showRoundTrip(ms) {
+    this.latency.roundTripMs = ms;
+    const age = this.latency.poseAgeMs;
+    // The pose's age only means something when the two clocks agree (same machine, or NTP): show it
+    // when it is plausible.
+    const ageText = age !== null && age > -50 && age < 5000 ? ` · pose ${Math.max(age, 0).toFixed(0)} ms old` : '';
+    field('latency').textContent = `${ms.toFixed(0)} ms round trip${ageText}`;
+  }
+}
