@@ -16,19 +16,22 @@
 namespace strata::testing {
 namespace {
 
-/// Reads until a `goal` message with goal `id` reaches one of `phases` (at most `limit` messages).
+/// Reads until a `goal` message with goal `id` reaches one of `phases`; fails after `timeout` of wall time.
 nlohmann::json wait_for_goal(WsClient& client, std::uint64_t id, std::initializer_list<std::string> phases,
-                             int limit = 20000) {
-  for (int i = 0; i < limit; ++i) {
+                             std::chrono::seconds timeout = std::chrono::seconds(180)) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  nlohmann::json last;
+  while (std::chrono::steady_clock::now() < deadline) {
     const auto message = client.read(std::chrono::seconds(30));
     if (message["op"] != "goal" || message["id"] != id)
       continue;
+    last = message;
     for (const auto& phase : phases) {
       if (message["phase"] == phase)
         return message;
     }
   }
-  throw std::runtime_error("goal " + std::to_string(id) + " did not reach the phase");
+  throw std::runtime_error("goal " + std::to_string(id) + " did not reach the phase; last: " + last.dump());
 }
 
 /// Reads poses until the true position has not moved by more than 1 mm over 20 poses; returns that pose.
@@ -152,7 +155,8 @@ TEST_F(Mission, CancelStopsTheRobot) {
   op->send_text(R"({"op":"set_goal","x":-7,"y":4})");
   op->read_op("ack");
   const std::uint64_t id = nlohmann::json::parse(http_get(port(), "/api/v1/goal").body())["id"];
-  wait_for_goal(*op, id, {"driving", "failed"});
+  const auto driving = wait_for_goal(*op, id, {"driving", "failed", "reached"});
+  ASSERT_EQ(driving["phase"], "driving") << driving.dump();
   op->send_text(R"({"op":"cancel_goal","id":"c"})");
   EXPECT_EQ(op->read_op("ack")["id"], "c");
   EXPECT_EQ(wait_for_goal(*op, id, {"cancelled"})["phase"], "cancelled");
