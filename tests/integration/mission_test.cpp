@@ -34,6 +34,16 @@ nlohmann::json wait_for_goal(WsClient& client, std::uint64_t id, std::initialize
   throw std::runtime_error("goal " + std::to_string(id) + " did not reach the phase; last: " + last.dump());
 }
 
+/// Reads until the status reports a map of at least `version` (scans inserted): goals need known ground.
+void wait_for_map(WsClient& client, std::uint64_t version) {
+  for (int i = 0; i < 20000; ++i) {
+    const auto message = client.read(std::chrono::seconds(60));
+    if (message["op"] == "status" && message["map"]["version"].get<std::uint64_t>() >= version)
+      return;
+  }
+  throw std::runtime_error("no map of version " + std::to_string(version));
+}
+
 /// Reads poses until the true position has not moved by more than 1 mm over 20 poses; returns that pose.
 nlohmann::json wait_until_still(WsClient& client, int limit = 5000) {
   std::vector<nlohmann::json> recent;
@@ -59,7 +69,7 @@ class Mission : public ::testing::Test {
     maps_dir_ = std::filesystem::temp_directory_path() / ("strata-mission-" + std::to_string(::getpid()));
     std::filesystem::remove_all(maps_dir_);
     server_ = new ServerProcess(
-        {"--world", "yard", "--scanner", "tilting", "--time-scale", "8", "--maps-dir", maps_dir_.string()});
+        {"--world", "yard", "--scanner", "tilting", "--time-scale", "2", "--maps-dir", maps_dir_.string()});
   }
   static void TearDownTestSuite() {
     delete server_;
@@ -120,16 +130,11 @@ TEST_F(Mission, TheMapArrivesAsTilesAndAnOccupancyImage) {
 TEST_F(Mission, DrivesToAGoalAndRefusesAnUnreachableOne) {
   auto op = WsClient::operator_client(port(), kTestOperatorToken);
   op->read_op("hello");
-  // Wait for the first map so the goal is on known ground.
-  for (int i = 0; i < 20000; ++i) {
-    op->read(std::chrono::seconds(60));
-    bool occupancy = false;
-    for (const auto& frame : op->binary_frames())
-      occupancy = occupancy || frame_kind(frame) == 2;
-    if (occupancy)
-      break;
-  }
-  op->send_text(R"({"op":"set_goal","x":-7,"y":-3,"id":"g1"})");
+  // Stop the demo route where the robot starts, and wait for its first scan: the goal is on known ground.
+  op->send_text(R"({"op":"teleop","v":0,"w":0,"id":"stop"})");
+  op->read_op("ack");
+  wait_for_map(*op, 1);
+  op->send_text(R"({"op":"set_goal","x":-6,"y":-5.5,"id":"g1"})");
   const auto ack = op->read_op("ack");
   EXPECT_EQ(ack["id"], "g1");
   const auto goal = nlohmann::json::parse(http_get(port(), "/api/v1/goal").body());
@@ -138,21 +143,25 @@ TEST_F(Mission, DrivesToAGoalAndRefusesAnUnreachableOne) {
   const auto reached = wait_for_goal(*op, id, {"reached", "failed", "cancelled"});
   ASSERT_EQ(reached["phase"], "reached") << reached.dump();
   const auto pose = op->read_op("pose");
-  EXPECT_LT(std::hypot(pose["x"].get<double>() + 7.0, pose["y"].get<double>() + 3.0), 0.6) << pose.dump();
+  EXPECT_LT(std::hypot(pose["x"].get<double>() + 6.0, pose["y"].get<double>() + 5.5), 0.6) << pose.dump();
   expect_schema("rest", "path", nlohmann::json::parse(http_get(port(), "/api/v1/path").body()));
 
-  // The crate's top is 1.2 m up: no way there.
-  op->send_text(R"({"op":"set_goal","x":0,"y":0})");
+  // The west fence: seen, and no place to drive.
+  op->send_text(R"({"op":"set_goal","x":-9.9,"y":-6})");
   op->read_op("ack");
-  const auto crate = wait_for_goal(*op, id + 1, {"reached", "failed", "cancelled"});
-  EXPECT_EQ(crate["phase"], "failed");
-  EXPECT_EQ(crate["reason"], "unreachable");
+  const auto fence = wait_for_goal(*op, id + 1, {"reached", "failed", "cancelled"});
+  EXPECT_EQ(fence["phase"], "failed");
+  EXPECT_EQ(fence["reason"], "unreachable");
 }
 
 TEST_F(Mission, CancelStopsTheRobot) {
   auto op = WsClient::operator_client(port(), kTestOperatorToken);
   op->read_op("hello");
-  op->send_text(R"({"op":"set_goal","x":-7,"y":4})");
+  op->send_text(R"({"op":"teleop","v":0,"w":0,"id":"stop"})");
+  op->read_op("ack");
+  wait_for_map(*op, 1);
+  // Two metres: at time scale 2 it drives for about two seconds, time to cancel on the way.
+  op->send_text(R"({"op":"set_goal","x":-5,"y":-5.5})");
   op->read_op("ack");
   const std::uint64_t id = nlohmann::json::parse(http_get(port(), "/api/v1/goal").body())["id"];
   const auto driving = wait_for_goal(*op, id, {"driving", "failed", "reached"});
@@ -166,6 +175,11 @@ TEST_F(Mission, CancelStopsTheRobot) {
 TEST_F(Mission, TeleopMovesTheRobotAndStopsWhenTheCommandsStop) {
   auto op = WsClient::operator_client(port(), kTestOperatorToken);
   op->read_op("hello");
+  // A stop command ends the demo route; then the robot stands until told. It does not move while it takes
+  // a stop-and-go scan, so wait for the first one to finish.
+  op->send_text(R"({"op":"teleop","v":0,"w":0,"id":"stop"})");
+  op->read_op("ack");
+  wait_for_map(*op, 1);
   const auto start = wait_until_still(*op);
   for (int i = 0; i < 20; ++i) {
     op->send_text(R"({"op":"teleop","v":0.3,"w":0.4})");
@@ -197,6 +211,7 @@ TEST_F(Mission, ClosingTheConnectionStopsATeleoperatedRobot) {
 TEST_F(Mission, SavesLoadsAndDownloadsTheMap) {
   auto op = WsClient::operator_client(port(), kTestOperatorToken);
   op->read_op("hello");
+  wait_for_map(*op, 1);
   op->send_text(R"({"op":"save_map","name":"yard.strata","id":"s"})");
   const auto saved = op->read_op("ack");
   EXPECT_EQ(saved["id"], "s");
