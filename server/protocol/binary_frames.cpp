@@ -58,8 +58,8 @@ std::string encode_tile_frame(const EncodedTile& tile) {
 }
 
 std::string encode_occupancy_frame(const EncodedOccupancy& occupancy) {
-  std::string out =
-      header(FrameKind::kOccupancy, kOccupancyHeaderBytes, occupancy.version, occupancy.stamp, occupancy.png.size());
+  std::string out = header(FrameKind::kOccupancy, kOccupancyHeaderBytes, occupancy.version, occupancy.stamp,
+                           occupancy.png.size());
   put(out, 24, occupancy.origin_x);
   put(out, 32, occupancy.origin_y);
   put(out, 40, occupancy.resolution);

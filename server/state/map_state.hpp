@@ -17,7 +17,8 @@ struct EncodedTile {
   std::uint64_t version = 0;  ///< the map version that last changed the tile
   std::size_t patches = 0;
   std::vector<std::uint8_t> draco;  ///< empty when the tile holds no patches any more
-  double stamp = 0.0;  ///< wall-clock time (s since the epoch) the scan that last changed it was taken; 0: unknown
+  double stamp =
+      0.0;  ///< wall-clock time (s since the epoch) the scan that last changed it was taken; 0: unknown
 };
 
 /// The drivable map at the robot's level as a PNG (free 254, occupied 0, unknown 205, as map_server).
@@ -28,7 +29,7 @@ struct EncodedOccupancy {
   double resolution = 0.1;  ///< metres per pixel
   int width = 0;
   int height = 0;
-  double level_z = 0.0;  ///< ground height of the patch the robot stands on: which level this is
+  double level_z = 0.0;           ///< ground height of the patch the robot stands on: which level this is
   std::vector<std::uint8_t> png;  ///< row 0 of the image is the highest y (image convention)
   double stamp = 0.0;  ///< wall-clock time (s since the epoch) of the scan it was computed after; 0: unknown
 };

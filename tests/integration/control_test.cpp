@@ -45,7 +45,8 @@ TEST_F(Control, ViewersCannotControlAndNothingChanges) {
   WsClient viewer(port());
   viewer.read_op("hello");
   const char* commands[] = {R"({"op":"set_goal","x":1,"y":1,"id":1})", R"({"op":"cancel_goal","id":2})",
-                            R"({"op":"teleop","v":0.3,"w":0,"id":3})", R"({"op":"save_map","name":"x","id":4})",
+                            R"({"op":"teleop","v":0.3,"w":0,"id":3})",
+                            R"({"op":"save_map","name":"x","id":4})",
                             R"({"op":"load_map","name":"x","id":5})"};
   for (const char* command : commands) {
     viewer.send_text(command);
@@ -63,11 +64,13 @@ TEST_F(Control, RestControlNeedsTheBearerToken) {
   auto refused = http_request(port(), http::verb::post, "/api/v1/goal", R"({"x":1,"y":1})");
   EXPECT_EQ(refused.result(), http::status::unauthorized);
   expect_schema("rest", "error", nlohmann::json::parse(refused.body()));
-  auto wrong = http_request(port(), http::verb::post, "/api/v1/goal", R"({"x":1,"y":1})", "wrong-token-0000000");
+  auto wrong =
+      http_request(port(), http::verb::post, "/api/v1/goal", R"({"x":1,"y":1})", "wrong-token-0000000");
   EXPECT_EQ(wrong.result(), http::status::unauthorized);
   auto maps = http_request(port(), http::verb::get, "/api/v1/maps");
   EXPECT_EQ(maps.result(), http::status::unauthorized);
-  auto bad = http_request(port(), http::verb::post, "/api/v1/goal", R"({"x":"far","y":1})", kTestOperatorToken);
+  auto bad =
+      http_request(port(), http::verb::post, "/api/v1/goal", R"({"x":"far","y":1})", kTestOperatorToken);
   EXPECT_EQ(bad.result(), http::status::bad_request);
   EXPECT_EQ(nlohmann::json::parse(bad.body())["error"]["code"], "bad_params");
 }

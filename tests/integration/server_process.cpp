@@ -67,8 +67,8 @@ ServerProcess::ServerProcess(std::vector<std::string> extra_args) {
   int pipe_fds[2];
   if (pipe2(pipe_fds, O_CLOEXEC) != 0)
     throw std::runtime_error("pipe failed");
-  std::vector<std::string> args{"serve", "--bind", "127.0.0.1", "--port", "0", "--operator-token",
-                                kTestOperatorToken};
+  std::vector<std::string> args{"serve", "--bind",           "127.0.0.1",       "--port",
+                                "0",     "--operator-token", kTestOperatorToken};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
   pid_ = spawn(args, pipe_fds[1], -1);  // stderr (the log) goes to the test's output
   close(pipe_fds[1]);
