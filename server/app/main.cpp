@@ -71,6 +71,20 @@ int main(int argc, char** argv) {
           "Prefer the config file or STRATA_OPERATOR_TOKEN: a command line is visible to other users. "
           "Default: a random token, printed at start")
       ->envname("STRATA_OPERATOR_TOKEN");
+  serve_cmd->add_option("--robot-radius", serve.robot.radius, "Robot radius the planner keeps from edges, m")
+      ->capture_default_str()
+      ->check(CLI::Range(0.05, 5.0));
+  serve_cmd
+      ->add_option("--robot-height", serve.robot.height, "Free space the robot needs above the ground, m")
+      ->capture_default_str()
+      ->check(CLI::Range(0.1, 5.0));
+  serve_cmd->add_option("--max-step", serve.robot.max_step, "Highest step the robot drives over, m")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  serve_cmd
+      ->add_option("--max-slope", serve.robot.max_slope_deg, "Steepest ground the robot drives on, degrees")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 60.0));
   std::string token_file;
   serve_cmd->add_option("--operator-token-file", token_file, "Read the operator token from this file")
       ->check(CLI::ExistingFile);

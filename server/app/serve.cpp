@@ -105,12 +105,21 @@ int serve(const ServeOptions& options) {
   const Eigen::Isometry3d map_from_odom = start * simulator.sample().odometry.to_isometry().inverse();
   // Declared first, destroyed last: the mapping thread (its map listener) and the robot's thread (its
   // command source) call into it.
-  pipeline::Navigator navigator;
+  TraversabilityConfig traversability;
+  traversability.max_step = options.robot.max_step;
+  traversability.max_slope = options.robot.max_slope_deg * 3.14159265358979323846 / 180.0;
+  traversability.robot_height = options.robot.height;
+  pipeline::NavigatorConfig navigation;
+  navigation.graph.traversability = traversability;
+  navigation.graph.robot_radius = options.robot.radius;
+  pipeline::Navigator navigator(navigation);
   // The live map (ARCHITECTURE.md 3, steps 6-8): the localizer hands on each registered scan. Declared
   // before the localizer, so it outlives the localizer's thread, which feeds it.
   MapState map_state;
   const std::filesystem::path maps_dir = options.maps_dir.empty() ? default_maps_dir() : options.maps_dir;
-  pipeline::MappingWorker mapping(map_state, maps_dir);
+  pipeline::MappingOptions mapping_options;
+  mapping_options.map.traversability = traversability;
+  pipeline::MappingWorker mapping(map_state, maps_dir, mapping_options);
   MapCommands& map_commands = mapping;
   pipeline::LocalizerWorker localizer(robot_state, LocalizerOptions{}, map_from_odom);
   localizer.set_registered_scan_sink([&mapping](ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {

@@ -9,6 +9,15 @@
 
 namespace strata::app {
 
+/// The robot's body and what it can climb: what the drivable map and the planner assume.
+/// Defaults: the thesis's wheelchair.
+struct RobotParameters {
+  double radius = 0.45;         ///< m; the planner keeps the robot's centre this far from edges
+  double height = 1.0;          ///< m; free space needed above a surface to drive there
+  double max_step = 0.08;       ///< m; highest step between neighbouring cells
+  double max_slope_deg = 15.0;  ///< steepest drivable ground
+};
+
 struct ServeOptions {
   std::string bind_address = "0.0.0.0";
   std::uint16_t port = 8080;
@@ -22,6 +31,7 @@ struct ServeOptions {
   /// The operator token (goals, teleop, save, load). Empty: a random one is made and printed at start.
   std::string operator_token;
   std::filesystem::path maps_dir;  ///< saved maps; empty: default_maps_dir()
+  RobotParameters robot;
 };
 
 /// The token in a file, without surrounding whitespace; throws when the file cannot be read.

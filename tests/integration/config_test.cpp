@@ -1,0 +1,39 @@
+// `strata serve` configuration: the config file and the robot parameters, through the real binary.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "integration/clients.hpp"
+#include "integration/server_process.hpp"
+
+namespace strata::testing {
+namespace {
+
+TEST(ServeConfig, TheConfigFileSetsOptions) {
+  const auto file =
+      std::filesystem::temp_directory_path() / ("strata-config-" + std::to_string(::getpid()) + ".ini");
+  {
+    std::ofstream out(file);
+    out << "[serve]\nworld = \"yard\"\nscanner = \"none\"\nrobot-radius = 0.3\nmax-slope = 10\n";
+  }
+  ServerProcess server({"--config", file.string()});
+  const auto world = nlohmann::json::parse(http_get(server.port(), "/api/v1/sim/world").body());
+  EXPECT_EQ(world["name"], "yard");
+  std::filesystem::remove(file);
+}
+
+TEST(ServeConfig, BadRobotParametersAreRefusedAtStart) {
+  for (const char* option : {"--robot-radius", "--robot-height", "--max-step", "--max-slope"}) {
+    const auto result = run_strata({"serve", "--port", "0", option, "-1"});
+    EXPECT_NE(result.exit_code, 0) << option;
+    EXPECT_NE(result.output.find(option), std::string::npos) << result.output;
+  }
+  const auto token = run_strata({"serve", "--port", "0", "--operator-token", "short"});
+  EXPECT_NE(token.exit_code, 0);
+  EXPECT_NE(token.output.find("operator token"), std::string::npos) << token.output;
+}
+
+}  // namespace
+}  // namespace strata::testing
