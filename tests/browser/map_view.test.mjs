@@ -115,10 +115,22 @@ test('without the token, control actions are refused with a visible message', as
   // A goal tapped on the map (the camera held still, so the tapped patch stays where it was found).
   await page.getByRole('button', { name: 'Follow robot' }).click();
   await page.getByRole('button', { name: 'Set goal' }).click();
-  const target = await floorPointNearRobot(page);
-  assert.ok(target, 'a floor patch near the robot is on screen');
-  await (await touchSession(page)).tap([target.point.x, target.point.y]);
-  await page.locator('#notice', { hasText: 'needs the operator token' }).waitFor({ timeout: 15000 });
+  // The map streams in while the test taps: a tile replaced between finding the patch and the tap makes
+  // the tap miss (the tool stays armed), so find and tap again, a few times.
+  const touch = await touchSession(page);
+  const refusal = page.locator('#notice', { hasText: 'needs the operator token' });
+  for (let attempt = 0; attempt < 6; attempt += 1) {
+    const target = await floorPointNearRobot(page);
+    assert.ok(target, 'a floor patch near the robot is on screen');
+    await touch.tap([target.point.x, target.point.y]);
+    try {
+      await refusal.waitFor({ timeout: 5000 });
+      break;
+    } catch {
+      // missed: try again
+    }
+  }
+  await refusal.waitFor({ timeout: 15000 });
   assert.match(await page.locator('#notice').textContent(), /goal/i);
   await page.screenshot({ path: path.join(artifacts, 'refused_without_token.png') });
 
