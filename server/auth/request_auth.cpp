@@ -5,18 +5,14 @@
 #include <optional>
 #include <string>
 
+#include "drivers/io/text_fields.hpp"
+
 namespace strata::auth {
 namespace {
 
-namespace http = net::http;
+using io::trimmed;  // header values: blanks around list items and values do not count
 
-std::string_view trim(std::string_view text) {
-  while (!text.empty() && (text.front() == ' ' || text.front() == '\t'))
-    text.remove_prefix(1);
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\t'))
-    text.remove_suffix(1);
-  return text;
-}
+namespace http = net::http;
 
 bool iequals(std::string_view a, std::string_view b) {
   return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](char x, char y) {
@@ -29,18 +25,18 @@ std::optional<std::string_view> bearer_token(const net::HttpRequest& request) {
   const auto found = request.find(http::field::authorization);
   if (found == request.end())
     return std::nullopt;
-  const std::string_view value = trim(found->value());
+  const std::string_view value = trimmed(found->value());
   constexpr std::string_view kScheme = "bearer ";
   if (value.size() < kScheme.size() || !iequals(value.substr(0, kScheme.size()), kScheme))
     return std::string_view();  // another scheme: a token offered in a way we do not take counts as wrong
-  return trim(value.substr(kScheme.size()));
+  return trimmed(value.substr(kScheme.size()));
 }
 
 std::optional<std::string_view> subprotocol_token(const net::HttpRequest& request) {
   std::string_view offered = request[http::field::sec_websocket_protocol];
   while (!offered.empty()) {
     const std::size_t comma = offered.find(',');
-    const std::string_view item = trim(offered.substr(0, comma));
+    const std::string_view item = trimmed(offered.substr(0, comma));
     if (item.starts_with(kTokenSubprotocolPrefix))
       return item.substr(kTokenSubprotocolPrefix.size());
     if (comma == std::string_view::npos)
@@ -56,7 +52,7 @@ std::optional<std::string_view> cookie_token(const net::HttpRequest& request) {
     std::string_view cookies = field->value();
     while (!cookies.empty()) {
       const std::size_t semicolon = cookies.find(';');
-      const std::string_view pair = trim(cookies.substr(0, semicolon));
+      const std::string_view pair = trimmed(cookies.substr(0, semicolon));
       const std::size_t equals = pair.find('=');
       if (equals != std::string_view::npos && pair.substr(0, equals) == kTokenCookie)
         return pair.substr(equals + 1);
@@ -75,12 +71,12 @@ bool is_same_origin(const net::HttpRequest& request) {
   const auto host = request.find(http::field::host);
   if (origin == request.end() || host == request.end())
     return false;
-  std::string_view origin_host = trim(origin->value());
+  std::string_view origin_host = trimmed(origin->value());
   const std::size_t scheme_end = origin_host.find("://");
   if (scheme_end == std::string_view::npos)
     return false;  // "null" (sandboxed frames, file://) never counts as ours
   origin_host.remove_prefix(scheme_end + 3);
-  return !origin_host.empty() && iequals(origin_host, trim(host->value()));
+  return !origin_host.empty() && iequals(origin_host, trimmed(host->value()));
 }
 
 AuthOutcome authenticate(const net::HttpRequest& request, std::string_view operator_token) {

@@ -9,11 +9,14 @@
 #include <utility>
 #include <variant>
 
+#include "drivers/io/text_fields.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/protocol/protocol.hpp"
 
 namespace strata::net {
 namespace {
+
+using io::trimmed;  // header values: blanks around list items and values do not count
 
 namespace beast = boost::beast;
 namespace websocket = beast::websocket;
@@ -28,22 +31,14 @@ constexpr double kMessageBurst = 80.0;
 // buffers and queue are freed and nobody waits for it.
 constexpr auto kStalledWriteTimeout = std::chrono::seconds(10);
 
-std::string_view trim(std::string_view text) {
-  while (!text.empty() && (text.front() == ' ' || text.front() == '\t'))
-    text.remove_prefix(1);
-  while (!text.empty() && (text.back() == ' ' || text.back() == '\t'))
-    text.remove_suffix(1);
-  return text;
-}
-
 }  // namespace
 
 bool accepts_subprotocol(std::string_view offered) {
-  if (trim(offered).empty())
+  if (trimmed(offered).empty())
     return true;  // plain clients (scripts, wscat) get v1
   while (!offered.empty()) {
     const std::size_t comma = offered.find(',');
-    if (trim(offered.substr(0, comma)) == protocol::kSubprotocol)
+    if (trimmed(offered.substr(0, comma)) == protocol::kSubprotocol)
       return true;
     if (comma == std::string_view::npos)
       break;
@@ -76,7 +71,7 @@ void WebSocketSession::run(HttpRequest request) {
   timeouts.keep_alive_pings = true;
   ws_.set_option(timeouts);
   ws_.read_message_max(protocol::kMaxClientMessageBytes);
-  const bool echo_subprotocol = !trim(request[http::field::sec_websocket_protocol]).empty();
+  const bool echo_subprotocol = !trimmed(request[http::field::sec_websocket_protocol]).empty();
   ws_.set_option(websocket::stream_base::decorator([echo_subprotocol](websocket::response_type& response) {
     response.set(http::field::server, "strata");
     if (echo_subprotocol)
