@@ -92,6 +92,28 @@ bool SurfaceGrid::neighbour_height(int col, int row, float height, float& out) c
   return found;
 }
 
+SurfaceGrid SurfaceGrid::with_added(std::vector<std::pair<std::size_t, Surface>> added) const {
+  std::stable_sort(added.begin(), added.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  SurfaceGrid copy = *this;
+  copy.simple_height_.clear();
+  copy.surfaces_.clear();
+  copy.surfaces_.reserve(surfaces_.size() + added.size());
+  auto next = added.begin();
+  const std::size_t cells = begin_.size() - 1;
+  for (std::size_t c = 0; c < cells; ++c) {
+    copy.begin_[c] = static_cast<std::uint32_t>(copy.surfaces_.size());
+    copy.surfaces_.insert(copy.surfaces_.end(), surfaces_.begin() + begin_[c],
+                          surfaces_.begin() + begin_[c + 1]);
+    for (; next != added.end() && next->first == c; ++next)
+      copy.surfaces_.push_back(next->second);
+    std::stable_sort(copy.surfaces_.begin() + copy.begin_[c], copy.surfaces_.end(),
+                     [](const Surface& a, const Surface& b) { return a.top < b.top; });
+  }
+  copy.begin_[cells] = static_cast<std::uint32_t>(copy.surfaces_.size());
+  return copy;
+}
+
 void SurfaceGrid::classify(const TraversabilityConfig& config) {
   const auto robot_height = static_cast<float>(config.robot_height);
   const double max_gradient = std::tan(config.max_slope);

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/mls/mls_map.hpp"
@@ -45,9 +46,14 @@ class SurfaceGrid {
     float bottom = 0.0F;
     bool vertical = false;
     bool traversable = false;
+    /// Not measured: inferred where the scanner left a gap (core/navigation/unseen_gaps.hpp).
+    bool inferred = false;
   };
 
   SurfaceGrid(const MlsMap& map, const CellRegion& region, const TraversabilityConfig& config);
+
+  /// A copy with more surfaces, each (cell index, surface) already classified, kept lowest first per cell.
+  [[nodiscard]] SurfaceGrid with_added(std::vector<std::pair<std::size_t, Surface>> added) const;
 
   [[nodiscard]] const CellRegion& region() const { return region_; }
   /// Index of the cell at local (col, row).
@@ -71,7 +77,8 @@ class SurfaceGrid {
   double cell_size_;
   std::vector<std::uint32_t> begin_;  ///< per cell, then one past the end
   std::vector<Surface> surfaces_;
-  /// Per cell: its one horizontal surface's height; NaN if empty; infinity if anything else.
+  /// Per cell: its one horizontal surface's height; NaN if empty; infinity if anything else. Only for
+  /// classify(); empty in a copy made by with_added().
   std::vector<float> simple_height_;
 };
 

@@ -9,8 +9,6 @@
 
 namespace strata {
 namespace {
-/// Unseen gaps bridged between drivable surfaces, cells (see link()).
-constexpr int kMaxHoleCells = 2;
 
 constexpr int kDirections[8][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1, -1}, {0, -1}, {1, -1}};
 
@@ -19,6 +17,9 @@ constexpr int kDirections[8][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1
 PatchGraph::PatchGraph(std::shared_ptr<const SurfaceGrid> surfaces, double resolution,
                        const PatchGraphConfig& config)
     : surfaces_(std::move(surfaces)), resolution_(resolution), config_(config) {
+  if (config.unseen_gaps.max_gap > 0.0)
+    surfaces_ = std::make_shared<const SurfaceGrid>(
+        fill_unseen_gaps(*surfaces_, resolution, config.traversability, config.unseen_gaps));
   const SurfaceGrid& grid = *surfaces_;
   const std::size_t count = grid.surface_count();
   cell_of_.resize(count);
@@ -120,6 +121,7 @@ void PatchGraph::link(const TraversabilityConfig& config) {
   const SurfaceGrid& grid = *surfaces_;
   const CellRegion& region = grid.region();
   const auto max_step = static_cast<float>(config.max_step);
+  const auto robot_height = static_cast<float>(config.robot_height);
   neighbours_.assign(grid.surface_count(), {kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone});
   // The traversable patch of (col, row) that a patch at `top` meets: the nearest in height within a step.
   const auto meet = [&](int col, int row, float top) -> Node {
@@ -139,11 +141,21 @@ void PatchGraph::link(const TraversabilityConfig& config) {
     }
     return best;
   };
-  // A cell inside the region without any patch: not seen yet.
-  const auto empty = [&](int col, int row) {
-    return col >= 0 && row >= 0 && col < region.width && row < region.height &&
-           grid.surfaces(grid.cell(col, row)).empty();
+  // Whether (col, row) holds something seen at or below a patch at `top`, up to the robot's roof: a wall,
+  // a step, lower ground. Without that the cell is unknown at this level (unseen, or only a roof above).
+  const auto seen_at = [&](int col, int row, float top) {
+    if (col < 0 || row < 0 || col >= region.width || row >= region.height)
+      return false;
+    for (const SurfaceGrid::Surface& s : grid.surfaces(grid.cell(col, row)))
+      if (s.bottom <= top + robot_height)
+        return true;
+    return false;
   };
+  constexpr float kNoSeed = std::numeric_limits<float>::infinity();
+  edge_seed_.assign(grid.surface_count(), kNoSeed);
+  missing_seed_.assign(grid.surface_count(), kNoSeed);
+  // Beyond a missing side, an edge further than this does not limit the robot's centre.
+  const int look_ahead = static_cast<int>(std::ceil(config_.robot_radius / resolution_)) + 1;
   for (int row = 0; row < region.height; ++row)
     for (int col = 0; col < region.width; ++col) {
       const std::size_t c = grid.cell(col, row);
@@ -158,14 +170,7 @@ void PatchGraph::link(const TraversabilityConfig& config) {
         for (int d = 0; d < 8; d += 2) {
           const int dx = kDirections[d][0];
           const int dy = kDirections[d][1];
-          Node next = meet(col + dx, row + dy, top);
-          // A scanner leaves rings of unseen cells on open ground (the tilting laser's slices, a lidar's
-          // rings). A gap of up to kMaxHoleCells cells without any patch, between surfaces that meet within
-          // a step per cell, is bridged: unseen is not an obstacle, and a wall or a drop has patches.
-          for (int gap = 1; next == kNone && gap <= kMaxHoleCells && empty(col + gap * dx, row + gap * dy);
-               ++gap)
-            next = meet(col + (gap + 1) * dx, row + (gap + 1) * dy, top);
-          out[static_cast<std::size_t>(d)] = next;
+          out[static_cast<std::size_t>(d)] = meet(col + dx, row + dy, top);
         }
         for (int d = 1; d < 8; d += 2) {
           if (out[static_cast<std::size_t>(d - 1)] == kNone ||
@@ -173,51 +178,68 @@ void PatchGraph::link(const TraversabilityConfig& config) {
             continue;  // no corner cutting
           out[static_cast<std::size_t>(d)] = meet(col + kDirections[d][0], row + kDirections[d][1], top);
         }
+        for (int d = 0; d < 8; ++d) {
+          if (out[static_cast<std::size_t>(d)] != kNone)
+            continue;
+          // The side is half a cell away (a corner: half a diagonal). Past an unseen stretch the clearance
+          // still counts what was seen across it, so look on along the direction for an edge.
+          const auto side = static_cast<float>(0.5 * step_length(d) * resolution_);
+          missing_seed_[node] = std::min(missing_seed_[node], side);
+          for (int j = 1; j <= look_ahead; ++j) {
+            const int c2 = col + j * kDirections[d][0];
+            const int r2 = row + j * kDirections[d][1];
+            if (j > 1 && meet(c2, r2, top) != kNone)
+              break;  // the ground goes on past the gap
+            if (seen_at(c2, r2, top)) {
+              const float distance = side + static_cast<float>((j - 1) * step_length(d) * resolution_);
+              edge_seed_[node] = std::min(edge_seed_[node], distance);
+              break;
+            }
+          }
+        }
       }
     }
 }
 
 void PatchGraph::measure_clearance() {
-  // Multi-source Dijkstra from the level's edges: a node missing an orthogonal neighbour touches an
-  // obstacle half a cell from its centre; one missing only a diagonal neighbour touches it at a corner.
-  const std::size_t count = neighbours_.size();
-  clearance_.assign(count, std::numeric_limits<float>::infinity());
+  clearance_ = spread(edge_seed_);
+  margin_ = spread(missing_seed_);
+  for (std::size_t node = 0; node < margin_.size(); ++node)
+    margin_[node] = std::min(margin_[node], clearance_[node]);
+}
+
+std::vector<float> PatchGraph::spread(std::vector<float> distance) const {
   using Item = std::pair<float, Node>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
-  const auto half = static_cast<float>(0.5 * resolution_);
-  const auto corner = static_cast<float>(0.5 * std::sqrt(2.0) * resolution_);
-  for (Node node = 0; node < count; ++node) {
-    if (traversable_[node] == 0) {
-      clearance_[node] = 0.0F;
-      continue;
-    }
-    const auto& out = neighbours_[node];
-    float seed = std::numeric_limits<float>::infinity();
-    for (int d = 0; d < 8; ++d)
-      if (out[static_cast<std::size_t>(d)] == kNone)
-        seed = std::min(seed, d % 2 == 0 ? half : corner);
-    if (std::isfinite(seed)) {
-      clearance_[node] = seed;
-      open.emplace(seed, node);
-    }
+  for (Node node = 0; node < distance.size(); ++node) {
+    if (traversable_[node] == 0)
+      distance[node] = 0.0F;
+    else if (std::isfinite(distance[node]))
+      open.emplace(distance[node], node);
   }
   while (!open.empty()) {
-    const auto [distance, node] = open.top();
+    const auto [reached, node] = open.top();
     open.pop();
-    if (distance > clearance_[node])
+    if (reached > distance[node])
       continue;
     const auto& out = neighbours_[node];
     for (int d = 0; d < 8; ++d) {
       const Node next = out[static_cast<std::size_t>(d)];
       if (next == kNone)
         continue;
-      const auto candidate = distance + static_cast<float>(step_length(d) * resolution_);
-      if (candidate < clearance_[next]) {
-        clearance_[next] = candidate;
+      const auto candidate = reached + static_cast<float>(step_length(d) * resolution_);
+      if (candidate < distance[next]) {
+        distance[next] = candidate;
         open.emplace(candidate, next);
       }
     }
   }
+  return distance;
+}
+
+bool PatchGraph::inferred(Node node) const {
+  const std::size_t c = cell_of_[node];
+  return surfaces_->surfaces(c)[node - surfaces_->first_surface(c)].inferred;
 }
 
 bool PatchGraph::local_cell(double x, double y, int& col, int& row) const {

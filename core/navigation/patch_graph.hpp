@@ -7,18 +7,24 @@
 #include <vector>
 
 #include "core/mls/traversability.hpp"
+#include "core/navigation/unseen_gaps.hpp"
 
 namespace strata {
 
 struct PatchGraphConfig {
   TraversabilityConfig traversability;
-  /// Patches whose centre is nearer than this to the edge of their level (a wall, a drop, a step, the end
-  /// of the known map) are no place for the robot's centre, metres. The wheelchair's body is 1.05 x 0.66 m:
-  /// 0.33 m to its sides, 0.62 m to its corners, so it fits where it drives about straight (doors, ramps).
+  /// Gaps the scanner left in drivable ground are bridged by inferred surfaces (unseen_gaps.hpp).
+  UnseenGapConfig unseen_gaps;
+  /// Patches whose centre is nearer than this to the edge of their level (a wall, a drop, a step: something
+  /// seen) are no place for the robot's centre, metres. The end of the known map is not an edge: unseen
+  /// ground is unknown, not an obstacle, and the scans on the way show what it is. The wheelchair's body is
+  /// 1.05 x 0.66 m: 0.33 m to its sides, 0.62 m to its corners, so it fits where it drives about straight
+  /// (doors, ramps).
   double robot_radius = 0.45;
-  /// Paths may keep away from edges: a step onto a patch with less clearance than `comfortable_clearance`
-  /// costs up to (1 + clearance_weight) times its length, so the robot goes through the middle of doors
-  /// and approaches them straight. 0 gives the plain shortest path.
+  /// Paths may keep away from edges and from unseen ground: a step onto a patch with a margin less than
+  /// `comfortable_clearance` costs up to (1 + clearance_weight) times its length, so the robot goes through
+  /// the middle of doors, approaches them straight and prefers ground it has seen. 0 gives the plain
+  /// shortest path.
   double clearance_weight = 0.0;
   double comfortable_clearance = 1.0;
 };
@@ -50,8 +56,12 @@ class PatchGraph {
   }
   /// Whether the node is a surface the robot may drive on at all (traversable and horizontal).
   [[nodiscard]] bool traversable(Node node) const { return traversable_[node] != 0; }
-  /// Metres from the node's centre to the nearest edge of its level.
+  /// Metres from the node's centre to the nearest edge of its level (something seen: a wall, a drop).
   [[nodiscard]] float clearance(Node node) const { return clearance_[node]; }
+  /// Metres from the node's centre to the nearest edge or unseen ground: at most clearance().
+  [[nodiscard]] float margin(Node node) const { return margin_[node]; }
+  /// Whether the node's surface was inferred across an unseen gap rather than measured.
+  [[nodiscard]] bool inferred(Node node) const;
   /// Traversable with room for the robot.
   [[nodiscard]] bool passable(Node node) const {
     return traversable(node) && clearance_[node] >= static_cast<float>(config_.robot_radius);
@@ -68,7 +78,7 @@ class PatchGraph {
   /// cell itself has none (the robot's own cell is often unseen).
   [[nodiscard]] std::optional<Node> locate(double x, double y, double z, double tolerance,
                                            double search_radius = 0.0) const;
-  /// Whether the cell under (x, y) has any patch at all (is mapped).
+  /// Whether the cell under (x, y) has any patch, measured or inferred (is mapped).
   [[nodiscard]] bool mapped(double x, double y) const;
 
  private:
@@ -76,6 +86,8 @@ class PatchGraph {
   void drive_over_seams(const TraversabilityConfig& config);
   void link(const TraversabilityConfig& config);
   void measure_clearance();
+  /// Multi-source Dijkstra over the graph from per-node seed distances (infinity: no seed), metres.
+  [[nodiscard]] std::vector<float> spread(std::vector<float> seeds) const;
   void label_components();
 
   std::shared_ptr<const SurfaceGrid> surfaces_;
@@ -84,7 +96,10 @@ class PatchGraph {
   std::vector<std::uint32_t> cell_of_;  ///< per node (= surface index): its cell index
   std::vector<std::uint8_t> traversable_;
   std::vector<std::array<Node, 8>> neighbours_;
+  std::vector<float> edge_seed_;     ///< per node: metres to the nearest edge seen across its missing sides
+  std::vector<float> missing_seed_;  ///< per node: metres to its nearest missing side
   std::vector<float> clearance_;
+  std::vector<float> margin_;
   std::vector<std::uint32_t> component_;
 };
 

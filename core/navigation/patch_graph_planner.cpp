@@ -68,7 +68,7 @@ PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_
     if (config.clearance_weight <= 0.0)
       return 1.0;
     const double tightness =
-        (config.comfortable_clearance - static_cast<double>(graph.clearance(node))) / comfort_span;
+        (config.comfortable_clearance - static_cast<double>(graph.margin(node))) / comfort_span;
     return 1.0 + config.clearance_weight * std::clamp(tightness, 0.0, 1.0);
   };
   const std::size_t count = graph.node_count();

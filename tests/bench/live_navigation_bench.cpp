@@ -1,0 +1,170 @@
+// strata_live_navigation_bench: how much of what the robot has seen can it be sent to? The simulated
+// robot drives its world's demo route for a while and its scans are mapped at their true poses, as the
+// live server maps them (0.1 m MLS). Then every place that a survey of the world says the robot can
+// reach with room to spare, and that the live map has measured at that height, is tried as a goal from
+// where the robot stands (tests/unit/navigation/seen_goals.hpp). Not a test: it prints one line per
+// measurement, "key=value" separated by spaces.
+//
+//   strata_live_navigation_bench [--world yard|campus] [--scanner tilting|lidar] [--seconds S]
+//                                [--spacing M] [--max-gap M] [--ascii FILE]
+//
+//   --max-gap: the longest unseen gap inferred as ground (0: none)
+//   map     scans mapped, cells and patches of the live map, graph nodes, ms to build the graph
+//   goals   per distance band from the robot: goals tried, reached, and why the others failed;
+//           then all bands, with the median and longest planning time
+//   --ascii writes the live patch graph as text, north up: '.' room for the robot (':' on ground inferred
+//           across an unseen gap), ',' drivable without room, '#' not drivable, ' ' unseen,
+//           'o' goal planned, 'x' goal failed, 'R' the robot
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "drivers/sim/simulator.hpp"
+#include "drivers/sim/world/world_file.hpp"
+#include "tests/unit/navigation/seen_goals.hpp"
+
+namespace {
+
+using namespace strata;
+
+struct Options {
+  std::string world = "yard";
+  std::string scanner = "tilting";
+  double seconds = 30.0;
+  double spacing = 0.5;
+  double max_gap = UnseenGapConfig{}.max_gap;
+  std::string ascii;
+};
+
+Options parse(int argc, char** argv) {
+  Options options;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string key = argv[i];
+    const char* value = argv[i + 1];
+    if (key == "--world")
+      options.world = value;
+    else if (key == "--scanner")
+      options.scanner = value;
+    else if (key == "--seconds")
+      options.seconds = std::atof(value);
+    else if (key == "--spacing")
+      options.spacing = std::atof(value);
+    else if (key == "--max-gap")
+      options.max_gap = std::atof(value);
+    else if (key == "--ascii")
+      options.ascii = value;
+  }
+  return options;
+}
+
+struct Band {
+  int tried = 0;
+  int reached = 0;
+  std::map<std::string, int> failed;
+};
+
+void write_ascii(const std::string& file, const PatchGraph& graph, const Eigen::Vector3d& robot,
+                 const std::vector<test::SeenGoal>& goals) {
+  const CellRegion& region = graph.surfaces().region();
+  std::vector<std::string> rows(static_cast<std::size_t>(region.height),
+                                std::string(static_cast<std::size_t>(region.width), ' '));
+  for (PatchGraph::Node node = 0; node < graph.node_count(); ++node) {
+    const auto [col, row] = graph.cell(node);
+    char& c = rows[static_cast<std::size_t>(row)][static_cast<std::size_t>(col)];
+    const double dz = std::abs(graph.position(node).z() - robot.z());
+    const char mark = graph.passable(node)      ? (graph.inferred(node) ? ':' : '.')
+                      : graph.traversable(node) ? ','
+                                                : '#';
+    if (c == ' ' || dz < 0.5)  // the robot's level wins
+      c = mark;
+  }
+  const auto put = [&](const Eigen::Vector3d& p, char mark) {
+    const int col = static_cast<int>(std::floor(p.x() / graph.resolution())) - region.min.x;
+    const int row = static_cast<int>(std::floor(p.y() / graph.resolution())) - region.min.y;
+    if (col >= 0 && row >= 0 && col < region.width && row < region.height)
+      rows[static_cast<std::size_t>(row)][static_cast<std::size_t>(col)] = mark;
+  };
+  for (const test::SeenGoal& goal : goals)
+    put(goal.position, goal.path.found() ? 'o' : 'x');
+  put(robot, 'R');
+  std::ofstream out(file);
+  for (auto row = rows.rbegin(); row != rows.rend(); ++row)
+    out << *row << '\n';
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options options = parse(argc, argv);
+  auto world = std::make_shared<const sim::World>(sim::builtin_world(options.world));
+  sim::SimulatorConfig config;
+  config.scanner = options.scanner == "lidar" ? sim::ScannerKind::kLidar : sim::ScannerKind::kTilting;
+  sim::Simulator simulator(world, config);
+  MlsMap live{MlsConfig{}};
+  int scans = 0;
+  for (double t = 0.0; t < options.seconds; t += 0.1) {
+    simulator.step(0.1);
+    for (const ScanEvent& scan : simulator.take_scans()) {
+      test::map_at_truth(live, scan);
+      ++scans;
+    }
+  }
+  const Eigen::Vector3d robot = simulator.sample().truth.position;
+
+  PatchGraphConfig graph_config{.clearance_weight = 2.0};  // the navigator's
+  graph_config.unseen_gaps.max_gap = options.max_gap;
+  const auto build_start = std::chrono::steady_clock::now();
+  const PatchGraph seen(std::make_shared<const SurfaceGrid>(live, CellRegion::of_tiles(live.tile_indices()),
+                                                            graph_config.traversability),
+                        live.resolution(), graph_config);
+  const double build_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - build_start).count();
+  std::printf(
+      "map world=%s scanner=%s seconds=%.0f scans=%d cells=%zu patches=%zu nodes=%zu graph_ms=%.1f "
+      "robot=%.2f,%.2f,%.2f\n",
+      options.world.c_str(), options.scanner.c_str(), options.seconds, scans, live.occupied_cell_count(),
+      live.patch_count(), seen.node_count(), build_ms, robot.x(), robot.y(), robot.z());
+
+  const std::vector<test::SeenGoal> goals = test::plan_to_seen_goals(*world, seen, robot, options.spacing);
+  constexpr std::array<double, 5> kBands{3.0, 6.0, 10.0, 15.0, 1e9};
+  std::array<Band, kBands.size()> bands;
+  std::vector<double> plan_ms;
+  for (const test::SeenGoal& goal : goals) {
+    const auto b = static_cast<std::size_t>(std::lower_bound(kBands.begin(), kBands.end(), goal.distance) -
+                                            kBands.begin());
+    ++bands[b].tried;
+    if (goal.path.found())
+      ++bands[b].reached;
+    else
+      ++bands[b].failed[std::string(describe(goal.path.status))];
+    plan_ms.push_back(goal.plan_ms);
+  }
+  int all_tried = 0;
+  int all_reached = 0;
+  for (std::size_t b = 0; b < bands.size(); ++b) {
+    std::string failed;
+    for (const auto& [reason, count] : bands[b].failed)
+      failed += " '" + reason + "'=" + std::to_string(count);
+    std::printf("goals within_m=%.0f tried=%d reached=%d share=%.2f%s\n", std::min(kBands[b], 999.0),
+                bands[b].tried, bands[b].reached,
+                bands[b].tried > 0 ? static_cast<double>(bands[b].reached) / bands[b].tried : 0.0,
+                failed.c_str());
+    all_tried += bands[b].tried;
+    all_reached += bands[b].reached;
+  }
+  std::sort(plan_ms.begin(), plan_ms.end());
+  std::printf("goals all tried=%d reached=%d share=%.2f plan_ms_median=%.2f plan_ms_max=%.2f\n", all_tried,
+              all_reached, all_tried > 0 ? static_cast<double>(all_reached) / all_tried : 0.0,
+              plan_ms.empty() ? 0.0 : plan_ms[plan_ms.size() / 2], plan_ms.empty() ? 0.0 : plan_ms.back());
+  if (!options.ascii.empty())
+    write_ascii(options.ascii, seen, robot, goals);
+  return 0;
+}
