@@ -158,16 +158,14 @@ bool VelodyneDecoder::decode(std::span<const std::uint8_t> payload, double recei
       const double sequence_time =
           first_firing + static_cast<double>(b) * 2 * kVlp16SequenceInterval + sequence_offset;
       const auto sequence_azimuth = static_cast<std::uint32_t>(
-          (azimuth +
-           static_cast<std::uint32_t>(std::lround(gap * sequence_offset / (2 * kVlp16SequenceInterval)))) %
+          (azimuth + static_cast<std::uint32_t>(gap * sequence_offset / (2 * kVlp16SequenceInterval) + 0.5)) %
           kAzimuthUnits);
       LidarColumn column{sequence_time, static_cast<float>(sequence_azimuth) / 36000.0f,
                          static_cast<std::uint32_t>(out.points.size()), 0, 16};
       for (std::size_t i = 0; i < 16; ++i) {
         const double firing_offset = sequence_offset + static_cast<double>(i) * kVlp16LaserInterval;
         const auto firing_azimuth = static_cast<std::uint32_t>(
-            (azimuth +
-             static_cast<std::uint32_t>(std::lround(gap * firing_offset / (2 * kVlp16SequenceInterval)))) %
+            (azimuth + static_cast<std::uint32_t>(gap * firing_offset / (2 * kVlp16SequenceInterval) + 0.5)) %
             kAzimuthUnits);
         add_return(lasers_[i], firing_azimuth, channels + 3 * (16 * sequence + i),
                    sequence_time + static_cast<double>(i) * kVlp16LaserInterval, out);

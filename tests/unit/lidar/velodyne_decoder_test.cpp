@@ -162,3 +162,50 @@ TEST(VelodyneDecoder, Vlp16CapturesDecodeWithPlausibleGeometry) {
 
 }  // namespace
 }  // namespace strata::lidar
+
+namespace strata::lidar {
+namespace {
+
+TEST(LidarScanBuilder, CompensatesMotionWhenOdometryCoversTheRevolution) {
+  const std::filesystem::path dir = test::lidar_data_dir();
+  STRATA_SKIP_WITHOUT(dir / "hdl32_example.pcap");
+  const LidarSetup setup{LidarModel::kHdl32e, dir / "32db.yaml"};
+  const std::vector<ScanEvent> measured = read_pcap_scans(dir / "hdl32_example.pcap", setup);
+  ASSERT_EQ(measured.size(), 5u);
+
+  // Driving forward at 12.8 m/s (the capture's GPS speed): a point fired at time t, seen again from the
+  // end-of-revolution pose, is 12.8 m/s * (end - t) further back along x.
+  const auto driving = [](double time) -> std::optional<Eigen::Isometry3d> {
+    return Eigen::Isometry3d(Eigen::Translation3d(12.8 * time, 0.0, 0.0));
+  };
+  PcapScanSource moving(dir / "hdl32_example.pcap", setup);
+  moving.builder().set_motion_compensation(driving);
+  std::vector<ScanEvent> compensated;
+  while (std::optional<ScanEvent> scan = moving.next())
+    compensated.push_back(std::move(*scan));
+  ASSERT_EQ(compensated.size(), 5u);
+  EXPECT_EQ(moving.builder().stats().uncompensated_revolutions, 0u);
+  const ScanEvent& before = measured[2];
+  const ScanEvent& after = compensated[2];
+  ASSERT_EQ(before.points.size(), after.points.size());
+  // The first return of the turn moved back by a whole revolution's travel, the last hardly at all.
+  EXPECT_NEAR(static_cast<double>(after.points.front().x() - before.points.front().x()),
+              -12.8 * before.duration, 0.02);
+  EXPECT_NEAR(static_cast<double>(after.points.back().x() - before.points.back().x()), 0.0, 0.01);
+  EXPECT_NEAR(static_cast<double>(after.points.front().y() - before.points.front().y()), 0.0, 1e-3);
+
+  // Without odometry for the revolution's times, scans are handed on as measured and counted.
+  PcapScanSource blind(dir / "hdl32_example.pcap", setup);
+  blind.builder().set_motion_compensation(
+      [](double) -> std::optional<Eigen::Isometry3d> { return std::nullopt; });
+  std::size_t scans = 0;
+  while (std::optional<ScanEvent> scan = blind.next()) {
+    EXPECT_EQ(scan->points, measured[scans].points);
+    ++scans;
+  }
+  EXPECT_EQ(scans, 5u);
+  EXPECT_EQ(blind.builder().stats().uncompensated_revolutions, 5u);
+}
+
+}  // namespace
+}  // namespace strata::lidar
