@@ -1,6 +1,7 @@
 #pragma once
 
 #include <array>
+#include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
 #include <cstdint>
@@ -28,7 +29,8 @@ class UdpPacketSource {
   void stop();
 
   [[nodiscard]] std::uint16_t port() const { return port_; }
-  [[nodiscard]] std::size_t received() const { return received_; }
+  /// Datagrams received so far; may be read from any thread.
+  [[nodiscard]] std::size_t received() const { return received_.load(); }
 
  private:
   void receive();
@@ -38,7 +40,7 @@ class UdpPacketSource {
   std::array<std::uint8_t, 65536> buffer_{};
   Handler handler_;
   std::uint16_t port_ = 0;
-  std::size_t received_ = 0;
+  std::atomic<std::size_t> received_{0};
 };
 
 }  // namespace strata::lidar

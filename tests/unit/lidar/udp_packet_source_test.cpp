@@ -2,7 +2,6 @@
 
 #include <gtest/gtest.h>
 
-#include <atomic>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/udp.hpp>
 #include <chrono>
@@ -10,6 +9,7 @@
 
 #include "drivers/lidar/lidar_scan_builder.hpp"
 #include "drivers/lidar/pcap_reader.hpp"
+#include "drivers/lidar/udp_scan_source.hpp"
 #include "tests/unit/lidar/lidar_test_data.hpp"
 
 namespace strata::lidar {
@@ -17,8 +17,8 @@ namespace {
 
 using namespace std::chrono_literals;
 
-/// Sends a capture's lidar payloads over loopback UDP to a live UdpPacketSource feeding a
-/// LidarScanBuilder, and returns the scans it built. Sending waits for the receiver to keep up (the
+/// Sends a capture's lidar payloads over loopback UDP to a live UdpScanSource (a UdpPacketSource feeding
+/// a LidarScanBuilder), and returns the scans it built. Sending waits for the receiver to keep up (the
 /// kernel's receive buffer is finite), so no packet is lost however slow the machine.
 struct LoopbackRun {
   std::vector<ScanEvent> scans;
@@ -30,14 +30,9 @@ struct LoopbackRun {
 
 LoopbackRun send_over_loopback(const std::filesystem::path& pcap, const LidarSetup& setup) {
   boost::asio::io_context io;
-  UdpPacketSource source(io, 0, "127.0.0.1");
-  LidarScanBuilder builder(setup);
+  UdpScanSource source(io, setup, "127.0.0.1", /*listen_port=*/0);
   LoopbackRun run;
-  std::atomic<std::size_t> received{0};
-  source.start([&](std::span<const std::uint8_t> payload, double stamp) {
-    builder.add_payload(payload, stamp, run.scans);
-    ++received;
-  });
+  source.start([&run](ScanEvent&& scan) { run.scans.push_back(std::move(scan)); });
   std::thread receiver([&io] { io.run(); });
 
   boost::asio::io_context sender_io;
@@ -46,7 +41,7 @@ LoopbackRun send_over_loopback(const std::filesystem::path& pcap, const LidarSet
   PcapReader reader(pcap);
   const auto wait_for = [&](std::size_t count) {
     const auto deadline = std::chrono::steady_clock::now() + 30s;
-    while (received.load() < count && std::chrono::steady_clock::now() < deadline)
+    while (source.packets_received() < count && std::chrono::steady_clock::now() < deadline)
       std::this_thread::sleep_for(1ms);
   };
   while (const std::optional<UdpDatagram> datagram = reader.next()) {
@@ -58,14 +53,11 @@ LoopbackRun send_over_loopback(const std::filesystem::path& pcap, const LidarSet
       wait_for(run.sent);
   }
   wait_for(run.sent);
-  boost::asio::post(io, [&] {
-    builder.finish(run.scans);
-    source.stop();
-  });
+  boost::asio::post(io, [&source] { source.stop(); });
   receiver.join();
-  run.received = received.load();
-  run.decode = builder.decode_stats();
-  run.builder = builder.stats();
+  run.received = source.packets_received();
+  run.decode = source.builder().decode_stats();
+  run.builder = source.builder().stats();
   return run;
 }
 

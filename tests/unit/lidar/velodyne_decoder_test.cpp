@@ -1,8 +1,10 @@
 #include "drivers/lidar/velodyne_decoder.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
+#include <fstream>
 #include <random>
 
 #include "drivers/lidar/lidar_config_error.hpp"
@@ -205,6 +207,38 @@ TEST(LidarScanBuilder, CompensatesMotionWhenOdometryCoversTheRevolution) {
   }
   EXPECT_EQ(scans, 5u);
   EXPECT_EQ(blind.builder().stats().uncompensated_revolutions, 5u);
+}
+
+}  // namespace
+}  // namespace strata::lidar
+
+namespace strata::lidar {
+namespace {
+
+TEST(PcapScanSource, CutCapturesDecodeWhatTheyHoldAndSayTheyWereCut) {
+  const std::filesystem::path dir = test::lidar_data_dir();
+  STRATA_SKIP_WITHOUT(dir / "hdl32_example.pcap");
+  const std::vector<std::uint8_t> bytes = read_file_bytes(dir / "hdl32_example.pcap");
+  const std::filesystem::path cut_file =
+      std::filesystem::temp_directory_path() / ("strata_lidar_cut_" + std::to_string(::getpid()) + ".pcap");
+  std::size_t previous_complete = 0;
+  for (const double fraction : {0.001, 0.2, 0.4, 0.6, 0.8, 0.9999}) {
+    const auto size = static_cast<std::size_t>(fraction * static_cast<double>(bytes.size()));
+    {
+      std::ofstream out(cut_file, std::ios::binary);
+      out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(size));
+    }
+    PcapScanSource source(cut_file, LidarSetup{LidarModel::kHdl32e, dir / "32db.yaml"});
+    std::size_t scans = 0;
+    while (source.next())
+      ++scans;
+    EXPECT_TRUE(source.pcap_stats().truncated_file) << fraction;
+    EXPECT_LE(scans, 5u);
+    EXPECT_GE(scans, previous_complete) << fraction;  // more of the capture, at least as many turns
+    previous_complete = scans;
+  }
+  EXPECT_GE(previous_complete, 4u);
+  std::filesystem::remove(cut_file);
 }
 
 }  // namespace
