@@ -128,47 +128,40 @@ bool VelodyneDecoder::decode(std::span<const std::uint8_t> payload, double recei
     ++stats_.model_mismatch;
 
   const double first_firing = receive_stamp - packet_duration();
+  const bool vlp16 = model_ == LidarModel::kVlp16;
+  const std::size_t sequences = vlp16 ? 2 : 1;  // firing sequences per block
+  const std::size_t lasers_per_sequence = kChannelsPerBlock / sequences;
+  const double sequence_interval = vlp16 ? kVlp16SequenceInterval : kHdl32eSequenceInterval;
+  const double laser_interval = vlp16 ? kVlp16LaserInterval : kHdl32eLaserInterval;
+  const double block_duration = static_cast<double>(sequences) * sequence_interval;
   const std::size_t points_before = out.points.size();
   for (std::size_t b = 0; b < kBlocks; ++b) {
     if (!valid[b])
       continue;
     const std::uint8_t* channels = payload.data() + b * kBlockSize + 4;
     const std::uint32_t azimuth = azimuths[b];
-    if (model_ == LidarModel::kHdl32e) {
-      const double block_time = first_firing + static_cast<double>(b) * kHdl32eSequenceInterval;
-      LidarColumn column{block_time, static_cast<float>(azimuth) / 36000.0f,
-                         static_cast<std::uint32_t>(out.points.size()), 0, kChannelsPerBlock};
-      for (std::size_t i = 0; i < kChannelsPerBlock; ++i)
-        add_return(lasers_[i], azimuth, channels + 3 * i,
-                   block_time + static_cast<double>(i) * kHdl32eLaserInterval, out);
-      column.point_count = static_cast<std::uint32_t>(out.points.size() - column.first_point);
-      out.columns.push_back(column);
-      continue;
-    }
-    // VLP-16: the block's azimuth is its first sequence's; later firings are interpolated towards the
-    // next block's azimuth (the previous gap for the packet's last block or an invalid neighbour).
+    // The block's azimuth is its first firing's; the head keeps turning while the block's lasers fire, so
+    // later firings are interpolated towards the next block's azimuth (the previous gap for the packet's
+    // last block or an invalid neighbour).
     if (b + 1 < kBlocks && valid[b + 1]) {
       const std::uint32_t gap = (azimuths[b + 1] + kAzimuthUnits - azimuth) % kAzimuthUnits;
       if (gap <= kMaxAzimuthGap)
         last_azimuth_gap_ = gap;
     }
-    const double gap = static_cast<double>(last_azimuth_gap_);
-    for (std::size_t sequence = 0; sequence < 2; ++sequence) {
-      const double sequence_offset = static_cast<double>(sequence) * kVlp16SequenceInterval;
-      const double sequence_time =
-          first_firing + static_cast<double>(b) * 2 * kVlp16SequenceInterval + sequence_offset;
-      const auto sequence_azimuth = static_cast<std::uint32_t>(
-          (azimuth + static_cast<std::uint32_t>(gap * sequence_offset / (2 * kVlp16SequenceInterval) + 0.5)) %
-          kAzimuthUnits);
-      LidarColumn column{sequence_time, static_cast<float>(sequence_azimuth) / 36000.0f,
-                         static_cast<std::uint32_t>(out.points.size()), 0, 16};
-      for (std::size_t i = 0; i < 16; ++i) {
-        const double firing_offset = sequence_offset + static_cast<double>(i) * kVlp16LaserInterval;
-        const auto firing_azimuth = static_cast<std::uint32_t>(
-            (azimuth + static_cast<std::uint32_t>(gap * firing_offset / (2 * kVlp16SequenceInterval) + 0.5)) %
-            kAzimuthUnits);
-        add_return(lasers_[i], firing_azimuth, channels + 3 * (16 * sequence + i),
-                   sequence_time + static_cast<double>(i) * kVlp16LaserInterval, out);
+    const double turn_per_second = static_cast<double>(last_azimuth_gap_) / block_duration;
+    const auto azimuth_after = [&](double seconds) {
+      return (azimuth + static_cast<std::uint32_t>(turn_per_second * seconds + 0.5)) % kAzimuthUnits;
+    };
+    const double block_time = first_firing + static_cast<double>(b) * block_duration;
+    for (std::size_t sequence = 0; sequence < sequences; ++sequence) {
+      const double sequence_offset = static_cast<double>(sequence) * sequence_interval;
+      LidarColumn column{
+          block_time + sequence_offset, static_cast<float>(azimuth_after(sequence_offset)) / 36000.0f,
+          static_cast<std::uint32_t>(out.points.size()), 0, static_cast<std::uint16_t>(lasers_per_sequence)};
+      for (std::size_t i = 0; i < lasers_per_sequence; ++i) {
+        const double firing_offset = sequence_offset + static_cast<double>(i) * laser_interval;
+        add_return(lasers_[i], azimuth_after(firing_offset),
+                   channels + 3 * (lasers_per_sequence * sequence + i), block_time + firing_offset, out);
       }
       column.point_count = static_cast<std::uint32_t>(out.points.size() - column.first_point);
       out.columns.push_back(column);

@@ -56,6 +56,10 @@ TEST(VelodyneDecoder, PlacesAReturnInTheSensorFrameXForwardYLeftZUp) {
   EXPECT_FLOAT_EQ(out.points[0].intensity, 99.0f);
   EXPECT_LT(out.points[0].time, 100.0);  // fired before the packet arrived
   EXPECT_EQ(out.columns.size(), 24u);    // two firing sequences per block
+  // The second sequence fires 55.296 us later, halfway to the next block's azimuth (0.4 deg on).
+  EXPECT_NEAR(out.columns[1].time - out.columns[0].time, 55.296e-6, 1e-9);
+  EXPECT_NEAR(static_cast<double>(out.columns[1].phase) * 36000.0, 9020.0, 0.5);
+  EXPECT_NEAR(static_cast<double>(out.columns[2].phase) * 36000.0, 9040.0, 0.5);
   EXPECT_EQ(decoder.stats().rays, 12u * 32u);
   EXPECT_EQ(decoder.stats().model_mismatch, 0u);
 }
