@@ -16,6 +16,7 @@ void RevolutionAssembler::add(const DecodedPacket& packet, std::vector<Revolutio
       largest_gap_ = std::max(largest_gap_, step);
       if (wrapped && current_.columns > 0) {
         current_.complete = current_started_at_cut_ && largest_gap_ <= max_gap_;
+        last_size_ = current_.points.size();
         done.push_back(std::move(current_));
         current_ = Revolution{};
         current_started_at_cut_ = true;
@@ -24,8 +25,11 @@ void RevolutionAssembler::add(const DecodedPacket& packet, std::vector<Revolutio
     }
     has_previous_ = true;
     previous_phase_ = column.phase;
-    if (current_.columns == 0)
+    if (current_.columns == 0) {
       current_.start = column.time;
+      // Room for a turn like the last one: no regrowing a multi-megabyte vector every revolution.
+      current_.points.reserve(last_size_ + last_size_ / 8);
+    }
     current_.end = std::max(current_.end, column.time);
     ++current_.columns;
     current_.rays += column.rays;

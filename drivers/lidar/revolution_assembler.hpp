@@ -40,6 +40,7 @@ class RevolutionAssembler {
   float previous_phase_ = 0.0f;
   double largest_gap_ = 0.0;
   double max_gap_;
+  std::size_t last_size_ = 0;  ///< returns of the last closed revolution
 };
 
 }  // namespace strata::lidar
