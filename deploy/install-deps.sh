@@ -16,7 +16,7 @@ apt_packages=(
   libeigen3-dev libboost-dev nlohmann-json3-dev libdraco-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libspdlog-dev libfmt-dev libvalijson-dev
-  libnanoflann-dev liblzf-dev
+  libnanoflann-dev liblzf-dev libyaml-cpp-dev
   chromium
 )
 
