@@ -250,6 +250,17 @@ bool PatchGraph::local_cell(double x, double y, int& col, int& row) const {
          row < region.height;
 }
 
+bool PatchGraph::has_patch_near(double x, double y, double z, double tolerance) const {
+  int col = 0;
+  int row = 0;
+  if (!local_cell(x, y, col, row))
+    return false;
+  for (const SurfaceGrid::Surface& s : surfaces_->surfaces(surfaces_->cell(col, row)))
+    if (static_cast<double>(s.bottom) <= z + tolerance && static_cast<double>(s.top) >= z - tolerance)
+      return true;
+  return false;
+}
+
 bool PatchGraph::mapped(double x, double y) const {
   int col = 0;
   int row = 0;

@@ -78,6 +78,8 @@ class PatchGraph {
   /// cell itself has none (the robot's own cell is often unseen).
   [[nodiscard]] std::optional<Node> locate(double x, double y, double z, double tolerance,
                                            double search_radius = 0.0) const;
+  /// Whether the cell under (x, y) has a patch reaching within `tolerance` of the height z (a floor, a wall).
+  [[nodiscard]] bool has_patch_near(double x, double y, double z, double tolerance) const;
   /// Whether the cell under (x, y) has any patch, measured or inferred (is mapped).
   [[nodiscard]] bool mapped(double x, double y) const;
 

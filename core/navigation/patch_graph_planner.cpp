@@ -37,14 +37,18 @@ PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_
     result.status = PatchPlanStatus::start_off_map;
     return result;
   }
-  if (!graph.mapped(goal.x, goal.y)) {
-    result.status = PatchPlanStatus::goal_off_map;
+  const double reference = goal.z.value_or(robot_ground.z());
+  const bool seen_at_level = graph.has_patch_near(goal.x, goal.y, reference, goal.level_tolerance);
+  std::optional<Node> target = graph.locate(goal.x, goal.y, reference, goal.level_tolerance,
+                                            seen_at_level ? 0.0 : goal.unseen_search_radius);
+  if (!target && !goal.z && !seen_at_level)
+    target = graph.locate(goal.x, goal.y, reference, std::numeric_limits<double>::infinity());
+  if (!target) {
+    result.status = graph.mapped(goal.x, goal.y) || seen_at_level ? PatchPlanStatus::goal_blocked
+                                                                  : PatchPlanStatus::goal_off_map;
     return result;
   }
-  const double reference = goal.z.value_or(robot_ground.z());
-  const double tolerance = goal.z ? goal.level_tolerance : std::numeric_limits<double>::infinity();
-  const std::optional<Node> target = graph.locate(goal.x, goal.y, reference, tolerance);
-  if (!target || !graph.passable(*target)) {
+  if (!graph.passable(*target)) {
     result.status = PatchPlanStatus::goal_blocked;
     return result;
   }

@@ -29,12 +29,16 @@ struct PatchPath {
 };
 
 /// Where to go: (x, y) and, if given, the height of the level (within `level_tolerance`); without it the
-/// level nearest the robot's own height.
+/// robot's own level, or else the level nearest it (a bridge deck seen from the road under it).
 struct PatchGoal {
   double x = 0.0;
   double y = 0.0;
   std::optional<double> z;
   double level_tolerance = 0.5;
+  /// A goal where nothing was seen at its level (between a scanner's rings; under a ceiling seen from
+  /// below) goes to the nearest drivable patch of that level within this, metres. A goal on something seen
+  /// at its level (a wall) is never moved.
+  double unseen_search_radius = 0.3;
 };
 
 /// Shortest path (A*, steps of 1 and sqrt 2 cells, octile heuristic: optimal; with a clearance weight,

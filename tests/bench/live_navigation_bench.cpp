@@ -6,9 +6,10 @@
 // measurement, "key=value" separated by spaces.
 //
 //   strata_live_navigation_bench [--world yard|campus] [--scanner tilting|lidar] [--seconds S]
-//                                [--spacing M] [--max-gap M] [--ascii FILE]
+//                                [--spacing M] [--max-gap M] [--ascii FILE] [--map FILE --at X,Y,Z]
 //
 //   --max-gap: the longest unseen gap inferred as ground (0: none)
+//   --map, --at: a map saved by the server, and where the robot stands on it, instead of a simulated drive
 //   map     scans mapped, cells and patches of the live map, graph nodes, ms to build the graph
 //   goals   per distance band from the robot: goals tried, reached, and why the others failed;
 //           then all bands, with the median and longest planning time
@@ -27,6 +28,7 @@
 #include <string>
 #include <vector>
 
+#include "core/mls/mls_file.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
 #include "tests/unit/navigation/seen_goals.hpp"
@@ -42,6 +44,8 @@ struct Options {
   double spacing = 0.5;
   double max_gap = UnseenGapConfig{}.max_gap;
   std::string ascii;
+  std::string map;              ///< a saved map instead of a simulated drive (with `at`)
+  Eigen::Vector3d at{0, 0, 0};  ///< where the robot stands on that map
 };
 
 Options parse(int argc, char** argv) {
@@ -61,6 +65,10 @@ Options parse(int argc, char** argv) {
       options.max_gap = std::atof(value);
     else if (key == "--ascii")
       options.ascii = value;
+    else if (key == "--map")
+      options.map = value;
+    else if (key == "--at")
+      std::sscanf(value, "%lf,%lf,%lf", &options.at.x(), &options.at.y(), &options.at.z());
   }
   return options;
 }
@@ -110,14 +118,16 @@ int main(int argc, char** argv) {
   sim::Simulator simulator(world, config);
   MlsMap live{MlsConfig{}};
   int scans = 0;
-  for (double t = 0.0; t < options.seconds; t += 0.1) {
+  if (!options.map.empty())
+    live = load_mls_map(options.map);
+  for (double t = 0.0; options.map.empty() && t < options.seconds; t += 0.1) {
     simulator.step(0.1);
     for (const ScanEvent& scan : simulator.take_scans()) {
       test::map_at_truth(live, scan);
       ++scans;
     }
   }
-  const Eigen::Vector3d robot = simulator.sample().truth.position;
+  const Eigen::Vector3d robot = options.map.empty() ? simulator.sample().truth.position : options.at;
 
   PatchGraphConfig graph_config{.clearance_weight = 2.0};  // the navigator's
   graph_config.unseen_gaps.max_gap = options.max_gap;

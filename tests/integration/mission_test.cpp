@@ -127,7 +127,7 @@ TEST_F(Mission, TheMapArrivesAsTilesAndAnOccupancyImage) {
   EXPECT_FALSE(tile_response[http::field::etag].empty());
 }
 
-TEST_F(Mission, DrivesToAGoalAndRefusesAnUnreachableOne) {
+TEST_F(Mission, DrivesToGoalsOnScannedGroundAndRefusesAnUnreachableOne) {
   auto op = WsClient::operator_client(port(), kTestOperatorToken);
   op->read_op("hello");
   // Stop the demo route where the robot starts, and wait for its first scan: the goal is on known ground.
@@ -146,10 +146,18 @@ TEST_F(Mission, DrivesToAGoalAndRefusesAnUnreachableOne) {
   EXPECT_LT(std::hypot(pose["x"].get<double>() + 6.0, pose["y"].get<double>() + 5.5), 0.6) << pose.dump();
   expect_schema("rest", "path", nlohmann::json::parse(http_get(port(), "/api/v1/path").body()));
 
+  // Further out, over ground the tilting laser saw only in rings: the gaps between them are inferred.
+  op->send_text(R"({"op":"set_goal","x":-6.5,"y":-1.5})");
+  op->read_op("ack");
+  const auto further = wait_for_goal(*op, id + 1, {"reached", "failed", "cancelled"});
+  ASSERT_EQ(further["phase"], "reached") << further.dump();
+  const auto there = op->read_op("pose");
+  EXPECT_LT(std::hypot(there["x"].get<double>() + 6.5, there["y"].get<double>() + 1.5), 0.6) << there.dump();
+
   // The west fence: seen, and no place to drive.
   op->send_text(R"({"op":"set_goal","x":-9.9,"y":-6})");
   op->read_op("ack");
-  const auto fence = wait_for_goal(*op, id + 1, {"reached", "failed", "cancelled"});
+  const auto fence = wait_for_goal(*op, id + 2, {"reached", "failed", "cancelled"});
   EXPECT_EQ(fence["phase"], "failed");
   EXPECT_EQ(fence["reason"], "unreachable");
 }

@@ -66,6 +66,33 @@ TEST(UnseenGaps, GapsLongerThanTheLimitStayUnseen) {
             PatchPlanStatus::no_path);
 }
 
+TEST(UnseenGaps, AGoalJustOffSeenGroundGoesToIt) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_rings(points, -3, 3, -4, 4, 0.0, 2.0);  // 1.9 m gaps: not inferred
+  map.insert_scan(points, {0, 0, 1});
+  const PatchGraph graph = test::graph_of(map);
+  const PatchPath near = plan_on_patches(graph, {-2.05, -3.95, 0}, {.x = 2.05, .y = -3.75});
+  ASSERT_TRUE(near.found()) << describe(near.status);
+  EXPECT_NEAR(near.points.back().y(), -3.75, 1e-9) << "it ends where the operator asked";
+  EXPECT_EQ(plan_on_patches(graph, {-2.05, -3.95, 0}, {.x = 2.05, .y = -3.0}).status,
+            PatchPlanStatus::goal_off_map);
+}
+
+TEST(UnseenGaps, AGoalWhereOnlyTheCeilingWasSeenStaysOnTheFloor) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_plane(points, -3, 0, -2, 2, 0.0, kSpacing);  // the floor, seen up to x = 0
+  map.insert_scan(points, {-1, 0, 1});
+  PointCloud ceiling;
+  add_plane(ceiling, -3, 3, -2, 2, 3.0, kSpacing);  // seen from below, all the way
+  map.insert_scan(ceiling, {-1, 0, 1});
+  const PatchGraph graph = test::graph_of(map);
+  const PatchPath path = plan_on_patches(graph, {-2.05, 0.05, 0}, {.x = 0.15, .y = 0.05});
+  ASSERT_TRUE(path.found()) << describe(path.status);
+  EXPECT_LT(path.points.back().z(), 0.1);
+}
+
 TEST(UnseenGaps, AWallInTheGapIsNotPlannedThrough) {
   MlsMap map(test::scene_config());
   PointCloud points;
