@@ -230,6 +230,12 @@ int serve(const ServeOptions& options) {
   mapping.start();
   localizer.start();
   navigator.start();
+  // However serve() leaves, the driver's thread stops before the pipeline it calls into is destroyed (the
+  // driver was made first, for the initial pose, so it is destroyed last).
+  struct StopDriver {
+    RobotDriver& started;
+    ~StopDriver() { started.stop(); }
+  } stop_driver{*driver};
   driver->start(std::move(outputs));
   listener->run();
   for (const auto& broadcast : broadcasts)
