@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 #include <utility>
 
@@ -44,10 +45,11 @@ ReplayDriver::ReplayDriver(Dataset dataset, ReplayOptions options)
     for (const DatasetScan& scan : scans)
       reference.push_back(*scan.reference);
     odometry = odometry_from_reference(reference, options_.noise, options_.seed);
-    odometry_from_ = options_.noise.none()
-                         ? std::string("reference poses")
-                         : fmt::format("reference poses with noise {} m/m, {} rad/m, seed {}",
-                                       options_.noise.translation, options_.noise.rotation, options_.seed);
+    odometry_from_ =
+        options_.noise.none()
+            ? std::string("reference poses")
+            : fmt::format("reference poses with noise {:.3g} m/m, {:.3g} deg/m, seed {}",
+                          options_.noise.translation, options_.noise.rotation * 180.0 / M_PI, options_.seed);
   } else {
     for (const DatasetScan& scan : scans)
       odometry.push_back(planar(*scan.odometry));

@@ -151,5 +151,33 @@ TEST(Replay, ThreeDtkScansThroughThePipeline) {
   fs::remove_all(maps);
 }
 
+TEST(Replay, NoisyOdometryFromReferencePosesIsCorrected) {
+  const fs::path data = data_dir() / "3dtk_dat";
+  if (!fs::exists(data / "scan000.3d"))
+    GTEST_SKIP() << "no 3DTK example data at " << data << " (set STRATA_DATA_DIR)";
+  const fs::path maps = temporary("3dtk-noisy-maps");
+  // Odometry made from slam6D's poses with 5 cm per metre and 3 degrees per metre of seeded drift.
+  ServerProcess server({"--replay", data.string(), "--replay-rate", "max", "--replay-odometry", "reference",
+                        "--replay-noise-translation", "0.05", "--replay-noise-rotation", "3", "--seed", "3",
+                        "--maps-dir", maps.string()});
+  WsClient client(server.port());
+  const auto status =
+      wait_for_status(client, [](const nlohmann::json& s) { return s["driver"]["finished"] == true; });
+  EXPECT_EQ(status["registration"]["scans"], 3);
+  const auto pose = nlohmann::json::parse(http_get(server.port(), "/api/v1/pose").body());
+  const double estimate_error = distance(pose, pose["truth"]);
+  const double odometry_error = distance(pose["odometry"], pose["truth"]);
+  const double estimate_yaw_error = std::abs(pose["yaw"].get<double>() - pose["truth"]["yaw"].get<double>());
+  const double odometry_yaw_error =
+      std::abs(pose["odometry"]["yaw"].get<double>() - pose["truth"]["yaw"].get<double>());
+  std::printf("3DTK scan002 with noisy odometry: estimate %.3f m / %.4f rad, odometry %.3f m / %.4f rad\n",
+              estimate_error, estimate_yaw_error, odometry_error, odometry_yaw_error);
+  EXPECT_GT(odometry_error, 0.2);  // the noise is there (measured 0.44 m, 3.3 degrees)
+  EXPECT_GT(odometry_yaw_error, 0.03);
+  EXPECT_LT(estimate_error, 0.12);  // and registration removes it, to its 10 cm offset from slam6D
+  EXPECT_LT(estimate_yaw_error, 0.01);
+  fs::remove_all(maps);
+}
+
 }  // namespace
 }  // namespace strata::testing
