@@ -170,6 +170,47 @@ TEST_F(Recording, ReplayAsFastAsPossiblePlaysEverythingInOrder) {
   EXPECT_EQ(scans[0].max_range, expected.max_range);
 }
 
+TEST_F(Recording, ReplayAtTheRecordedRatePlaysEverythingAndStops) {
+  record_run();  // 0.09 s of samples: at 10x, about 10 ms
+  ReplayOptions options;
+  options.time_scale = 10.0;
+  ReplayDriver driver(open_dataset(dir_), options);
+  std::mutex mutex;
+  std::condition_variable done;
+  std::size_t samples = 0;
+  std::size_t scans = 0;
+  bool finished = false;
+  RobotDriver::Outputs outputs;
+  outputs.on_sample = [&](const sim::RobotSample&) { ++samples; };
+  outputs.on_scan = [&](ScanEvent) { ++scans; };  // no wait_for_pipeline: a paced replay never waits
+  outputs.on_finished = [&] {
+    std::lock_guard lock(mutex);
+    finished = true;
+    done.notify_all();
+  };
+  driver.start(outputs);
+  {
+    std::unique_lock lock(mutex);
+    ASSERT_TRUE(done.wait_for(lock, std::chrono::seconds(30), [&] { return finished; }));
+  }
+  driver.stop();
+  EXPECT_EQ(samples, 12u);
+  EXPECT_EQ(scans, 2u);
+}
+
+TEST_F(Recording, StoppingAReplayEndsItEarly) {
+  record_run();
+  ReplayOptions options;
+  options.time_scale = 1e-4;  // 0.09 s of data would take 15 minutes
+  ReplayDriver driver(open_dataset(dir_), options);
+  RobotDriver::Outputs outputs;
+  outputs.on_sample = [](const sim::RobotSample&) {};
+  outputs.on_scan = [](ScanEvent) {};
+  driver.start(outputs);
+  driver.stop();  // returns at once: the wait for the next event is interrupted
+  EXPECT_FALSE(driver.finished());
+}
+
 TEST_F(Recording, OdometryFromReferencePosesIsSeededNoise) {
   record_run();
   ReplayOptions options;
