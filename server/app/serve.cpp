@@ -244,6 +244,8 @@ int serve(const ServeOptions& options) {
   const auto bound = listener->local_endpoint();
   spdlog::info("maps directory: {}", maps_dir.string());
   spdlog::info("{}: {}", driver->kind(), driver->description());
+  if (!driver->accepts_commands())
+    spdlog::info("the {} cannot move: goals are planned on its map, but nothing drives", driver->kind());
   if (recorder)
     spdlog::info("recording to {}", recorder->directory().string());
   // A plain line on stdout that scripts and tests wait for; the port is the real one (--port 0 picks).
