@@ -31,7 +31,8 @@ int main(int argc, char** argv) {
   strata::app::ServeOptions serve;
   auto* serve_cmd = app.add_subcommand(
       "serve",
-      "Run the server: web app, REST API under /api/v1 and WebSocket at /ws, with the simulated robot");
+      "Run the server: web app, REST API under /api/v1 and WebSocket at /ws, with the simulated robot or a "
+      "replayed dataset");
   serve_cmd->add_option("-p,--port", serve.port, "TCP port to listen on (0 picks a free one)")
       ->capture_default_str();
   serve_cmd
@@ -85,6 +86,42 @@ int main(int argc, char** argv) {
       ->add_option("--max-slope", serve.robot.max_slope_deg, "Steepest ground the robot drives on, degrees")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 60.0));
+  serve_cmd
+      ->add_option("--replay", serve.replay.directory,
+                   "Replay a dataset instead of simulating: a Strata recording (--record), 3DTK scanNNN.3d + "
+                   ".pose, KITTI velodyne/*.bin + poses.txt, or scans.csv listing PCD/PLY files")
+      ->check(CLI::ExistingDirectory);
+  serve_cmd
+      ->add_option(
+          "--replay-rate", serve.replay.rate,
+          "recorded: at the dataset's clock times --time-scale; max: as fast as the pipeline takes the "
+          "scans (none dropped)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"recorded", "max"}));
+  serve_cmd
+      ->add_option("--replay-odometry", serve.replay.odometry,
+                   "Replay odometry: dataset (its odometry), reference (made from its reference poses, with "
+                   "--replay-noise-*), auto (dataset if it has odometry)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "dataset", "reference"}));
+  serve_cmd
+      ->add_option(
+          "--replay-noise-translation", serve.replay.noise_translation,
+          "Odometry from reference poses: translation error per metre driven, 1-sigma (seeded by --seed)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  serve_cmd
+      ->add_option("--replay-noise-rotation", serve.replay.noise_rotation_deg,
+                   "Odometry from reference poses: heading error per metre driven, degrees, 1-sigma")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 90.0));
+  serve_cmd->add_option("--record", serve.record,
+                        "Record the scans and odometry the pipeline receives into this directory (replay "
+                        "layout), to replay the run later with --replay");
+  serve_cmd
+      ->add_option("--max-scans", serve.max_scans,
+                   "Hand at most this many scans to the pipeline, then keep serving the map (0: all)")
+      ->capture_default_str();
   std::string token_file;
   serve_cmd->add_option("--operator-token-file", token_file, "Read the operator token from this file")
       ->check(CLI::ExistingFile);

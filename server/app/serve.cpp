@@ -10,6 +10,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -17,8 +18,11 @@
 #include <thread>
 #include <vector>
 
-#include "drivers/sim/simulated_robot.hpp"
+#include "drivers/replay/recorder.hpp"
+#include "drivers/robot_driver.hpp"
 #include "drivers/sim/world/world_file.hpp"
+#include "server/app/build_info.hpp"
+#include "server/app/drivers.hpp"
 #include "server/auth/operator_token.hpp"
 #include "server/net/listener.hpp"
 #include "server/net/server_context.hpp"
@@ -95,14 +99,22 @@ int serve(const ServeOptions& options) {
   }
 
   RobotState robot_state;
-  auto world = std::make_shared<const sim::World>(load_world(options.world));
-  sim::SimulatorConfig sim_config;
-  sim_config.seed = options.seed;
-  sim_config.scanner = parse_scanner(options.scanner);
-  sim::Simulator simulator(world, sim_config);
-  // The robot is told where it starts (as an operator sets an initial pose): the map frame is the world's.
-  const Eigen::Isometry3d start = simulator.sample().truth.to_isometry();
-  const Eigen::Isometry3d map_from_odom = start * simulator.sample().odometry.to_isometry().inverse();
+  // The simulator, or a dataset replayed: where odometry and scans come from.
+  const std::unique_ptr<RobotDriver> driver = make_driver(options);
+  const Eigen::Isometry3d map_from_odom = driver->initial_map_from_odom();
+  robot_state.set_driver(DriverStatus{driver->kind(), false});
+  // --record: every sample and scan the pipeline receives, on the recorder's own thread.
+  std::unique_ptr<replay::Recorder> recorder;
+  if (!options.record.empty()) {
+    const nlohmann::json metadata{{"source", driver->kind()},
+                                  {"description", driver->description()},
+                                  {"seed", options.seed},
+                                  {"time_scale", options.time_scale},
+                                  {"world", driver->world() != nullptr ? options.world : ""},
+                                  {"scanner", driver->world() != nullptr ? options.scanner : ""},
+                                  {"strata_version", build_info::version()}};
+    recorder = std::make_unique<replay::Recorder>(options.record, metadata, map_from_odom);
+  }
   // Declared first, destroyed last: the mapping thread (its map listener) and the robot's thread (its
   // command source) call into it.
   TraversabilityConfig traversability;
@@ -127,12 +139,8 @@ int serve(const ServeOptions& options) {
   });
   // Goals are planned on the live map: the navigator copies the map's surfaces after every change.
   mapping.add_listener(navigator.map_listener());
-  sim::SimulatedRobot robot(
-      std::move(simulator), {.step_rate = 100.0, .time_scale = options.time_scale},
-      [&robot_state](const sim::RobotSample& sample) { robot_state.publish(sample); },
-      [&localizer](ScanEvent scan) { localizer.submit(std::move(scan)); });
   // The navigator drives the base once an operator sends a goal or teleop; until then the demo route.
-  robot.set_command_source(
+  driver->set_command_source(
       [&robot_state, &navigator](const sim::RobotSample& sample) -> std::optional<sim::VelocityCommand> {
         const auto snapshot = robot_state.snapshot();
         const auto command = navigator.drive(snapshot ? snapshot->estimate : sample.odometry, sample.stamp);
@@ -140,6 +148,26 @@ int serve(const ServeOptions& options) {
           return std::nullopt;
         return sim::VelocityCommand{command->v, command->w};
       });
+  std::size_t scans_taken = 0;  // on the driver's thread only
+  RobotDriver::Outputs outputs;
+  outputs.on_sample = [&robot_state, recorder = recorder.get()](const sim::RobotSample& sample) {
+    robot_state.publish(sample);
+    if (recorder != nullptr)
+      recorder->record(sample);
+  };
+  outputs.on_scan = [&localizer, &scans_taken, max_scans = options.max_scans,
+                     recorder = recorder.get()](ScanEvent scan) {
+    if (max_scans != 0 && scans_taken >= max_scans)
+      return;  // --max-scans: a run of a fixed length; the map stays as it is
+    ++scans_taken;
+    if (recorder != nullptr)
+      recorder->record(scan);
+    localizer.submit(std::move(scan));
+  };
+  outputs.wait_for_pipeline = [&localizer, &mapping] { return localizer.flush() && mapping.flush(); };
+  outputs.on_finished = [&robot_state, kind = driver->kind()] {
+    robot_state.set_driver(DriverStatus{kind, true});
+  };
 
   std::string operator_token = options.operator_token;
   if (operator_token.empty())
@@ -151,7 +179,7 @@ int serve(const ServeOptions& options) {
   services.map = &map_state;
   services.maps = &map_commands;
   services.motion = &navigator;
-  services.sim_world = &robot.world();
+  services.sim_world = driver->world();  // null for a replay: no simulated world to draw
   services.operator_token = operator_token;
   services.web_root = web_root;
   auto context = std::make_shared<net::ServerContext>(std::move(services));
@@ -202,15 +230,24 @@ int serve(const ServeOptions& options) {
   mapping.start();
   localizer.start();
   navigator.start();
-  robot.start();
+  // However serve() leaves, the driver's thread stops before the pipeline it calls into is destroyed (the
+  // driver was made first, for the initial pose, so it is destroyed last).
+  struct StopDriver {
+    RobotDriver& started;
+    ~StopDriver() { started.stop(); }
+  } stop_driver{*driver};
+  driver->start(std::move(outputs));
   listener->run();
   for (const auto& broadcast : broadcasts)
     broadcast->start();
 
   const auto bound = listener->local_endpoint();
   spdlog::info("maps directory: {}", maps_dir.string());
-  spdlog::info("simulator: world '{}', {} scanner, seed {}, time scale {}", world->description().name,
-               options.scanner, options.seed, options.time_scale);
+  spdlog::info("{}: {}", driver->kind(), driver->description());
+  if (!driver->accepts_commands())
+    spdlog::info("the {} cannot move: goals are planned on its map, but nothing drives", driver->kind());
+  if (recorder)
+    spdlog::info("recording to {}", recorder->directory().string());
   // A plain line on stdout that scripts and tests wait for; the port is the real one (--port 0 picks).
   if (options.operator_token.empty()) {
     // No token configured: one for this run, shown once to whoever started the server (not logged).
@@ -228,7 +265,8 @@ int serve(const ServeOptions& options) {
   for (auto& thread : threads)
     thread.join();
 
-  robot.stop();
+  driver->stop();
+  recorder.reset();  // writes what is queued, completes recording.json
   navigator.stop();
   localizer.stop();
   mapping.stop();

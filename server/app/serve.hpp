@@ -18,6 +18,16 @@ struct RobotParameters {
   double max_slope_deg = 15.0;  ///< steepest drivable ground
 };
 
+/// Playing a dataset instead of simulating (strata serve --replay DIR).
+struct ReplayParameters {
+  std::filesystem::path directory;  ///< empty: the simulator
+  std::string rate =
+      "recorded";  ///< "recorded" (at --time-scale) or "max" (as fast as the pipeline takes it)
+  std::string odometry = "auto";    ///< "auto", "dataset" or "reference" (with the noise below)
+  double noise_translation = 0.0;   ///< m per m driven, 1-sigma, for odometry made from reference poses
+  double noise_rotation_deg = 0.0;  ///< degrees of heading per m driven, 1-sigma
+};
+
 struct ServeOptions {
   std::string bind_address = "0.0.0.0";
   std::uint16_t port = 8080;
@@ -32,12 +42,16 @@ struct ServeOptions {
   std::string operator_token;
   std::filesystem::path maps_dir;  ///< saved maps; empty: default_maps_dir()
   RobotParameters robot;
+  ReplayParameters replay;
+  std::filesystem::path record;  ///< write the scans and odometry here (replay layout); empty: no recording
+  std::size_t max_scans = 0;     ///< hand at most this many scans to the pipeline; 0: all
 };
 
 /// The token in a file, without surrounding whitespace; throws when the file cannot be read.
 [[nodiscard]] std::string read_token_file(const std::filesystem::path& path);
 
-/// Runs the server with the simulated robot until SIGINT or SIGTERM. Returns the process exit code.
+/// Runs the server with the simulated robot or a replay until SIGINT or SIGTERM. Returns the process exit
+/// code.
 int serve(const ServeOptions& options);
 
 /// A built-in world by name, or a world file by path; throws with the choices when neither exists.

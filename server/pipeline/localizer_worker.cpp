@@ -32,6 +32,7 @@ void LocalizerWorker::stop() {
     stopping_ = true;
   }
   wake_.notify_one();
+  idle_.notify_all();
   if (thread_.joinable())
     thread_.join();
 }
@@ -49,6 +50,12 @@ void LocalizerWorker::submit(ScanEvent scan) {
   wake_.notify_one();
 }
 
+bool LocalizerWorker::flush() {
+  std::unique_lock lock(mutex_);
+  idle_.wait(lock, [this] { return stopping_ || (!pending_ && !busy_); });
+  return !stopping_;
+}
+
 void LocalizerWorker::run() {
   while (true) {
     ScanEvent scan;
@@ -60,8 +67,14 @@ void LocalizerWorker::run() {
       scan = std::move(*pending_);
       pending_.reset();
       status_.dropped = dropped_;
+      busy_ = true;
     }
     process(std::move(scan));
+    {
+      std::lock_guard lock(mutex_);
+      busy_ = false;
+    }
+    idle_.notify_all();
   }
 }
 
@@ -88,13 +101,15 @@ void LocalizerWorker::process(ScanEvent scan) {
       spdlog::info("registration rejected at t={:.1f}: {}", scan.stamp, r.assessment.message);
     }
   }
-  state_.set_correction(update.map_from_odom, true);
-  state_.set_registration(status_);
   const bool rejected = update.registration && update.correction == Correction::kNone;
   if (sink_ && !rejected) {
     const Eigen::Isometry3d map_from_sensor = update.pose * scan.sensor_to_base;
     sink_(std::move(scan), map_from_sensor);
   }
+  // Published after the scan is handed on: whoever sees the count can queue a map command (a save) knowing
+  // it runs after this scan is mapped.
+  state_.set_correction(update.map_from_odom, true);
+  state_.set_registration(status_);
 }
 
 }  // namespace strata::pipeline

@@ -37,6 +37,9 @@ class LocalizerWorker {
   void stop();
   /// Called from the driver thread; returns at once.
   void submit(ScanEvent scan);
+  /// Waits until every scan submitted so far has been registered and handed on (or dropped): what a replay
+  /// as fast as possible paces on. Returns false when the worker is stopping.
+  bool flush();
 
  private:
   void run();
@@ -48,6 +51,8 @@ class LocalizerWorker {
   RegistrationStatus status_;
   std::mutex mutex_;
   std::condition_variable wake_;
+  std::condition_variable idle_;
+  bool busy_ = false;  // a scan taken from pending_ is being processed
   std::optional<ScanEvent> pending_;
   std::size_t dropped_ = 0;
   bool stopping_ = false;

@@ -108,8 +108,8 @@ void MappingWorker::submit(ScanEvent scan, const Eigen::Isometry3d& map_from_sen
   wake_.notify_all();
 }
 
-void MappingWorker::flush() {
-  run_on_mapping_thread([] {});
+bool MappingWorker::flush() {
+  return run_on_mapping_thread([] {});
 }
 
 MappingStatus MappingWorker::status() const {

@@ -57,8 +57,9 @@ class MappingWorker final : public MapCommands {
   /// A registered scan: `scan` as the driver took it (sensor frame) and where its sensor was in the map
   /// frame. Returns at once.
   void submit(ScanEvent scan, const Eigen::Isometry3d& map_from_sensor);
-  /// Waits until everything submitted before is done (tests, tools).
-  void flush();
+  /// Waits until everything submitted before is done (tests, tools, a replay as fast as possible). False
+  /// when the worker is not running.
+  bool flush();
   [[nodiscard]] MappingStatus status() const;
 
   CommandResult save_map(const std::string& name) override;

@@ -87,7 +87,8 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
   return {{"registration", std::move(reg)},
           {"clients", extras.clients},
           {"scan_rate", extras.scan_rate},
-          {"map", std::move(map)}};
+          {"map", std::move(map)},
+          {"driver", {{"kind", extras.driver.kind}, {"finished", extras.driver.finished}}}};
 }
 
 std::string status_message(const RegistrationStatus& registration, const StatusExtras& extras) {

@@ -37,6 +37,7 @@ struct StatusExtras {
   std::size_t clients = 0;
   double scan_rate = 0.0;                  ///< scans registered per second, recent average
   std::shared_ptr<const MapSnapshot> map;  ///< null before the first map
+  DriverStatus driver;                     ///< where the scans come from
 };
 /// The body of GET /api/v1/status: registration quality and counts, scan rate, map size, clients.
 [[nodiscard]] nlohmann::json status_fields(const RegistrationStatus& registration,

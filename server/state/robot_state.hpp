@@ -32,6 +32,12 @@ struct RegistrationStatus {
   std::optional<Last> last;
 };
 
+/// Where the scans come from (the driver), for the status stream.
+struct DriverStatus {
+  std::string kind = "simulator";  ///< "simulator" or "replay"
+  bool finished = false;           ///< a replay handed on all its scans
+};
+
 /// The robot's live state at one instant: the driver's sample and the localized estimate.
 struct RobotSnapshot {
   sim::RobotSample sample;
@@ -57,6 +63,11 @@ class RobotState {
     registration_ = status;
   }
 
+  void set_driver(const DriverStatus& driver) {
+    std::lock_guard lock(mutex_);
+    driver_ = driver;
+  }
+
   [[nodiscard]] std::optional<RobotSnapshot> snapshot() const {
     std::lock_guard lock(mutex_);
     if (!latest_)
@@ -69,6 +80,10 @@ class RobotState {
     std::lock_guard lock(mutex_);
     return registration_;
   }
+  [[nodiscard]] DriverStatus driver() const {
+    std::lock_guard lock(mutex_);
+    return driver_;
+  }
 
  private:
   mutable std::mutex mutex_;
@@ -76,6 +91,7 @@ class RobotState {
   Eigen::Isometry3d map_from_odom_ = Eigen::Isometry3d::Identity();
   bool localized_ = false;
   RegistrationStatus registration_;
+  DriverStatus driver_;
 };
 
 }  // namespace strata

@@ -11,6 +11,7 @@ protocol::StatusExtras StatusStream::extras() const {
   protocol::StatusExtras extras;
   extras.clients = hub_.size();
   extras.map = map_ != nullptr ? map_->snapshot() : nullptr;
+  extras.driver = robot_.driver();
   std::lock_guard lock(mutex_);
   if (samples_.size() >= 2) {
     const double seconds =

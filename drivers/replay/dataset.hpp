@@ -1,0 +1,73 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "core/geometry/pose.hpp"
+#include "drivers/scan_event.hpp"
+
+namespace strata::replay {
+
+/// A directory that is not a dataset Strata can replay, or one with something wrong in it: says which
+/// file and what.
+class DatasetError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// The layouts a replay recognises (README.md, "Replay and recording").
+enum class DatasetLayout {
+  kRecording,  ///< Strata's own: recording.json, scans.csv, scans/NNNNNN.pcd, odometry.csv (strata serve
+               ///< --record)
+  kScanList,   ///< scans.csv listing point files (PCD, PLY, 3DTK, xyz) with stamps and poses, no
+               ///< recording.json
+  kThreeDtk,   ///< 3DTK / slam6D: scanNNN.3d + scanNNN.pose, optional scanNNN.frames as reference poses
+  kKitti,      ///< KITTI odometry: velodyne/NNNNNN.bin + poses.txt (reference), optional times.txt, calib.txt
+};
+[[nodiscard]] std::string to_string(DatasetLayout layout);
+
+/// One scan of a dataset; its points are read only when it is played (load_points).
+struct DatasetScan {
+  std::filesystem::path file;     ///< the point file
+  double stamp = 0.0;             ///< seconds, the dataset's clock
+  std::optional<Pose3> odometry;  ///< the dataset's odometry of the base at `stamp`
+  std::optional<Pose3>
+      reference;  ///< a reference pose of the base (ground truth, or an offline registration)
+  Eigen::Isometry3d sensor_to_base = Eigen::Isometry3d::Identity();
+  std::string sensor = "replay";
+  double duration = 0.0;
+  std::size_t rays = 0;    ///< 0: as many as points
+  double max_range = 0.0;  ///< readings at this range mean "no return"; 0: none
+};
+
+/// An odometry sample between scans (a recording has the full stream; other layouts have none).
+struct DatasetOdometry {
+  double stamp = 0.0;
+  Pose3 odometry;
+  std::optional<Pose3> reference;
+};
+
+struct Dataset {
+  DatasetLayout layout = DatasetLayout::kRecording;
+  std::filesystem::path directory;
+  std::vector<DatasetScan> scans;         ///< in time order
+  std::vector<DatasetOdometry> odometry;  ///< in time order; may be empty
+  /// Where the odometry frame starts in the map frame, when the dataset says (a recording does).
+  std::optional<Eigen::Isometry3d> initial_map_from_odom;
+  std::string description;  ///< for the log, e.g. "3DTK, 3 scans, reference poses from reference_slam6d_2009"
+};
+
+/// Recognises the layout of `directory` and reads its index: every list and pose file is read and checked
+/// (counts match, numbers are numbers, the point files exist), the point files themselves are not.
+/// Throws DatasetError naming what is missing or wrong.
+[[nodiscard]] Dataset open_dataset(const std::filesystem::path& directory);
+
+/// The points of one scan, in its sensor frame, as float (what a ScanEvent carries). Throws DatasetError.
+[[nodiscard]] std::vector<Eigen::Vector3f> load_points(const DatasetScan& scan);
+
+}  // namespace strata::replay

@@ -1,0 +1,180 @@
+#include "drivers/replay/replay_driver.hpp"
+
+#include <spdlog/fmt/fmt.h>
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <utility>
+
+namespace strata::replay {
+namespace {
+
+/// The pipeline takes planar wheel odometry (x, y, heading: ScanToMapLocalizer::add_scan); a dataset's
+/// 6-DoF odometry is projected onto the ground so that the pose the server publishes (the correction applied
+/// to this odometry) is the one the localizer computed. The simulator's odometry is planar already.
+Pose3 planar(const Pose3& pose) {
+  return Pose3::from_pose2(Pose2{pose.position.x(), pose.position.y(), pose.yaw});
+}
+
+}  // namespace
+
+ReplayDriver::ReplayDriver(Dataset dataset, ReplayOptions options)
+    : dataset_(std::move(dataset)), options_(options) {
+  if (!options_.as_fast_as_possible && !(options_.time_scale > 0.0))
+    throw std::invalid_argument("the replay's time scale must be positive");
+  const auto& scans = dataset_.scans;
+  const bool has_odometry =
+      std::all_of(scans.begin(), scans.end(), [](const DatasetScan& s) { return s.odometry.has_value(); });
+  const bool has_reference =
+      std::all_of(scans.begin(), scans.end(), [](const DatasetScan& s) { return s.reference.has_value(); });
+  OdometrySource source = options_.odometry;
+  if (source == OdometrySource::kAuto)
+    source = has_odometry ? OdometrySource::kDataset : OdometrySource::kReference;
+  if (source == OdometrySource::kDataset && !has_odometry)
+    throw DatasetError(dataset_.directory.string() +
+                       ": the dataset has no odometry for every scan (try the reference poses)");
+  if (source == OdometrySource::kReference && !has_reference)
+    throw DatasetError(dataset_.directory.string() + ": the dataset has no reference pose for every scan");
+
+  std::vector<Pose3> odometry;
+  if (source == OdometrySource::kReference) {
+    std::vector<Pose3> reference;
+    for (const DatasetScan& scan : scans)
+      reference.push_back(*scan.reference);
+    odometry = odometry_from_reference(reference, options_.noise, options_.seed);
+    odometry_from_ =
+        options_.noise.none()
+            ? std::string("reference poses")
+            : fmt::format("reference poses with noise {:.3g} m/m, {:.3g} deg/m, seed {}",
+                          options_.noise.translation, options_.noise.rotation * 180.0 / M_PI, options_.seed);
+  } else {
+    for (const DatasetScan& scan : scans)
+      odometry.push_back(planar(*scan.odometry));
+    odometry_from_ = "the dataset";
+  }
+
+  // The map frame: as recorded; else the reference's frame, so that estimates and reference compare;
+  // else where the odometry starts.
+  if (dataset_.initial_map_from_odom && source == OdometrySource::kDataset)
+    initial_map_from_odom_ = *dataset_.initial_map_from_odom;
+  else if (has_reference)
+    initial_map_from_odom_ =
+        scans.front().reference->to_isometry() * odometry.front().to_isometry().inverse();
+
+  const auto sample_of = [](double stamp, const Pose3& pose, const std::optional<Pose3>& reference) {
+    sim::RobotSample sample;
+    sample.stamp = stamp;
+    sample.odometry = pose;
+    sample.truth = reference.value_or(pose);  // shown as "truth": the reference when there is one
+    return sample;
+  };
+  // The odometry stream of a recording goes out between the scans; other datasets only have the scans'.
+  if (source == OdometrySource::kDataset) {
+    for (const DatasetOdometry& sample : dataset_.odometry)
+      events_.push_back(Event{sample.stamp, std::nullopt,
+                              sample_of(sample.stamp, planar(sample.odometry), sample.reference)});
+  }
+  for (std::size_t i = 0; i < scans.size(); ++i)
+    events_.push_back(Event{scans[i].stamp, i, sample_of(scans[i].stamp, odometry[i], scans[i].reference)});
+  // By time; at equal stamps, the odometry sample before the scan (as the simulator hands them on).
+  std::stable_sort(events_.begin(), events_.end(), [](const Event& a, const Event& b) {
+    if (a.stamp != b.stamp)
+      return a.stamp < b.stamp;
+    return !a.scan.has_value() && b.scan.has_value();
+  });
+}
+
+ReplayDriver::~ReplayDriver() {
+  stop();
+}
+
+std::string ReplayDriver::description() const {
+  return fmt::format("{} from {}, odometry from {}, {}", dataset_.description, dataset_.directory.string(),
+                     odometry_from_,
+                     options_.as_fast_as_possible ? std::string("as fast as possible")
+                                                  : fmt::format("time scale {}", options_.time_scale));
+}
+
+void ReplayDriver::start(Outputs outputs) {
+  if (thread_.joinable())
+    return;
+  thread_ = std::thread([this, outputs = std::move(outputs)]() mutable { run(std::move(outputs)); });
+}
+
+void ReplayDriver::stop() {
+  {
+    std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  if (thread_.joinable())
+    thread_.join();
+}
+
+bool ReplayDriver::sleep_until(std::chrono::steady_clock::time_point wall_time) {
+  std::unique_lock lock(mutex_);
+  wake_.wait_until(lock, wall_time, [this] { return stopping_; });
+  return !stopping_;
+}
+
+void ReplayDriver::run(Outputs outputs) {
+  using clock = std::chrono::steady_clock;
+  const auto started = clock::now();
+  const double first_stamp = events_.empty() ? 0.0 : events_.front().stamp;
+  std::size_t played = 0;
+  for (const Event& event : events_) {
+    {
+      std::lock_guard lock(mutex_);
+      if (stopping_)
+        return;
+    }
+    std::optional<ScanEvent> scan;
+    if (event.scan) {
+      // Read before waiting for the scan's time, so a slow file does not delay it.
+      const DatasetScan& source = dataset_.scans[*event.scan];
+      try {
+        scan.emplace();
+        scan->points = load_points(source);
+      } catch (const std::exception& error) {
+        spdlog::error("replay: skipping scan {}: {}", *event.scan, error.what());
+        ++failed_;
+        scan.reset();
+      }
+      if (scan) {
+        scan->stamp = source.stamp;
+        scan->duration = source.duration;
+        scan->sensor = source.sensor;
+        scan->sensor_to_base = source.sensor_to_base;
+        scan->odometry = event.sample.odometry;
+        scan->truth = source.reference;
+        scan->rays = source.rays != 0 ? source.rays : scan->points.size();
+        scan->max_range = source.max_range;
+      }
+    }
+    if (!options_.as_fast_as_possible) {
+      const auto due = started + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(
+                                     (event.stamp - first_stamp) / options_.time_scale));
+      if (!sleep_until(due))
+        return;
+    }
+    outputs.on_sample(event.sample);
+    if (scan) {
+      outputs.on_scan(std::move(*scan));
+      ++played;
+      // As fast as possible, but no faster than the pipeline: the localizer keeps only the newest waiting
+      // scan, so the next one waits until this one is registered and mapped.
+      if (options_.as_fast_as_possible && outputs.wait_for_pipeline && !outputs.wait_for_pipeline())
+        return;
+    }
+  }
+  finished_ = true;
+  if (outputs.on_finished)
+    outputs.on_finished();
+  spdlog::info("replay finished: {} scans played in {:.1f} s ({} unreadable); serving the map", played,
+               std::chrono::duration<double>(clock::now() - started).count(), failed_.load());
+}
+
+}  // namespace strata::replay

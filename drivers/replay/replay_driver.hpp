@@ -1,0 +1,79 @@
+#pragma once
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "drivers/replay/dataset.hpp"
+#include "drivers/replay/reference_odometry.hpp"
+#include "drivers/robot_driver.hpp"
+
+namespace strata::replay {
+
+/// Where a replay's odometry comes from.
+enum class OdometrySource {
+  kAuto,       ///< the dataset's odometry when it has one, else its reference poses
+  kDataset,    ///< the dataset's odometry (3DTK .pose, a recording's odometry.csv)
+  kReference,  ///< made from the reference poses (KITTI poses.txt, 3DTK .frames, a recording's truth), with
+               ///< noise
+};
+
+struct ReplayOptions {
+  /// Dataset seconds per wall-clock second; ignored when as_fast_as_possible.
+  double time_scale = 1.0;
+  /// Each scan as soon as the pipeline has finished the one before (none dropped), odometry without waiting.
+  bool as_fast_as_possible = false;
+  OdometrySource odometry = OdometrySource::kAuto;
+  OdometryNoise noise;     ///< only for odometry made from reference poses
+  std::uint64_t seed = 1;  ///< of the noise
+};
+
+/// Plays a dataset (open_dataset) through the RobotDriver seam on its own thread: odometry samples and scans
+/// in the dataset's time order, paced by its clock or as fast as the pipeline takes them. It cannot move:
+/// velocity commands are ignored. When everything is played it stops, and finished() turns true; the
+/// server keeps serving the map.
+class ReplayDriver final : public RobotDriver {
+ public:
+  /// Throws DatasetError when the odometry asked for is not in the dataset.
+  ReplayDriver(Dataset dataset, ReplayOptions options);
+  ~ReplayDriver() override;
+
+  [[nodiscard]] std::string kind() const override { return "replay"; }
+  [[nodiscard]] std::string description() const override;
+  [[nodiscard]] Eigen::Isometry3d initial_map_from_odom() const override { return initial_map_from_odom_; }
+  void start(Outputs outputs) override;
+  void stop() override;
+  [[nodiscard]] bool finished() const override { return finished_; }
+  /// Scans whose points could not be read (logged and skipped).
+  [[nodiscard]] std::size_t failed_scans() const { return failed_; }
+
+ private:
+  /// One thing to play: an odometry sample, or a scan (whose odometry sample goes out first).
+  struct Event {
+    double stamp = 0.0;
+    std::optional<std::size_t> scan;  ///< index into scans_, else an odometry sample
+    sim::RobotSample sample;
+  };
+  void run(Outputs outputs);
+  /// Sleeps until `wall_time`; false when stopped meanwhile.
+  bool sleep_until(std::chrono::steady_clock::time_point wall_time);
+
+  Dataset dataset_;
+  ReplayOptions options_;
+  std::string odometry_from_;
+  std::vector<Event> events_;
+  Eigen::Isometry3d initial_map_from_odom_ = Eigen::Isometry3d::Identity();
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  std::atomic<bool> finished_{false};
+  std::atomic<std::size_t> failed_{0};
+  std::thread thread_;
+};
+
+}  // namespace strata::replay

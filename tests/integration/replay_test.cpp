@@ -1,0 +1,183 @@
+// Dataset replay and recording through the real server (issue #9 items 1 and 3): a recorded simulator run
+// replayed as fast as possible builds the same map as the live run, and the 3DTK example scans replayed
+// through the whole pipeline give a map and poses corrected toward the slam6D reference.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "integration/clients.hpp"
+#include "integration/server_process.hpp"
+
+namespace strata::testing {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path temporary(const std::string& name) {
+  const fs::path path =
+      fs::temp_directory_path() / ("strata-replay-" + name + "-" + std::to_string(::getpid()));
+  fs::remove_all(path);
+  return path;
+}
+
+std::string read_bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+/// Reads status messages until `done` holds for one; returns it. Fails after many minutes of messages.
+template <typename Condition>
+nlohmann::json wait_for_status(WsClient& client, Condition done) {
+  nlohmann::json last;
+  for (int i = 0; i < 100000; ++i) {
+    const auto message = client.read(std::chrono::seconds(60));
+    if (message["op"] != "status")
+      continue;
+    last = message;
+    if (done(message))
+      return message;
+  }
+  throw std::runtime_error("the status never reached the condition; last: " + last.dump());
+}
+
+/// Saves the server's map as `name` through an operator's connection; returns the file's bytes.
+std::string save_map(WsClient& op, const fs::path& maps_dir, const std::string& name) {
+  op.send_text(R"({"op":"save_map","name":")" + name + R"(","id":"save"})");
+  const auto ack = op.read_op("ack", 100000);
+  EXPECT_EQ(ack["id"], "save");
+  return read_bytes(maps_dir / name);
+}
+
+double distance(const nlohmann::json& a, const nlohmann::json& b) {
+  return std::sqrt(std::pow(a["x"].get<double>() - b["x"].get<double>(), 2) +
+                   std::pow(a["y"].get<double>() - b["y"].get<double>(), 2) +
+                   std::pow(a["z"].get<double>() - b["z"].get<double>(), 2));
+}
+
+TEST(Replay, RecordedRunReplaysToTheSameMap) {
+  constexpr int kScans = 4;
+  const fs::path recording = temporary("recording");
+  const fs::path live_maps = temporary("live-maps");
+  const fs::path replay_maps = temporary("replay-maps");
+  std::string live_map;
+  {
+    ServerProcess live({"--world", "yard", "--scanner", "tilting", "--seed", "7", "--time-scale", "4",
+                        "--max-scans", std::to_string(kScans), "--record", recording.string(), "--maps-dir",
+                        live_maps.string()});
+    auto op = WsClient::operator_client(live.port(), kTestOperatorToken);
+    const auto status = wait_for_status(
+        *op, [](const nlohmann::json& s) { return s["registration"]["scans"].get<int>() >= kScans; });
+    EXPECT_EQ(status["driver"]["kind"], "simulator");
+    // Every scan the simulator took was registered (none replaced while the localizer was busy): the
+    // recording holds exactly what the live map was built from.
+    ASSERT_EQ(status["registration"]["scans"], kScans);
+    ASSERT_EQ(status["registration"]["dropped"], 0);
+    live_map = save_map(*op, live_maps, "live.strata");  // queued after the last scan's mapping
+    EXPECT_EQ(live.stop(), 0);
+  }
+  ASSERT_GT(live_map.size(), 1000u);
+  std::ifstream metadata_file(recording / "recording.json");
+  const auto metadata = nlohmann::json::parse(metadata_file);
+  EXPECT_EQ(metadata["finished"], true);
+  EXPECT_EQ(metadata["scans"], kScans);
+  EXPECT_EQ(metadata["errors"], 0);
+  EXPECT_EQ(metadata["dropped"], 0);
+  EXPECT_EQ(metadata["seed"], 7);
+
+  {
+    ServerProcess replay(
+        {"--replay", recording.string(), "--replay-rate", "max", "--maps-dir", replay_maps.string()});
+    auto op = WsClient::operator_client(replay.port(), kTestOperatorToken);
+    const auto status =
+        wait_for_status(*op, [](const nlohmann::json& s) { return s["driver"]["finished"] == true; });
+    EXPECT_EQ(status["driver"]["kind"], "replay");
+    EXPECT_EQ(status["registration"]["scans"], kScans);
+    EXPECT_EQ(status["registration"]["dropped"], 0);
+    // A replay has no simulated world.
+    EXPECT_EQ(http_get(replay.port(), "/api/v1/sim/world").result(), http::status::not_found);
+    const std::string replay_map = save_map(*op, replay_maps, "replay.strata");
+    // The map file holds every cell's patches (heights, variances) and versions, no clock: the same scans
+    // and odometry through the same pipeline give the same bytes.
+    EXPECT_EQ(replay_map.size(), live_map.size());
+    EXPECT_TRUE(replay_map == live_map) << "the replayed map differs from the live run's";
+  }
+  fs::remove_all(recording);
+  fs::remove_all(live_maps);
+  fs::remove_all(replay_maps);
+}
+
+TEST(Replay, ThreeDtkScansThroughThePipeline) {
+  const fs::path data = data_dir() / "3dtk_dat";
+  if (!fs::exists(data / "scan000.3d"))
+    GTEST_SKIP() << "no 3DTK example data at " << data << " (set STRATA_DATA_DIR)";
+  const fs::path maps = temporary("3dtk-maps");
+  ServerProcess server({"--replay", data.string(), "--replay-rate", "max", "--maps-dir", maps.string()});
+  WsClient client(server.port());
+  const auto status =
+      wait_for_status(client, [](const nlohmann::json& s) { return s["driver"]["finished"] == true; });
+  EXPECT_EQ(status["driver"]["kind"], "replay");
+  EXPECT_EQ(status["registration"]["scans"], 3);
+  EXPECT_EQ(status["registration"]["accepted"], 2);  // scan 0 has nothing to register against
+  EXPECT_GT(status["map"]["cells"].get<int>(), 1000);
+  EXPECT_GT(status["map"]["tiles"].get<int>(), 0);
+  EXPECT_EQ(http_get(server.port(), "/api/v1/map?format=pgm").body().substr(0, 2), "P5");
+
+  // The last pose: the estimate (odometry corrected by registration) against slam6D's reference ("truth").
+  const auto response = http_get(server.port(), "/api/v1/pose");
+  ASSERT_EQ(response.result(), http::status::ok);
+  const auto pose = nlohmann::json::parse(response.body());
+  EXPECT_EQ(pose["source"], "registration");
+  const double estimate_error = distance(pose, pose["truth"]);
+  const double odometry_error = distance(pose["odometry"], pose["truth"]);
+  std::printf("3DTK scan002: estimate %.3f m from the reference, odometry %.3f m\n", estimate_error,
+              odometry_error);
+  // Registration moved the planar odometry into 3D toward the reference: the height and the pitch of the
+  // ground the robot climbed (the odometry knows neither) are largely recovered.
+  const auto error_in = [&pose](const nlohmann::json& of, const char* field) {
+    return std::abs(of[field].get<double>() - pose["truth"][field].get<double>());
+  };
+  EXPECT_LT(estimate_error, odometry_error);
+  EXPECT_LT(error_in(pose, "z"), 0.5 * error_in(pose["odometry"], "z"));
+  EXPECT_LT(error_in(pose, "pitch"), error_in(pose["odometry"], "pitch"));
+  // Within 12 cm of slam6D's result (measured: 10.5 cm, mostly along the driving direction; the localizer
+  // lands there even from the reference poses themselves, so this is the registration's own offset from
+  // slam6D's, whose parameters are unknown; README.txt puts the reference's uncertainty at 1-4 cm).
+  EXPECT_LT(estimate_error, 0.12);
+  fs::remove_all(maps);
+}
+
+TEST(Replay, NoisyOdometryFromReferencePosesIsCorrected) {
+  const fs::path data = data_dir() / "3dtk_dat";
+  if (!fs::exists(data / "scan000.3d"))
+    GTEST_SKIP() << "no 3DTK example data at " << data << " (set STRATA_DATA_DIR)";
+  const fs::path maps = temporary("3dtk-noisy-maps");
+  // Odometry made from slam6D's poses with 5 cm per metre and 3 degrees per metre of seeded drift.
+  ServerProcess server({"--replay", data.string(), "--replay-rate", "max", "--replay-odometry", "reference",
+                        "--replay-noise-translation", "0.05", "--replay-noise-rotation", "3", "--seed", "3",
+                        "--maps-dir", maps.string()});
+  WsClient client(server.port());
+  const auto status =
+      wait_for_status(client, [](const nlohmann::json& s) { return s["driver"]["finished"] == true; });
+  EXPECT_EQ(status["registration"]["scans"], 3);
+  const auto pose = nlohmann::json::parse(http_get(server.port(), "/api/v1/pose").body());
+  const double estimate_error = distance(pose, pose["truth"]);
+  const double odometry_error = distance(pose["odometry"], pose["truth"]);
+  const double estimate_yaw_error = std::abs(pose["yaw"].get<double>() - pose["truth"]["yaw"].get<double>());
+  const double odometry_yaw_error =
+      std::abs(pose["odometry"]["yaw"].get<double>() - pose["truth"]["yaw"].get<double>());
+  std::printf("3DTK scan002 with noisy odometry: estimate %.3f m / %.4f rad, odometry %.3f m / %.4f rad\n",
+              estimate_error, estimate_yaw_error, odometry_error, odometry_yaw_error);
+  EXPECT_GT(odometry_error, 0.2);  // the noise is there (measured 0.44 m, 3.3 degrees)
+  EXPECT_GT(odometry_yaw_error, 0.03);
+  EXPECT_LT(estimate_error, 0.12);  // and registration removes it, to its 10 cm offset from slam6D
+  EXPECT_LT(estimate_yaw_error, 0.01);
+  fs::remove_all(maps);
+}
+
+}  // namespace
+}  // namespace strata::testing
