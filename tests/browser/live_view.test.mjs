@@ -54,6 +54,7 @@ test('page shows the robot moving with a live connection', async () => {
   // The first stop-and-go scan registers: the pose now rests on scan matching, and the panel says so.
   await page.locator('#loc-source', { hasText: 'scan matching' }).waitFor({ timeout: 30000 });
   await page.locator('#loc-last').filter({ hasNotText: '–' }).waitFor({ timeout: 60000 });
+  assert.equal(await page.locator('#driver').textContent(), 'simulator', 'the panel names the data source');
 
   await page.screenshot({ path: path.join(artifacts, 'live_view.png') });
   assert.deepEqual(errors, [], 'no uncaught errors in the page');

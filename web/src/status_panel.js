@@ -23,6 +23,11 @@ export class StatusPanel {
     const r = status.registration;
     field('loc-scans').textContent = `${r.scans} (${r.accepted} ok, ${r.rejected} rejected)`;
     field('scan-rate').textContent = `${(status.scan_rate * 60).toFixed(1)} / min`;
+    if (status.driver) {
+      // A replay plays a recording and cannot move; say so, and when it has played everything.
+      const finished = status.driver.finished ? ' (finished)' : '';
+      field('driver').textContent = `${status.driver.kind}${finished}`;
+    }
     if (status.map) {
       const kib = status.map.bytes / 1024;
       const patches = status.map.patches >= 10000 ? `${(status.map.patches / 1000).toFixed(0)}k` : status.map.patches;
