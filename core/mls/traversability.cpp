@@ -93,6 +93,8 @@ bool SurfaceGrid::neighbour_height(int col, int row, float height, float& out) c
 }
 
 SurfaceGrid SurfaceGrid::with_added(std::vector<std::pair<std::size_t, Surface>> added) const {
+  if (added.empty())
+    return *this;
   std::stable_sort(added.begin(), added.end(),
                    [](const auto& a, const auto& b) { return a.first < b.first; });
   SurfaceGrid copy = *this;
@@ -105,6 +107,8 @@ SurfaceGrid SurfaceGrid::with_added(std::vector<std::pair<std::size_t, Surface>>
     copy.begin_[c] = static_cast<std::uint32_t>(copy.surfaces_.size());
     copy.surfaces_.insert(copy.surfaces_.end(), surfaces_.begin() + begin_[c],
                           surfaces_.begin() + begin_[c + 1]);
+    if (next == added.end() || next->first != c)
+      continue;
     for (; next != added.end() && next->first == c; ++next)
       copy.surfaces_.push_back(next->second);
     std::stable_sort(copy.surfaces_.begin() + copy.begin_[c], copy.surfaces_.end(),

@@ -209,6 +209,10 @@ void PatchGraph::measure_clearance() {
 }
 
 std::vector<float> PatchGraph::spread(std::vector<float> distance) const {
+  // Only distances up to the widest one a plan looks at matter (the robot's radius, the comfortable
+  // clearance): stopping there keeps the search to a band along the edges instead of all open ground.
+  const auto horizon =
+      static_cast<float>(std::max(config_.robot_radius, config_.comfortable_clearance) + resolution_);
   using Item = std::pair<float, Node>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
   for (Node node = 0; node < distance.size(); ++node) {
@@ -228,7 +232,7 @@ std::vector<float> PatchGraph::spread(std::vector<float> distance) const {
       if (next == kNone)
         continue;
       const auto candidate = reached + static_cast<float>(step_length(d) * resolution_);
-      if (candidate < distance[next]) {
+      if (candidate < distance[next] && candidate <= horizon) {
         distance[next] = candidate;
         open.emplace(candidate, next);
       }

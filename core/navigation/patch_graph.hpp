@@ -56,9 +56,10 @@ class PatchGraph {
   }
   /// Whether the node is a surface the robot may drive on at all (traversable and horizontal).
   [[nodiscard]] bool traversable(Node node) const { return traversable_[node] != 0; }
-  /// Metres from the node's centre to the nearest edge of its level (something seen: a wall, a drop).
+  /// Metres from the node's centre to the nearest edge of its level (something seen: a wall, a drop);
+  /// exact up to the larger of robot_radius and comfortable_clearance, infinity beyond.
   [[nodiscard]] float clearance(Node node) const { return clearance_[node]; }
-  /// Metres from the node's centre to the nearest edge or unseen ground: at most clearance().
+  /// Metres from the node's centre to the nearest edge or unseen ground: at most clearance(), likewise.
   [[nodiscard]] float margin(Node node) const { return margin_[node]; }
   /// Whether the node's surface was inferred across an unseen gap rather than measured.
   [[nodiscard]] bool inferred(Node node) const;
