@@ -85,6 +85,14 @@ int main(int argc, char** argv) {
       ->add_option("--max-slope", serve.robot.max_slope_deg, "Steepest ground the robot drives on, degrees")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 60.0));
+  serve_cmd
+      ->add_option(
+          "--tls-cert", serve.tls_certificate,
+          "TLS certificate (PEM, may hold the chain): serve https:// and wss:// on the port and refuse "
+          "plain HTTP. Needs --tls-key")
+      ->check(CLI::ExistingFile);
+  serve_cmd->add_option("--tls-key", serve.tls_key, "The TLS certificate's private key (PEM, unencrypted)")
+      ->check(CLI::ExistingFile);
   std::string token_file;
   serve_cmd->add_option("--operator-token-file", token_file, "Read the operator token from this file")
       ->check(CLI::ExistingFile);

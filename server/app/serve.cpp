@@ -22,6 +22,7 @@
 #include "server/auth/operator_token.hpp"
 #include "server/net/listener.hpp"
 #include "server/net/server_context.hpp"
+#include "server/net/tls_context.hpp"
 #include "server/pipeline/localizer_worker.hpp"
 #include "server/pipeline/mapping_worker.hpp"
 #include "server/pipeline/navigator.hpp"
@@ -88,6 +89,13 @@ std::string read_token_file(const std::filesystem::path& path) {
 }
 
 int serve(const ServeOptions& options) {
+  // First, before anything starts: a bad certificate or key stops the server with the file's name.
+  std::shared_ptr<boost::asio::ssl::context> tls;
+  if (!options.tls_certificate.empty() || !options.tls_key.empty()) {
+    if (options.tls_certificate.empty() || options.tls_key.empty())
+      throw std::runtime_error("TLS needs both --tls-cert and --tls-key");
+    tls = net::make_tls_context(options.tls_certificate, options.tls_key);
+  }
   const std::filesystem::path web_root = options.web_root.empty() ? default_web_root() : options.web_root;
   if (!std::filesystem::exists(web_root / "index.html")) {
     spdlog::warn("no web app at {} (build it with the 'web' target); serving the API only",
@@ -159,7 +167,7 @@ int serve(const ServeOptions& options) {
                                                 options.port);
   std::shared_ptr<net::Listener> listener;
   try {
-    listener = std::make_shared<net::Listener>(io, endpoint, context);
+    listener = std::make_shared<net::Listener>(io, endpoint, context, tls);
   } catch (const boost::system::system_error& error) {
     throw std::runtime_error("cannot listen on " + options.bind_address + ":" + std::to_string(options.port) +
                              ": " + error.code().message());
@@ -209,6 +217,10 @@ int serve(const ServeOptions& options) {
 
   const auto bound = listener->local_endpoint();
   spdlog::info("maps directory: {}", maps_dir.string());
+  if (tls) {
+    spdlog::info("TLS on (certificate {}): https:// and wss:// only, plain HTTP is refused",
+                 options.tls_certificate.string());
+  }
   spdlog::info("simulator: world '{}', {} scanner, seed {}, time scale {}", world->description().name,
                options.scanner, options.seed, options.time_scale);
   // A plain line on stdout that scripts and tests wait for; the port is the real one (--port 0 picks).
@@ -217,7 +229,7 @@ int serve(const ServeOptions& options) {
     std::printf("strata: operator token for this run: %s\n", operator_token.c_str());
   }
   // Last: scripts may stop reading stdout once they have the port.
-  std::printf("strata: serving on http://%s:%u\n", bound.address().to_string().c_str(),
+  std::printf("strata: serving on %s://%s:%u\n", tls ? "https" : "http", bound.address().to_string().c_str(),
               static_cast<unsigned>(bound.port()));
   std::fflush(stdout);
 
