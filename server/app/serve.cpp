@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <boost/asio/strand.hpp>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -191,8 +193,14 @@ int serve(const ServeOptions& options) {
                                            static_cast<std::uint8_t>(protocol::Stream::kStatus))};
       }));
   if (context->map_stream) {
-    broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
-        io, context->hub, 50.0, [stream = context->map_stream.get()] { return stream->poll(); }));
+    // The map is pushed, not polled: the mapping thread posts one broadcast of what changed as soon as it
+    // publishes a snapshot (issue #7: scan-to-client latency), onto one strand so the frames go out in order.
+    mapping.on_published([strand = boost::asio::make_strand(io), context] {
+      boost::asio::post(strand, [context] {
+        for (const auto& message : context->map_stream->poll())
+          context->hub.broadcast(message);
+      });
+    });
   }
   if (context->navigation_stream) {
     broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
