@@ -15,6 +15,7 @@ namespace {
 
 namespace beast = boost::beast;
 constexpr auto kDetectTimeout = std::chrono::seconds(10);
+constexpr auto kDrainTimeout = std::chrono::seconds(5);
 
 }  // namespace
 
@@ -64,9 +65,24 @@ void DetectSession::on_plain_header(beast::error_code error, std::size_t /*bytes
                     beast::bind_front_handler(&DetectSession::on_refusal_written, shared_from_this()));
 }
 
-void DetectSession::on_refusal_written(beast::error_code /*error*/, std::size_t /*bytes*/) {
+void DetectSession::on_refusal_written(beast::error_code error, std::size_t /*bytes*/) {
+  if (error)
+    return;
   beast::error_code ignored;
   stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ignored);
+  // Read (and drop) what the client still sends, such as a request body, until it closes: closing with
+  // unread data would reset the connection, and the client could lose the answer. Bounded in time.
+  stream_.expires_after(kDrainTimeout);
+  drain();
+}
+
+void DetectSession::drain() {
+  buffer_.clear();
+  stream_.async_read_some(buffer_.prepare(4096),
+                          [self = shared_from_this()](beast::error_code error, std::size_t /*bytes*/) {
+                            if (!error)
+                              self->drain();
+                          });
 }
 
 }  // namespace strata::net

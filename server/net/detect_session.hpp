@@ -27,6 +27,7 @@ class DetectSession : public std::enable_shared_from_this<DetectSession> {
   void on_detect(boost::beast::error_code error, bool is_tls);
   void on_plain_header(boost::beast::error_code error, std::size_t bytes);
   void on_refusal_written(boost::beast::error_code error, std::size_t bytes);
+  void drain();
 
   boost::beast::tcp_stream stream_;
   boost::beast::flat_buffer buffer_;
