@@ -192,11 +192,14 @@ int serve(const ServeOptions& options) {
         return {net::OutgoingMessage::text(status->poll(), "status", 0.0,
                                            static_cast<std::uint8_t>(protocol::Stream::kStatus))};
       }));
+  // The map is pushed, not polled: the mapping thread posts one broadcast of what changed as soon as it
+  // publishes a snapshot (issue #7: scan-to-client latency), onto one strand so the frames go out in order.
+  // The callback holds references only: the strand and the context outlive the mapping thread, which is
+  // stopped below before they go, and destroying the callback must not touch the io_context.
+  auto map_strand = boost::asio::make_strand(io);
   if (context->map_stream) {
-    // The map is pushed, not polled: the mapping thread posts one broadcast of what changed as soon as it
-    // publishes a snapshot (issue #7: scan-to-client latency), onto one strand so the frames go out in order.
-    mapping.on_published([strand = boost::asio::make_strand(io), context] {
-      boost::asio::post(strand, [context] {
+    mapping.on_published([&map_strand, context = context.get()] {
+      boost::asio::post(map_strand, [context] {
         for (const auto& message : context->map_stream->poll())
           context->hub.broadcast(message);
       });
