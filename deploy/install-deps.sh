@@ -10,13 +10,14 @@ root="$(cd "$here/.." && pwd)"
 sudo_cmd=()
 if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
 
-# Build tools, the C++ libraries, and Debian's chromium for the browser tests.
+# Build tools, the C++ libraries (OpenSSL for serve's TLS), the openssl CLI (the TLS tests make a
+# self-signed certificate with it), and Debian's chromium for the browser tests.
 apt_packages=(
   build-essential cmake ninja-build pkg-config clang-format
   libeigen3-dev libboost-dev nlohmann-json3-dev libdraco-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libspdlog-dev libfmt-dev libvalijson-dev
-  libnanoflann-dev liblzf-dev libyaml-cpp-dev
+  libnanoflann-dev liblzf-dev libyaml-cpp-dev libssl-dev openssl
   chromium
 )
 

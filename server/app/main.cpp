@@ -122,6 +122,14 @@ int main(int argc, char** argv) {
       ->add_option("--max-scans", serve.max_scans,
                    "Hand at most this many scans to the pipeline, then keep serving the map (0: all)")
       ->capture_default_str();
+  serve_cmd
+      ->add_option(
+          "--tls-cert", serve.tls_certificate,
+          "TLS certificate (PEM, may hold the chain): serve https:// and wss:// on the port and refuse "
+          "plain HTTP. Needs --tls-key")
+      ->check(CLI::ExistingFile);
+  serve_cmd->add_option("--tls-key", serve.tls_key, "The TLS certificate's private key (PEM, unencrypted)")
+      ->check(CLI::ExistingFile);
   std::string token_file;
   serve_cmd->add_option("--operator-token-file", token_file, "Read the operator token from this file")
       ->check(CLI::ExistingFile);

@@ -4,7 +4,9 @@
 
 #include <algorithm>
 #include <boost/asio/io_context.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/asio/signal_set.hpp>
+#include <boost/asio/strand.hpp>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
@@ -26,6 +28,7 @@
 #include "server/auth/operator_token.hpp"
 #include "server/net/listener.hpp"
 #include "server/net/server_context.hpp"
+#include "server/net/tls_context.hpp"
 #include "server/pipeline/localizer_worker.hpp"
 #include "server/pipeline/mapping_worker.hpp"
 #include "server/pipeline/navigator.hpp"
@@ -92,6 +95,13 @@ std::string read_token_file(const std::filesystem::path& path) {
 }
 
 int serve(const ServeOptions& options) {
+  // First, before anything starts: a bad certificate or key stops the server with the file's name.
+  std::shared_ptr<boost::asio::ssl::context> tls;
+  if (!options.tls_certificate.empty() || !options.tls_key.empty()) {
+    if (options.tls_certificate.empty() || options.tls_key.empty())
+      throw std::runtime_error("TLS needs both --tls-cert and --tls-key");
+    tls = net::make_tls_context(options.tls_certificate, options.tls_key);
+  }
   const std::filesystem::path web_root = options.web_root.empty() ? default_web_root() : options.web_root;
   if (!std::filesystem::exists(web_root / "index.html")) {
     spdlog::warn("no web app at {} (build it with the 'web' target); serving the API only",
@@ -187,7 +197,7 @@ int serve(const ServeOptions& options) {
                                                 options.port);
   std::shared_ptr<net::Listener> listener;
   try {
-    listener = std::make_shared<net::Listener>(io, endpoint, context);
+    listener = std::make_shared<net::Listener>(io, endpoint, context, tls);
   } catch (const boost::system::system_error& error) {
     throw std::runtime_error("cannot listen on " + options.bind_address + ":" + std::to_string(options.port) +
                              ": " + error.code().message());
@@ -210,9 +220,18 @@ int serve(const ServeOptions& options) {
         return {net::OutgoingMessage::text(status->poll(), "status", 0.0,
                                            static_cast<std::uint8_t>(protocol::Stream::kStatus))};
       }));
+  // The map is pushed, not polled: the mapping thread posts one broadcast of what changed as soon as it
+  // publishes a snapshot (issue #7: scan-to-client latency), onto one strand so the frames go out in order.
+  // The callback holds references only: the strand and the context outlive the mapping thread, which is
+  // stopped below before they go, and destroying the callback must not touch the io_context.
+  auto map_strand = boost::asio::make_strand(io);
   if (context->map_stream) {
-    broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
-        io, context->hub, 50.0, [stream = context->map_stream.get()] { return stream->poll(); }));
+    mapping.on_published([&map_strand, context = context.get()] {
+      boost::asio::post(map_strand, [context] {
+        for (const auto& message : context->map_stream->poll())
+          context->hub.broadcast(message);
+      });
+    });
   }
   if (context->navigation_stream) {
     broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
@@ -248,13 +267,17 @@ int serve(const ServeOptions& options) {
     spdlog::info("the {} cannot move: goals are planned on its map, but nothing drives", driver->kind());
   if (recorder)
     spdlog::info("recording to {}", recorder->directory().string());
+  if (tls) {
+    spdlog::info("TLS on (certificate {}): https:// and wss:// only, plain HTTP is refused",
+                 options.tls_certificate.string());
+  }
   // A plain line on stdout that scripts and tests wait for; the port is the real one (--port 0 picks).
   if (options.operator_token.empty()) {
     // No token configured: one for this run, shown once to whoever started the server (not logged).
     std::printf("strata: operator token for this run: %s\n", operator_token.c_str());
   }
   // Last: scripts may stop reading stdout once they have the port.
-  std::printf("strata: serving on http://%s:%u\n", bound.address().to_string().c_str(),
+  std::printf("strata: serving on %s://%s:%u\n", tls ? "https" : "http", bound.address().to_string().c_str(),
               static_cast<unsigned>(bound.port()));
   std::fflush(stdout);
 

@@ -41,6 +41,10 @@ struct ServeOptions {
   /// The operator token (goals, teleop, save, load). Empty: a random one is made and printed at start.
   std::string operator_token;
   std::filesystem::path maps_dir;  ///< saved maps; empty: default_maps_dir()
+  /// TLS: a PEM certificate (chain) and its unencrypted PEM key, both or neither. With them the port
+  /// serves https:// and wss:// only and refuses plain HTTP.
+  std::filesystem::path tls_certificate;
+  std::filesystem::path tls_key;
   RobotParameters robot;
   ReplayParameters replay;
   std::filesystem::path record;  ///< write the scans and odometry here (replay layout); empty: no recording

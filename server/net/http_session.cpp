@@ -4,6 +4,7 @@
 
 #include <boost/asio/dispatch.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 #include <chrono>
 #include <utility>
 
@@ -17,28 +18,54 @@ namespace {
 
 namespace beast = boost::beast;
 constexpr auto kRequestTimeout = std::chrono::seconds(30);
+constexpr auto kTlsTimeout = std::chrono::seconds(10);  // handshake and close_notify
 constexpr std::uint64_t kMaxRequestBodyBytes = 1024 * 1024;
 
 }  // namespace
 
-HttpSession::HttpSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<ServerContext> context)
-    : stream_(std::move(socket)), context_(std::move(context)) {}
+template <class Stream>
+HttpSession<Stream>::HttpSession(Stream&& stream, beast::flat_buffer&& buffer,
+                                 std::shared_ptr<ServerContext> context)
+    : stream_(std::move(stream)), buffer_(std::move(buffer)), context_(std::move(context)) {}
 
-void HttpSession::run() {
-  boost::asio::dispatch(stream_.get_executor(),
-                        beast::bind_front_handler(&HttpSession::read_next, shared_from_this()));
+template <class Stream>
+void HttpSession<Stream>::run() {
+  const auto self = this->shared_from_this();
+  boost::asio::dispatch(stream_.get_executor(), [self] {
+    if constexpr (kIsTls<Stream>) {
+      // The detection already read the start of the ClientHello: the handshake begins with those bytes.
+      beast::get_lowest_layer(self->stream_).expires_after(kTlsTimeout);
+      self->stream_.async_handshake(boost::asio::ssl::stream_base::server, self->buffer_.data(),
+                                    beast::bind_front_handler(&HttpSession::on_handshake, self));
+    } else {
+      self->read_next();
+    }
+  });
 }
 
-void HttpSession::read_next() {
+template <class Stream>
+void HttpSession<Stream>::on_handshake(beast::error_code error, std::size_t bytes_used) {
+  if (error) {
+    // A client that does not trust the certificate ends here too: worth a line, not a warning.
+    spdlog::debug("TLS handshake failed: {}", error.message());
+    return;
+  }
+  buffer_.consume(bytes_used);
+  read_next();
+}
+
+template <class Stream>
+void HttpSession<Stream>::read_next() {
   parser_.emplace();
   parser_->body_limit(kMaxRequestBodyBytes);
   parser_->header_limit(16 * 1024);
-  stream_.expires_after(kRequestTimeout);
+  beast::get_lowest_layer(stream_).expires_after(kRequestTimeout);
   http::async_read(stream_, buffer_, *parser_,
-                   beast::bind_front_handler(&HttpSession::on_read, shared_from_this()));
+                   beast::bind_front_handler(&HttpSession::on_read, this->shared_from_this()));
 }
 
-void HttpSession::on_read(beast::error_code error, std::size_t /*bytes*/) {
+template <class Stream>
+void HttpSession<Stream>::on_read(beast::error_code error, std::size_t /*bytes*/) {
   if (error == http::error::end_of_stream)
     return shutdown();
   if (error) {
@@ -55,7 +82,8 @@ void HttpSession::on_read(beast::error_code error, std::size_t /*bytes*/) {
   write(context_->router.handle(request));
 }
 
-void HttpSession::upgrade_to_websocket() {
+template <class Stream>
+void HttpSession<Stream>::upgrade_to_websocket() {
   const HttpRequest& request = parser_->get();
   const std::string_view target = request.target();
   HttpResponse refusal;
@@ -74,9 +102,9 @@ void HttpSession::upgrade_to_websocket() {
     refusal = HttpResponse{http::status::unauthorized, request.version()};
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kUnauthorized, "the operator token is wrong");
   } else {
-    stream_.expires_never();  // the WebSocket stream has its own timeouts
+    beast::get_lowest_layer(stream_).expires_never();  // the WebSocket stream has its own timeouts
     const auto role = auth == auth::AuthOutcome::kOperator ? auth::Role::kOperator : auth::Role::kViewer;
-    std::make_shared<WebSocketSession>(stream_.release_socket(), context_, role)->run(parser_->release());
+    std::make_shared<WebSocketSession<Stream>>(std::move(stream_), context_, role)->run(parser_->release());
     return;
   }
   refusal.set(http::field::server, "strata");
@@ -86,14 +114,16 @@ void HttpSession::upgrade_to_websocket() {
   write(std::move(refusal));
 }
 
-void HttpSession::write(HttpResponse response) {
+template <class Stream>
+void HttpSession<Stream>::write(HttpResponse response) {
   response_ = std::make_shared<HttpResponse>(std::move(response));
   const bool keep_alive = response_->keep_alive();
   http::async_write(stream_, *response_,
-                    beast::bind_front_handler(&HttpSession::on_write, shared_from_this(), keep_alive));
+                    beast::bind_front_handler(&HttpSession::on_write, this->shared_from_this(), keep_alive));
 }
 
-void HttpSession::on_write(bool keep_alive, beast::error_code error, std::size_t /*bytes*/) {
+template <class Stream>
+void HttpSession<Stream>::on_write(bool keep_alive, beast::error_code error, std::size_t /*bytes*/) {
   response_.reset();
   if (error)
     return;
@@ -102,9 +132,18 @@ void HttpSession::on_write(bool keep_alive, beast::error_code error, std::size_t
   read_next();
 }
 
-void HttpSession::shutdown() {
-  beast::error_code ignored;
-  stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ignored);
+template <class Stream>
+void HttpSession<Stream>::shutdown() {
+  if constexpr (kIsTls<Stream>) {
+    beast::get_lowest_layer(stream_).expires_after(kTlsTimeout);
+    stream_.async_shutdown([self = this->shared_from_this()](beast::error_code) {});
+  } else {
+    beast::error_code ignored;
+    stream_.socket().shutdown(boost::asio::ip::tcp::socket::shutdown_send, ignored);
+  }
 }
+
+template class HttpSession<PlainStream>;
+template class HttpSession<TlsStream>;
 
 }  // namespace strata::net

@@ -8,17 +8,22 @@
 
 #include "server/net/http_types.hpp"
 #include "server/net/server_context.hpp"
+#include "server/net/transport.hpp"
 
 namespace strata::net {
 
-/// One HTTP/1.1 connection: reads requests, answers them through the router, and hands the socket to
-/// a WebSocketSession when a client upgrades on /ws. Runs on its socket's strand.
-class HttpSession : public std::enable_shared_from_this<HttpSession> {
+/// One HTTP/1.1 connection: reads requests, answers them through the router, and hands the stream to a
+/// WebSocketSession when a client upgrades on /ws. Runs on its socket's strand. Over TLS it first
+/// completes the server handshake and ends with a TLS close_notify; the rest is the same code.
+template <class Stream>
+class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
  public:
-  HttpSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<ServerContext> context);
+  /// `buffer`: bytes already read from the connection (by the TLS detection), used before reading more.
+  HttpSession(Stream&& stream, boost::beast::flat_buffer&& buffer, std::shared_ptr<ServerContext> context);
   void run();
 
  private:
+  void on_handshake(boost::beast::error_code error, std::size_t bytes_used);
   void read_next();
   void on_read(boost::beast::error_code error, std::size_t bytes);
   void upgrade_to_websocket();
@@ -26,11 +31,14 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   void on_write(bool keep_alive, boost::beast::error_code error, std::size_t bytes);
   void shutdown();
 
-  boost::beast::tcp_stream stream_;
+  Stream stream_;
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<ServerContext> context_;
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<HttpResponse> response_;  // kept alive until its async_write completes
 };
+
+extern template class HttpSession<PlainStream>;
+extern template class HttpSession<TlsStream>;
 
 }  // namespace strata::net

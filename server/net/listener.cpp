@@ -6,13 +6,14 @@
 #include <boost/asio/strand.hpp>
 #include <utility>
 
+#include "server/net/detect_session.hpp"
 #include "server/net/http_session.hpp"
 
 namespace strata::net {
 
 Listener::Listener(boost::asio::io_context& io, const boost::asio::ip::tcp::endpoint& endpoint,
-                   std::shared_ptr<ServerContext> context)
-    : io_(io), acceptor_(boost::asio::make_strand(io)), context_(std::move(context)) {
+                   std::shared_ptr<ServerContext> context, std::shared_ptr<boost::asio::ssl::context> tls)
+    : io_(io), acceptor_(boost::asio::make_strand(io)), context_(std::move(context)), tls_(std::move(tls)) {
   acceptor_.open(endpoint.protocol());
   acceptor_.set_option(boost::asio::socket_base::reuse_address(true));
   acceptor_.bind(endpoint);
@@ -39,8 +40,12 @@ void Listener::accept_next() {
           if (error == boost::asio::error::operation_aborted)
             return;
           spdlog::warn("accept failed: {}", error.message());
+        } else if (self->tls_) {
+          std::make_shared<DetectSession>(std::move(socket), self->tls_, self->context_)->run();
         } else {
-          std::make_shared<HttpSession>(std::move(socket), self->context_)->run();
+          std::make_shared<HttpSession<PlainStream>>(PlainStream(std::move(socket)),
+                                                     boost::beast::flat_buffer(), self->context_)
+              ->run();
         }
         self->accept_next();
       });

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include <boost/asio/post.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 #include <chrono>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -47,15 +48,17 @@ bool accepts_subprotocol(std::string_view offered) {
   return false;
 }
 
-WebSocketSession::WebSocketSession(boost::asio::ip::tcp::socket&& socket,
-                                   std::shared_ptr<ServerContext> context, auth::Role role)
-    : ws_(std::move(socket)),
+template <class Stream>
+WebSocketSession<Stream>::WebSocketSession(Stream&& stream, std::shared_ptr<ServerContext> context,
+                                           auth::Role role)
+    : ws_(std::move(stream)),
       context_(std::move(context)),
       role_(role),
       queue_(kSendQueueCapacity),
       limiter_(kMessagesPerSecond, kMessageBurst) {}
 
-WebSocketSession::~WebSocketSession() {
+template <class Stream>
+WebSocketSession<Stream>::~WebSocketSession() {
   context_->hub.leave(this);
   // A dropped connection stops the robot it was driving by hand (ARCHITECTURE.md 6).
   if (teleoperating_ && context_->services.motion != nullptr)
@@ -64,7 +67,8 @@ WebSocketSession::~WebSocketSession() {
     spdlog::info("websocket client left ({} connected)", context_->hub.size());
 }
 
-void WebSocketSession::run(HttpRequest request) {
+template <class Stream>
+void WebSocketSession<Stream>::run(HttpRequest request) {
   auto timeouts = websocket::stream_base::timeout::suggested(beast::role_type::server);
   // Pings at half the idle time: a client that stops answering (gone, or not reading) is dropped.
   timeouts.idle_timeout = std::chrono::seconds(20);
@@ -77,10 +81,12 @@ void WebSocketSession::run(HttpRequest request) {
     if (echo_subprotocol)
       response.set(http::field::sec_websocket_protocol, protocol::kSubprotocol);
   }));
-  ws_.async_accept(request, beast::bind_front_handler(&WebSocketSession::on_accept, shared_from_this()));
+  ws_.async_accept(request,
+                   beast::bind_front_handler(&WebSocketSession::on_accept, this->shared_from_this()));
 }
 
-void WebSocketSession::on_accept(beast::error_code error) {
+template <class Stream>
+void WebSocketSession<Stream>::on_accept(beast::error_code error) {
   if (error) {
     spdlog::warn("websocket handshake failed: {}", error.message());
     return;
@@ -90,7 +96,7 @@ void WebSocketSession::on_accept(beast::error_code error) {
   // Join the live streams first, then queue the current state, all in this one handler on the strand:
   // broadcasts reach us as posted handlers, so they queue after the state, and a frame that is in both
   // is dropped as stale by the queue (same order). Nothing is missed between snapshot and joining.
-  context_->hub.join(shared_from_this());
+  context_->hub.join(this->shared_from_this());
   enqueue(
       OutgoingMessage::text(protocol::hello_message(role_ == auth::Role::kOperator ? "operator" : "viewer")));
   if (!context_->sim_world_message.empty())
@@ -110,11 +116,13 @@ void WebSocketSession::on_accept(beast::error_code error) {
   read_next();
 }
 
-void WebSocketSession::read_next() {
-  ws_.async_read(buffer_, beast::bind_front_handler(&WebSocketSession::on_read, shared_from_this()));
+template <class Stream>
+void WebSocketSession<Stream>::read_next() {
+  ws_.async_read(buffer_, beast::bind_front_handler(&WebSocketSession::on_read, this->shared_from_this()));
 }
 
-void WebSocketSession::on_read(beast::error_code error, std::size_t /*bytes*/) {
+template <class Stream>
+void WebSocketSession<Stream>::on_read(beast::error_code error, std::size_t /*bytes*/) {
   if (error) {
     if (error == websocket::error::message_too_big) {
       spdlog::warn("websocket client sent a message over {} bytes; closing",
@@ -141,7 +149,8 @@ void WebSocketSession::on_read(beast::error_code error, std::size_t /*bytes*/) {
   read_next();
 }
 
-void WebSocketSession::handle_client_message(std::string_view text) {
+template <class Stream>
+void WebSocketSession<Stream>::handle_client_message(std::string_view text) {
   const auto parsed = protocol::parse_client_message(text);
   if (!parsed.request) {
     context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
@@ -159,8 +168,9 @@ void WebSocketSession::handle_client_message(std::string_view text) {
   handle_request(*parsed.request, parsed.op, parsed.id);
 }
 
-void WebSocketSession::handle_request(const protocol::ClientRequest& request, std::string_view op,
-                                      const nlohmann::json& id) {
+template <class Stream>
+void WebSocketSession<Stream>::handle_request(const protocol::ClientRequest& request, std::string_view op,
+                                              const nlohmann::json& id) {
   MotionCommands* motion = context_->services.motion;
   MapCommands* maps = context_->services.maps;
   const auto unavailable = [&](std::string_view what) {
@@ -210,7 +220,9 @@ void WebSocketSession::handle_request(const protocol::ClientRequest& request, st
       request);
 }
 
-void WebSocketSession::reply(const CommandResult& result, std::string_view op, const nlohmann::json& id) {
+template <class Stream>
+void WebSocketSession<Stream>::reply(const CommandResult& result, std::string_view op,
+                                     const nlohmann::json& id) {
   if (result.ok) {
     enqueue(OutgoingMessage::text(protocol::ack_message(op, id)));
     return;
@@ -219,13 +231,16 @@ void WebSocketSession::reply(const CommandResult& result, std::string_view op, c
   enqueue(OutgoingMessage::text(protocol::error_message(result.code, result.message, op, id)));
 }
 
-void WebSocketSession::send(OutgoingMessage message) {
-  boost::asio::post(ws_.get_executor(), [self = shared_from_this(), message = std::move(message)]() mutable {
-    self->enqueue(std::move(message));
-  });
+template <class Stream>
+void WebSocketSession<Stream>::send(OutgoingMessage message) {
+  boost::asio::post(ws_.get_executor(),
+                    [self = this->shared_from_this(), message = std::move(message)]() mutable {
+                      self->enqueue(std::move(message));
+                    });
 }
 
-void WebSocketSession::enqueue(OutgoingMessage message) {
+template <class Stream>
+void WebSocketSession<Stream>::enqueue(OutgoingMessage message) {
   if (!open_)
     return;
   if (message.stream != 0 && (message.stream & streams_) == 0)
@@ -237,7 +252,8 @@ void WebSocketSession::enqueue(OutgoingMessage message) {
   write_next();
 }
 
-void WebSocketSession::drop_client(std::string_view why) {
+template <class Stream>
+void WebSocketSession<Stream>::drop_client(std::string_view why) {
   spdlog::warn("websocket client is not keeping up ({}); disconnecting", why);
   context_->metrics.ws_slow_dropped.fetch_add(1, std::memory_order_relaxed);
   open_ = false;
@@ -246,17 +262,19 @@ void WebSocketSession::drop_client(std::string_view why) {
   beast::get_lowest_layer(ws_).socket().close(ignored);
 }
 
-void WebSocketSession::write_next() {
+template <class Stream>
+void WebSocketSession<Stream>::write_next() {
   const OutgoingMessage* next = queue_.start_write();
   if (next == nullptr)
     return;
   write_started_ = std::chrono::steady_clock::now();
   ws_.binary(next->binary);
   ws_.async_write(boost::asio::buffer(*next->payload),
-                  beast::bind_front_handler(&WebSocketSession::on_write, shared_from_this()));
+                  beast::bind_front_handler(&WebSocketSession::on_write, this->shared_from_this()));
 }
 
-void WebSocketSession::on_write(beast::error_code error, std::size_t bytes) {
+template <class Stream>
+void WebSocketSession<Stream>::on_write(beast::error_code error, std::size_t bytes) {
   queue_.finish_write();
   if (error) {
     open_ = false;
@@ -265,5 +283,8 @@ void WebSocketSession::on_write(beast::error_code error, std::size_t bytes) {
   context_->metrics.ws_bytes_out.fetch_add(bytes, std::memory_order_relaxed);
   write_next();
 }
+
+template class WebSocketSession<PlainStream>;
+template class WebSocketSession<TlsStream>;
 
 }  // namespace strata::net

@@ -13,17 +13,20 @@
 #include "server/net/rate_limiter.hpp"
 #include "server/net/send_queue.hpp"
 #include "server/net/server_context.hpp"
+#include "server/net/transport.hpp"
 #include "server/protocol/client_messages.hpp"
 
 namespace strata::net {
 
 /// One WebSocket client on /ws. Everything runs on the session's strand (the executor of its socket);
 /// outgoing messages wait in a bounded, coalescing SendQueue with one write in flight. The client's role
-/// (viewer or operator) is fixed at the upgrade; its subscriptions filter what it is sent.
-class WebSocketSession : public ClientConnection, public std::enable_shared_from_this<WebSocketSession> {
+/// (viewer or operator) is fixed at the upgrade; its subscriptions filter what it is sent. `Stream` is the
+/// HTTP session's stream it takes over: PlainStream, or TlsStream (wss://, the handshake already done).
+template <class Stream>
+class WebSocketSession : public ClientConnection,
+                         public std::enable_shared_from_this<WebSocketSession<Stream>> {
  public:
-  WebSocketSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<ServerContext> context,
-                   auth::Role role);
+  WebSocketSession(Stream&& stream, std::shared_ptr<ServerContext> context, auth::Role role);
   ~WebSocketSession() override;
 
   /// Completes the upgrade `request` asked for, then starts streaming.
@@ -42,7 +45,7 @@ class WebSocketSession : public ClientConnection, public std::enable_shared_from
   void write_next();
   void on_write(boost::beast::error_code error, std::size_t bytes);
 
-  boost::beast::websocket::stream<boost::beast::tcp_stream> ws_;
+  boost::beast::websocket::stream<Stream> ws_;
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<ServerContext> context_;
   auth::Role role_;
@@ -53,6 +56,9 @@ class WebSocketSession : public ClientConnection, public std::enable_shared_from
   bool open_ = false;
   bool teleoperating_ = false;
 };
+
+extern template class WebSocketSession<PlainStream>;
+extern template class WebSocketSession<TlsStream>;
 
 /// Whether an upgrade request's Sec-WebSocket-Protocol list is acceptable: absent, or naming ours.
 [[nodiscard]] bool accepts_subprotocol(std::string_view offered);

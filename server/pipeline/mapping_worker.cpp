@@ -137,7 +137,19 @@ void MappingWorker::run() {
   }
 }
 
+namespace {
+
+double wall_clock_now() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
 void MappingWorker::map_scan(const Scan& scan) {
+  // How long the scan took to get here since it reached the pipeline: the localizer (preprocessing,
+  // registration) and this queue. Logged with the mapping's own times: the scan-to-client latency budget.
+  const double waited_ms =
+      scan.event.received_at > 0.0 ? (wall_clock_now() - scan.event.received_at) * 1e3 : 0.0;
   const Eigen::Isometry3d map_from_base = scan.map_from_sensor * scan.event.sensor_to_base.inverse();
   const PointCloud points = transformed(points_in_base(scan.event, options_.min_range), map_from_base);
   MappingTimes times;
@@ -148,21 +160,24 @@ void MappingWorker::map_scan(const Scan& scan) {
     spdlog::error("mapping: scan at t={:.1f} not mapped: {}", scan.event.stamp, error.what());
     return;
   }
-  spdlog::debug(
-      "mapped scan at t={:.1f}: {} points, {} tiles changed; insert {:.1f} ms, drivable {:.1f} ms, tiles "
-      "{:.1f} ms, png {:.1f} ms",
-      scan.event.stamp, points.size(), times.changed_tiles, times.insert_ms, times.drivable_ms,
-      times.tiles_ms, times.png_ms);
   {
     std::lock_guard lock(mutex_);
     ++status_.scans;
     status_.last = times;
   }
   publish();
+  spdlog::debug(
+      "mapped scan at t={:.1f}: {} points, {} tiles changed; reached mapping {:.1f} ms after receipt; insert "
+      "{:.1f} ms, drivable {:.1f} ms, tiles {:.1f} ms, png {:.1f} ms; published {:.1f} ms after receipt",
+      scan.event.stamp, points.size(), times.changed_tiles, waited_ms, times.insert_ms, times.drivable_ms,
+      times.tiles_ms, times.png_ms,
+      scan.event.received_at > 0.0 ? (wall_clock_now() - scan.event.received_at) * 1e3 : 0.0);
 }
 
 void MappingWorker::publish() {
   state_.publish(live_.snapshot());
+  if (on_published_)
+    on_published_();
   const DrivableMap* drivable = live_.drivable();
   if (drivable == nullptr || !live_.robot_ground())
     return;

@@ -50,6 +50,10 @@ class MappingWorker final : public MapCommands {
 
   /// Listeners are added before start(); they run on the mapping thread after every map change.
   void add_listener(MapUpdateListener listener);
+  /// Set before start(): called on the mapping thread right after each new snapshot is in MapState (every
+  /// mapped scan, every load), so the network side can send it at once instead of polling for it. Must
+  /// return at once (post to an executor).
+  void on_published(std::function<void()> callback) { on_published_ = std::move(callback); }
   void start();
   /// Finishes the scan or command under way, abandons waiting scans, fails waiting commands.
   void stop();
@@ -88,6 +92,7 @@ class MappingWorker final : public MapCommands {
   MappingOptions options_;
   LiveMap live_;  // mapping thread only
   std::vector<MapUpdateListener> listeners_;
+  std::function<void()> on_published_;
 
   mutable std::mutex mutex_;
   mutable std::condition_variable wake_;

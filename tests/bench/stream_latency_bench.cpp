@@ -127,6 +127,7 @@ int main(int argc, char** argv) {
                          {{"samples", samples.tile_ms.size()},
                           {"p50_ms", percentile(samples.tile_ms, 0.50)},
                           {"p95_ms", percentile(samples.tile_ms, 0.95)},
+                          {"p99_ms", percentile(samples.tile_ms, 0.99)},
                           {"max_ms", percentile(samples.tile_ms, 1.0)},
                           {"tiles_received", samples.tiles},
                           {"tile_bytes_received", samples.tile_bytes}}}};

@@ -1,16 +1,19 @@
 #pragma once
 
-// Real clients for integration tests: a plain HTTP client and a WebSocket client over loopback TCP,
-// both from Boost.Beast, talking to the strata process exactly as a user's script would.
+// Real clients for integration tests: an HTTP client and a WebSocket client over loopback TCP, plain or
+// TLS (https://, wss://), all from Boost.Beast, talking to the strata process exactly as a user's script
+// would. The TLS variants verify the server's certificate against one trusted certificate file.
 
 #include <gtest/gtest.h>
 
 #include <boost/asio/connect.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/asio/ssl.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/http.hpp>
 #include <boost/beast/websocket.hpp>
+#include <boost/beast/websocket/ssl.hpp>
 #include <chrono>
 #include <cstdint>
 #include <memory>
@@ -18,6 +21,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "integration/protocol_schemas.hpp"
@@ -27,7 +31,9 @@ namespace strata::testing {
 namespace beast = boost::beast;
 namespace http = beast::http;
 namespace websocket = beast::websocket;
+namespace ssl = boost::asio::ssl;
 using tcp = boost::asio::ip::tcp;
+using TlsSocket = ssl::stream<tcp::socket>;
 
 struct Timeout : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -46,52 +52,96 @@ inline void expect_schema(const std::string& group, const std::string& name, con
                                   << violations;
 }
 
-inline http::response<http::string_body> http_request(std::uint16_t port, http::verb method,
-                                                      const std::string& target, std::string body = {},
-                                                      const std::string& token = {}) {
-  boost::asio::io_context io;
-  tcp::socket socket(io);
-  socket.connect({boost::asio::ip::make_address("127.0.0.1"), port});
+/// A TLS client context trusting exactly the certificate in `certificate_file` (PEM), for servers started
+/// with that certificate: the handshake fails unless the server presents it.
+inline std::shared_ptr<ssl::context> trusting(const std::string& certificate_file) {
+  auto context = std::make_shared<ssl::context>(ssl::context::tls_client);
+  context->load_verify_file(certificate_file);
+  context->set_verify_mode(ssl::verify_peer);
+  return context;
+}
+
+/// Connects `stream` to 127.0.0.1:`port`: a TCP socket, or a TLS stream, which then also does its client
+/// handshake, verifying the server's certificate for 127.0.0.1 against what its context trusts. Throws
+/// beast::system_error when it cannot connect or the certificate is not trusted.
+template <class Stream>
+void open_stream(Stream& stream, std::uint16_t port) {
+  beast::get_lowest_layer(stream).connect({boost::asio::ip::make_address("127.0.0.1"), port});
+  if constexpr (std::is_same_v<Stream, TlsSocket>) {
+    stream.set_verify_callback(ssl::host_name_verification("127.0.0.1"));
+    stream.handshake(ssl::stream_base::client);
+  }
+}
+
+/// One request on a fresh connection over `stream` (unconnected), the response read to its end.
+template <class Stream>
+http::response<http::string_body> http_exchange(Stream& stream, std::uint16_t port, http::verb method,
+                                                const std::string& target, std::string body,
+                                                const std::string& token) {
+  open_stream(stream, port);
   http::request<http::string_body> request{method, target, 11};
   request.set(http::field::host, "127.0.0.1");
   if (!token.empty())
     request.set(http::field::authorization, "Bearer " + token);
   request.body() = std::move(body);
   request.prepare_payload();
-  http::write(socket, request);
+  http::write(stream, request);
   beast::flat_buffer buffer;
   http::response<http::string_body> response;
-  http::read(socket, buffer, response);
+  http::read(stream, buffer, response);
   beast::error_code ignored;
-  socket.shutdown(tcp::socket::shutdown_both, ignored);
+  beast::get_lowest_layer(stream).shutdown(tcp::socket::shutdown_both, ignored);
   return response;
+}
+
+inline http::response<http::string_body> http_request(std::uint16_t port, http::verb method,
+                                                      const std::string& target, std::string body = {},
+                                                      const std::string& token = {}) {
+  boost::asio::io_context io;
+  tcp::socket socket(io);
+  return http_exchange(socket, port, method, target, std::move(body), token);
 }
 
 inline http::response<http::string_body> http_get(std::uint16_t port, const std::string& target) {
   return http_request(port, http::verb::get, target);
 }
 
-/// A WebSocket client on /ws that reads JSON messages with a timeout.
-class WsClient {
+/// The same request over TLS, trusting `tls`.
+inline http::response<http::string_body> https_request(ssl::context& tls, std::uint16_t port,
+                                                       http::verb method, const std::string& target,
+                                                       std::string body = {}, const std::string& token = {}) {
+  boost::asio::io_context io;
+  TlsSocket stream(io, tls);
+  return http_exchange(stream, port, method, target, std::move(body), token);
+}
+
+/// A WebSocket client on /ws that reads JSON messages with a timeout: WsClient over TCP (ws://), WssClient
+/// over TLS (wss://).
+template <class Stream>
+class BasicWsClient {
  public:
+  static constexpr bool kTls = std::is_same_v<Stream, TlsSocket>;
+
   /// Throws beast::system_error when the handshake is refused.
-  explicit WsClient(std::uint16_t port, std::string subprotocol = "strata.v1", std::string target = "/ws",
-                    std::string authorization = {})
+  explicit BasicWsClient(std::uint16_t port, std::string subprotocol = "strata.v1",
+                         std::string target = "/ws", std::string authorization = {}) requires(!kTls)
       : ws_(io_) {
-    ws_.next_layer().connect({boost::asio::ip::make_address("127.0.0.1"), port});
-    ws_.set_option(
-        websocket::stream_base::decorator([subprotocol, authorization](websocket::request_type& request) {
-          if (!subprotocol.empty())
-            request.set(http::field::sec_websocket_protocol, subprotocol);
-          if (!authorization.empty())
-            request.set(http::field::authorization, authorization);
-        }));
-    ws_.handshake(response_, "127.0.0.1", target);
+    handshake(port, subprotocol, target, authorization);
+  }
+  /// Over TLS, trusting `tls`.
+  BasicWsClient(ssl::context& tls, std::uint16_t port, std::string subprotocol = "strata.v1",
+                std::string target = "/ws", std::string authorization = {}) requires kTls : ws_(io_, tls) {
+    handshake(port, subprotocol, target, authorization);
   }
 
   /// An operator's connection: the token as a second subprotocol, as the browser sends it.
-  static std::unique_ptr<WsClient> operator_client(std::uint16_t port, const std::string& token) {
-    return std::make_unique<WsClient>(port, "strata.v1, strata.token." + token);
+  static std::unique_ptr<BasicWsClient> operator_client(std::uint16_t port,
+                                                        const std::string& token) requires(!kTls) {
+    return std::make_unique<BasicWsClient>(port, "strata.v1, strata.token." + token);
+  }
+  static std::unique_ptr<BasicWsClient> operator_client(ssl::context& tls, std::uint16_t port,
+                                                        const std::string& token) requires kTls {
+    return std::make_unique<BasicWsClient>(tls, port, "strata.v1, strata.token." + token);
   }
 
   /// One frame as it came: text or binary.
@@ -110,7 +160,7 @@ class WsClient {
     io_.run_for(timeout);
     if (!result) {
       beast::error_code ignored;
-      ws_.next_layer().close(ignored);
+      beast::get_lowest_layer(ws_).close(ignored);
       io_.restart();
       io_.run();
       throw Timeout("no WebSocket message within the timeout");
@@ -171,10 +221,26 @@ class WsClient {
   }
 
  private:
+  void handshake(std::uint16_t port, const std::string& subprotocol, const std::string& target,
+                 const std::string& authorization) {
+    open_stream(ws_.next_layer(), port);
+    ws_.set_option(
+        websocket::stream_base::decorator([subprotocol, authorization](websocket::request_type& request) {
+          if (!subprotocol.empty())
+            request.set(http::field::sec_websocket_protocol, subprotocol);
+          if (!authorization.empty())
+            request.set(http::field::authorization, authorization);
+        }));
+    ws_.handshake(response_, "127.0.0.1", target);
+  }
+
   boost::asio::io_context io_;
-  websocket::stream<tcp::socket> ws_;
+  websocket::stream<Stream> ws_;
   websocket::response_type response_;
   std::vector<std::string> binary_frames_;
 };
+
+using WsClient = BasicWsClient<tcp::socket>;
+using WssClient = BasicWsClient<TlsSocket>;
 
 }  // namespace strata::testing

@@ -74,7 +74,7 @@ ServerProcess::ServerProcess(std::vector<std::string> extra_args) {
   close(pipe_fds[1]);
 
   // The server prints one line on stdout once it listens; wait for it and read the real port.
-  const std::regex serving(R"(strata: serving on http://127\.0\.0\.1:(\d+))");
+  const std::regex serving(R"(strata: serving on (https?)://127\.0\.0\.1:(\d+))");
   std::string output;
   std::smatch match;
   const auto deadline = Clock::now() + std::chrono::seconds(60);
@@ -86,7 +86,8 @@ ServerProcess::ServerProcess(std::vector<std::string> extra_args) {
     }
   }
   close(pipe_fds[0]);  // nothing else is printed on stdout
-  port_ = static_cast<std::uint16_t>(std::stoi(match[1]));
+  scheme_ = match[1];
+  port_ = static_cast<std::uint16_t>(std::stoi(match[2]));
 }
 
 long ServerProcess::resident_kib() const {

@@ -24,6 +24,8 @@ class ServerProcess {
   ServerProcess& operator=(const ServerProcess&) = delete;
 
   [[nodiscard]] std::uint16_t port() const { return port_; }
+  /// What the server announced it serves: "http", or "https" with TLS.
+  [[nodiscard]] const std::string& scheme() const { return scheme_; }
   [[nodiscard]] pid_t pid() const { return pid_; }
   /// The process's resident memory (VmRSS), KiB.
   [[nodiscard]] long resident_kib() const;
@@ -33,6 +35,7 @@ class ServerProcess {
  private:
   pid_t pid_ = -1;
   std::uint16_t port_ = 0;
+  std::string scheme_;
 };
 
 struct CommandResult {

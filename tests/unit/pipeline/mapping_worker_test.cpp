@@ -61,6 +61,9 @@ TEST(MappingWorker, SimulatedScansBuildTilesAndAnOccupancyAroundTheRobot) {
     started.push_back(update.drivable.start_found);
     EXPECT_EQ(update.version, update.map.version());
   });
+  // The push to the map stream: told after every scan, with the new snapshot already in MapState.
+  std::vector<std::uint64_t> published;
+  worker.on_published([&] { published.push_back(state.snapshot() ? state.snapshot()->version : 0); });
   worker.start();
   EXPECT_EQ(state.snapshot(), nullptr) << "nothing before the first scan";
 
@@ -114,8 +117,10 @@ TEST(MappingWorker, SimulatedScansBuildTilesAndAnOccupancyAroundTheRobot) {
   EXPECT_NEAR(snapshot.occupancy->level_z, robot.z(), 0.2);
 
   ASSERT_EQ(heard.size(), campus_scans().size());
+  ASSERT_EQ(published.size(), campus_scans().size());
   for (std::size_t i = 0; i < heard.size(); ++i) {
     EXPECT_EQ(heard[i], i + 1);
+    EXPECT_EQ(published[i], i + 1);
     EXPECT_TRUE(started[i]);
   }
 }
