@@ -200,6 +200,7 @@ TEST(Lidar, LiveLidarMapsThePacketsItReceives) {
       std::this_thread::sleep_for(100ms);
   }
   print_summary("live hdl32e over loopback", status);
+  expect_schema("rest", "status", status);
   EXPECT_GE(status["registration"]["scans"].get<int>(), 3);
   EXPECT_GT(status["map"]["cells"].get<int>(), 1000);
   EXPECT_GT(status["map"]["tiles"].get<int>(), 0);
