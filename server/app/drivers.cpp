@@ -2,8 +2,13 @@
 
 #include <spdlog/fmt/fmt.h>
 
+#include <Eigen/Geometry>
+#include <cmath>
+#include <sstream>
 #include <stdexcept>
+#include <vector>
 
+#include "drivers/lidar/lidar_drivers.hpp"
 #include "drivers/replay/replay_driver.hpp"
 #include "drivers/sim/simulator_driver.hpp"
 
@@ -46,9 +51,74 @@ std::unique_ptr<RobotDriver> make_simulator(const ServeOptions& options) {
       sim::SimulatedRobotConfig{.step_rate = 100.0, .time_scale = options.time_scale}, description);
 }
 
+/// --lidar-mount "x,y,z[,roll,pitch,yaw]" (m, degrees): the sensor's pose on the base.
+Eigen::Isometry3d parse_mount(const std::string& text) {
+  std::vector<double> values;
+  std::stringstream stream(text);
+  std::string item;
+  while (std::getline(stream, item, ',')) {
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(value))
+      throw std::runtime_error("--lidar-mount '" + text + "': '" + item + "' is not a number");
+    values.push_back(value);
+  }
+  if (values.size() != 3 && values.size() != 6)
+    throw std::runtime_error("--lidar-mount '" + text +
+                             "': expected x,y,z or x,y,z,roll,pitch,yaw (m, degrees)");
+  values.resize(6, 0.0);
+  const double to_radians = 3.14159265358979323846 / 180.0;
+  Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
+  mount.translation() = Eigen::Vector3d(values[0], values[1], values[2]);
+  mount.linear() = (Eigen::AngleAxisd(values[5] * to_radians, Eigen::Vector3d::UnitZ()) *
+                    Eigen::AngleAxisd(values[4] * to_radians, Eigen::Vector3d::UnitY()) *
+                    Eigen::AngleAxisd(values[3] * to_radians, Eigen::Vector3d::UnitX()))
+                       .toRotationMatrix();
+  return mount;
+}
+
+std::unique_ptr<RobotDriver> make_lidar(const ServeOptions& options) {
+  const LidarParameters& lidar = options.lidar;
+  if (lidar.model.empty())
+    throw std::runtime_error("--pcap needs --lidar MODEL (vlp16, hdl32e, os1): the capture does not say");
+  if (!options.replay.directory.empty())
+    throw std::runtime_error("--replay and --lidar/--pcap are two different sources: choose one");
+  lidar::LidarDriverOptions driver;
+  driver.setup.model = lidar::parse_lidar_model(lidar.model);
+  driver.setup.calibration = lidar.calibration;
+  driver.setup.port = lidar.port;
+  driver.setup.keep_partial = lidar.keep_partial;
+  driver.sensor_to_base = parse_mount(lidar.mount);
+  if (!lidar.pcap.empty()) {
+    if (options.replay.rate != "recorded" && options.replay.rate != "max")
+      throw std::runtime_error("unknown replay rate '" + options.replay.rate + "' (recorded, max)");
+    try {
+      return std::make_unique<lidar::PcapLidarDriver>(
+          lidar.pcap, driver,
+          lidar::PcapLidarDriver::Pacing{options.time_scale, options.replay.rate == "max"});
+    } catch (const std::exception& error) {
+      throw std::runtime_error(fmt::format("cannot play {}: {}", lidar.pcap.string(), error.what()));
+    }
+  }
+  try {
+    return std::make_unique<lidar::LiveLidarDriver>(driver, lidar.address);
+  } catch (const std::exception& error) {
+    throw std::runtime_error(fmt::format(
+        "cannot listen to the {} lidar on {}:{}: {}", lidar.model, lidar.address,
+        lidar.port != 0 ? lidar.port : lidar::default_data_port(driver.setup.model), error.what()));
+  }
+}
+
 }  // namespace
 
 std::unique_ptr<RobotDriver> make_driver(const ServeOptions& options) {
+  if (!options.lidar.pcap.empty() || !options.lidar.model.empty())
+    return make_lidar(options);
   if (!options.replay.directory.empty())
     return make_replay(options);
   return make_simulator(options);

@@ -115,6 +115,31 @@ int main(int argc, char** argv) {
                    "Odometry from reference poses: heading error per metre driven, degrees, 1-sigma")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 90.0));
+  serve_cmd
+      ->add_option("--pcap", serve.lidar.pcap,
+                   "Play a lidar packet capture (classic pcap) instead of simulating; needs --lidar MODEL; "
+                   "paced by --replay-rate and --time-scale")
+      ->check(CLI::ExistingFile);
+  serve_cmd
+      ->add_option("--lidar,--lidar-model", serve.lidar.model,
+                   "Lidar model: vlp16, hdl32e, os1. With --pcap, the capture's sensor; alone, listen to the "
+                   "live sensor's UDP packets instead of simulating")
+      ->check(CLI::IsMember({"vlp16", "hdl32e", "hdl32", "os1", "os1-64"}));
+  serve_cmd->add_option("--lidar-calibration", serve.lidar.calibration,
+                        "Velodyne calibration YAML (optional: the datasheet's angles), Ouster metadata JSON "
+                        "(required for os1)");
+  serve_cmd
+      ->add_option("--lidar-port", serve.lidar.port,
+                   "Live lidar: UDP port of its point data (0: the model's, 2368 Velodyne, 7502 Ouster)")
+      ->capture_default_str();
+  serve_cmd
+      ->add_option("--lidar-address", serve.lidar.address, "Live lidar: address to receive its packets on")
+      ->capture_default_str();
+  serve_cmd
+      ->add_option("--lidar-mount", serve.lidar.mount,
+                   "The lidar on the robot: x,y,z[,roll,pitch,yaw] in m and degrees (z: its height above the "
+                   "ground, which the map needs below it)")
+      ->capture_default_str();
   serve_cmd->add_option("--record", serve.record,
                         "Record the scans and odometry the pipeline receives into this directory (replay "
                         "layout), to replay the run later with --replay");
@@ -130,6 +155,10 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   serve_cmd->add_option("--tls-key", serve.tls_key, "The TLS certificate's private key (PEM, unencrypted)")
       ->check(CLI::ExistingFile);
+  serve_cmd->add_flag(
+      "--lidar-keep-partial", serve.lidar.keep_partial,
+      "Also hand on partial lidar revolutions (the ends of a capture, after dropped packets): "
+      "for captures shorter than two revolutions");
   std::string token_file;
   serve_cmd->add_option("--operator-token-file", token_file, "Read the operator token from this file")
       ->check(CLI::ExistingFile);

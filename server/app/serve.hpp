@@ -28,6 +28,18 @@ struct ReplayParameters {
   double noise_rotation_deg = 0.0;  ///< degrees of heading per m driven, 1-sigma
 };
 
+/// A lidar instead of the simulator: a packet capture played (--pcap FILE --lidar MODEL) or the live sensor
+/// (--lidar MODEL alone). Pacing of a capture: ReplayParameters::rate and ServeOptions::time_scale.
+struct LidarParameters {
+  std::string model;                  ///< vlp16, hdl32e, os1; empty: no lidar
+  std::filesystem::path pcap;         ///< empty: live UDP
+  std::filesystem::path calibration;  ///< Velodyne YAML (optional), Ouster metadata JSON (required)
+  std::uint16_t port = 0;             ///< live UDP port; 0: the model's (2368 Velodyne, 7502 Ouster)
+  std::string address = "0.0.0.0";    ///< live: the address to receive on
+  std::string mount = "0,0,0";        ///< x,y,z[,roll,pitch,yaw] of the sensor on the base, m and degrees
+  bool keep_partial = false;          ///< also hand on partial revolutions (stream ends, dropped packets)
+};
+
 struct ServeOptions {
   std::string bind_address = "0.0.0.0";
   std::uint16_t port = 8080;
@@ -47,6 +59,7 @@ struct ServeOptions {
   std::filesystem::path tls_key;
   RobotParameters robot;
   ReplayParameters replay;
+  LidarParameters lidar;
   std::filesystem::path record;  ///< write the scans and odometry here (replay layout); empty: no recording
   std::size_t max_scans = 0;     ///< hand at most this many scans to the pipeline; 0: all
 };

@@ -10,6 +10,7 @@
 #include "drivers/lidar/lidar_scan_builder.hpp"
 #include "drivers/lidar/pcap_reader.hpp"
 #include "drivers/lidar/udp_scan_source.hpp"
+#include "tests/unit/lidar/lidar_loopback.hpp"
 #include "tests/unit/lidar/lidar_test_data.hpp"
 
 namespace strata::lidar {
@@ -35,24 +36,15 @@ LoopbackRun send_over_loopback(const std::filesystem::path& pcap, const LidarSet
   source.start([&run](ScanEvent&& scan) { run.scans.push_back(std::move(scan)); });
   std::thread receiver([&io] { io.run(); });
 
-  boost::asio::io_context sender_io;
-  boost::asio::ip::udp::socket sender(sender_io, boost::asio::ip::udp::v4());
-  const boost::asio::ip::udp::endpoint target(boost::asio::ip::make_address("127.0.0.1"), source.port());
-  PcapReader reader(pcap);
   const auto wait_for = [&](std::size_t count) {
     const auto deadline = std::chrono::steady_clock::now() + 30s;
     while (source.packets_received() < count && std::chrono::steady_clock::now() < deadline)
       std::this_thread::sleep_for(1ms);
   };
-  while (const std::optional<UdpDatagram> datagram = reader.next()) {
-    if (datagram->destination_port != default_data_port(setup.model))
-      continue;
-    sender.send_to(boost::asio::buffer(datagram->payload.data(), datagram->payload.size()), target);
-    ++run.sent;
-    if (run.sent % 32 == 0)
-      wait_for(run.sent);
-  }
-  wait_for(run.sent);
+  run.sent = test::send_payloads(
+      test::capture_payloads(pcap, default_data_port(setup.model)),
+      boost::asio::ip::udp::endpoint(boost::asio::ip::make_address("127.0.0.1"), source.port()), 32,
+      wait_for);
   boost::asio::post(io, [&source] { source.stop(); });
   receiver.join();
   run.received = source.packets_received();

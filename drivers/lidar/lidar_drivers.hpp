@@ -1,0 +1,102 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <atomic>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/steady_timer.hpp>
+#include <chrono>
+#include <condition_variable>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+
+#include "drivers/lidar/lidar_scan_builder.hpp"
+#include "drivers/lidar/pcap_scan_source.hpp"
+#include "drivers/lidar/udp_scan_source.hpp"
+#include "drivers/robot_driver.hpp"
+
+namespace strata::lidar {
+
+/// A lidar alone has no wheel odometry: both drivers hand on a constant (identity) odometry with every scan,
+/// so the localizer predicts each scan at the pose it found for the one before and ICP alone tracks the
+/// motion.
+struct LidarDriverOptions {
+  LidarSetup setup;
+  /// The sensor's mounting on the base (--lidar-mount): where the map puts the ground relative to it.
+  Eigen::Isometry3d sensor_to_base = Eigen::Isometry3d::Identity();
+};
+
+/// Plays a packet capture (strata serve --pcap FILE --lidar MODEL): its revolutions as scans, paced by the
+/// capture clock (times a time scale) or as fast as the pipeline takes them, then finished() (like a
+/// replay). Logs the decoder's counters once at the end.
+class PcapLidarDriver final : public RobotDriver {
+ public:
+  struct Pacing {
+    double time_scale = 1.0;           ///< capture seconds per wall-clock second
+    bool as_fast_as_possible = false;  ///< each scan once the pipeline has finished the one before
+  };
+  /// Opens the capture and reads the calibration: throws PcapError or LidarConfigError.
+  PcapLidarDriver(std::filesystem::path pcap, LidarDriverOptions options, Pacing pacing);
+  ~PcapLidarDriver() override;
+
+  [[nodiscard]] std::string kind() const override { return "pcap"; }
+  [[nodiscard]] std::string description() const override;
+  [[nodiscard]] Eigen::Isometry3d initial_map_from_odom() const override {
+    return Eigen::Isometry3d::Identity();
+  }
+  void start(Outputs outputs) override;
+  void stop() override;
+  [[nodiscard]] bool finished() const override { return finished_; }
+
+ private:
+  void run(Outputs outputs);
+  bool sleep_until(std::chrono::steady_clock::time_point wall_time);
+
+  std::filesystem::path pcap_;
+  LidarDriverOptions options_;
+  Pacing pacing_;
+  PcapScanSource source_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopping_ = false;
+  std::atomic<bool> finished_{false};
+  std::thread thread_;
+};
+
+/// A live lidar (strata serve --lidar MODEL without --pcap): its UDP packets on --lidar-address /
+/// --lidar-port, revolutions handed on as they complete, stamped with the host's receive time. Never
+/// finished. Logs the decoder's counters every `counters_period`.
+class LiveLidarDriver final : public RobotDriver {
+ public:
+  /// Reads the calibration and binds the socket: throws LidarConfigError or boost::system::system_error.
+  LiveLidarDriver(LidarDriverOptions options, const std::string& address,
+                  std::chrono::seconds counters_period = std::chrono::seconds(60));
+  ~LiveLidarDriver() override;
+
+  [[nodiscard]] std::string kind() const override { return "lidar"; }
+  [[nodiscard]] std::string description() const override;
+  [[nodiscard]] Eigen::Isometry3d initial_map_from_odom() const override {
+    return Eigen::Isometry3d::Identity();
+  }
+  void start(Outputs outputs) override;
+  void stop() override;
+
+ private:
+  void schedule_counters();
+
+  LidarDriverOptions options_;
+  std::string address_;
+  std::chrono::seconds counters_period_;
+  boost::asio::io_context io_;
+  UdpScanSource source_;
+  boost::asio::steady_timer counters_timer_;
+  std::size_t scans_ = 0;  // on the io thread
+  std::thread thread_;
+};
+
+/// One log line of a decoder's counters: packets, skipped, model mismatch, revolutions (complete, partial).
+[[nodiscard]] std::string describe_counters(const LidarScanBuilder& builder);
+
+}  // namespace strata::lidar
