@@ -36,6 +36,10 @@ MapServerMetadata read_map_server_yaml(const std::filesystem::path& yaml_path) {
   std::ifstream in(yaml_path);
   if (!in)
     throw MapFileError(yaml_path, "cannot open the file");
+  return read_map_server_yaml(in, yaml_path);
+}
+
+MapServerMetadata read_map_server_yaml(std::istream& in, const std::filesystem::path& yaml_path) {
   MapServerMetadata metadata;
   bool has_image = false;
   bool has_resolution = false;
@@ -118,10 +122,7 @@ struct PgmImage {
   std::vector<int> values;
 };
 
-PgmImage read_pgm(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw MapFileError(path, "cannot open the image");
+PgmImage read_pgm(std::istream& in, const std::filesystem::path& path) {
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::size_t at = 0;
   // Header tokens are separated by whitespace; '#' starts a comment up to the end of the line.
@@ -177,6 +178,9 @@ PgmImage read_pgm(const std::filesystem::path& path) {
         throw MapFileError(path, token.empty() ? "truncated PGM: the file ends after " + std::to_string(i) +
                                                      " of " + std::to_string(count) + " pixels"
                                                : "bad PGM pixel value \"" + token + "\"");
+      if (*value >
+          image.maxval)  // before the cast to int, which overflows for a huge value (found by fuzzing)
+        throw MapFileError(path, "pixel value " + token + " exceeds maxval " + std::to_string(image.maxval));
       image.values[i] = static_cast<int>(*value);
     }
   }
@@ -187,15 +191,28 @@ PgmImage read_pgm(const std::filesystem::path& path) {
   return image;
 }
 
-}  // namespace
-
-OccupancyGrid read_map_server_image(const std::filesystem::path& image_path,
-                                    const MapServerMetadata& metadata) {
+void require_pgm_extension(const std::filesystem::path& image_path) {
   const std::string extension = image_path.extension().string();
   if (extension != ".pgm" && extension != ".PGM")
     throw MapFileError(image_path,
                        "only PGM map images are supported (convert it, e.g. `convert map.png map.pgm`)");
-  const PgmImage image = read_pgm(image_path);
+}
+
+}  // namespace
+
+OccupancyGrid read_map_server_image(const std::filesystem::path& image_path,
+                                    const MapServerMetadata& metadata) {
+  require_pgm_extension(image_path);
+  std::ifstream in(image_path, std::ios::binary);
+  if (!in)
+    throw MapFileError(image_path, "cannot open the image");
+  return read_map_server_image(in, image_path, metadata);
+}
+
+OccupancyGrid read_map_server_image(std::istream& in, const std::filesystem::path& image_path,
+                                    const MapServerMetadata& metadata) {
+  require_pgm_extension(image_path);
+  const PgmImage image = read_pgm(in, image_path);
   OccupancyGrid grid(image.width, image.height, metadata.resolution, metadata.origin.head<2>(),
                      CellState::unknown);
   for (int row = 0; row < image.height; ++row) {
