@@ -88,6 +88,9 @@ std::string read_token_file(const std::filesystem::path& path) {
 }
 
 int serve(const ServeOptions& options) {
+  // A write past the file size limit (RLIMIT_FSIZE) then fails with EFBIG, so a map save reports io_error
+  // and leaves the previous file, instead of the signal's default action killing the robot's server.
+  std::signal(SIGXFSZ, SIG_IGN);
   const std::filesystem::path web_root = options.web_root.empty() ? default_web_root() : options.web_root;
   if (!std::filesystem::exists(web_root / "index.html")) {
     spdlog::warn("no web app at {} (build it with the 'web' target); serving the API only",
