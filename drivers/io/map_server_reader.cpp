@@ -159,7 +159,11 @@ PgmImage read_pgm(std::istream& in, const std::filesystem::path& path) {
   if (static_cast<double>(image.width) * image.height > 1e9)
     throw MapFileError(path, "the image is too large");
   const std::size_t count = static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height);
-  image.values.resize(count);
+  // The pixels are allocated only once the file can hold them: a 30-byte file must not claim 4 GB (found by
+  // fuzzing). In P2 every pixel but the last takes at least two bytes (a digit and a separator).
+  if (magic == "P2" && (at > bytes.size() || count > (bytes.size() - at + 1) / 2))
+    throw MapFileError(path, "truncated PGM: " + std::to_string(count) + " pixels cannot fit in the " +
+                                 std::to_string(at > bytes.size() ? 0 : bytes.size() - at) + " bytes left");
   if (magic == "P5") {
     ++at;  // exactly one whitespace byte separates maxval from the pixels
     const std::size_t bytes_per_value = image.maxval > 255 ? 2 : 1;
@@ -167,10 +171,12 @@ PgmImage read_pgm(std::istream& in, const std::filesystem::path& path) {
       throw MapFileError(path, "truncated PGM: expected " + std::to_string(count * bytes_per_value) +
                                    " bytes of pixels, found " +
                                    std::to_string(at > bytes.size() ? 0 : bytes.size() - at));
+    image.values.resize(count);
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data() + at);
     for (std::size_t i = 0; i < count; ++i)
       image.values[i] = bytes_per_value == 1 ? data[i] : (data[2 * i] << 8) | data[2 * i + 1];
   } else {
+    image.values.resize(count);
     for (std::size_t i = 0; i < count; ++i) {
       const std::string token = next_token();
       const std::optional<double> value = parse_number(token);
