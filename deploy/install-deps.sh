@@ -14,6 +14,7 @@ if [ "$(id -u)" -ne 0 ]; then sudo_cmd=(sudo); fi
 # self-signed certificate with it), and Debian's chromium for the browser tests.
 apt_packages=(
   build-essential cmake ninja-build pkg-config clang-format
+  clang-14 libclang-rt-14-dev  # the fuzz preset: clang++-14 and its libFuzzer, ASan and UBSan runtimes
   libeigen3-dev libboost-dev nlohmann-json3-dev libdraco-dev
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libspdlog-dev libfmt-dev libvalijson-dev

@@ -1,7 +1,10 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs every test suite: C++ unit tests, integration tests against the real server,
 # and browser tests in Debian's chromium; first in the release build, then again under AddressSanitizer
-# and UndefinedBehaviorSanitizer. Exits non-zero if anything fails.
+# and UndefinedBehaviorSanitizer. Then two lean presets that build only what they run: `fuzz` (clang's
+# libFuzzer: every parser of outside input, a fixed number of executions each on its seed corpus,
+# tests/fuzz/) and `tsan` (ThreadSanitizer over the concurrency tests: send queue, client hub, mapping
+# worker, localizer sink, navigator). Exits non-zero if anything fails.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
@@ -12,6 +15,12 @@ timer() { local start=$SECONDS; "$@"; echo "run-tests: '$*' took $((SECONDS - st
 timer deploy/install-deps.sh
 for preset in release asan; do
   timer cmake --preset "$preset" -DSTRATA_BUILD_TESTS=ON >/dev/null
+  timer cmake --build --preset "$preset" -j "$jobs"
+  timer ctest --preset "$preset" -j "$jobs"
+done
+# The build presets name their targets (CMakePresets.json): only the fuzz targets, only the TSan tests.
+for preset in fuzz tsan; do
+  timer cmake --preset "$preset" >/dev/null
   timer cmake --build --preset "$preset" -j "$jobs"
   timer ctest --preset "$preset" -j "$jobs"
 done

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <string>
 #include <tuple>
 
@@ -43,7 +44,7 @@ void put(std::string& out, T value) {
 /// Reads fields from the verified buffer; running out is still checked, so a lying count cannot read past.
 class Reader {
  public:
-  Reader(const std::string& data, std::size_t end, const std::string& name)
+  Reader(std::string_view data, std::size_t end, const std::string& name)
       : data_(data), end_(end), name_(name) {}
   template <typename T>
   T get() {
@@ -61,7 +62,7 @@ class Reader {
   }
 
  private:
-  const std::string& data_;
+  std::string_view data_;
   std::size_t end_;
   std::size_t position_ = 0;
   const std::string& name_;
@@ -123,7 +124,7 @@ std::string encode(const MlsMap& map) {
   return out;
 }
 
-MlsMap decode(const std::string& data, const std::string& name) {
+MlsMap decode(std::string_view data, const std::string& name) {
   Reader reader(data, data.size(), name);
   if (data.size() < kHeaderBytes || std::memcmp(data.data(), kMagic, sizeof(kMagic)) != 0)
     reader.fail("not a Strata MLS map (bad magic)");
@@ -169,6 +170,12 @@ MlsMap decode(const std::string& data, const std::string& name) {
   const auto tile_count = fields.get<std::uint64_t>();
   for (std::uint64_t t = 0; t < tile_count; ++t) {
     const TileIndex index{fields.get<std::int32_t>(), fields.get<std::int32_t>()};
+    // Every cell of the tile needs an int index: index * kMlsTileSize + (kMlsTileSize - 1) must not overflow.
+    constexpr int kMinTile = std::numeric_limits<int>::min() / kMlsTileSize;
+    constexpr int kMaxTile = std::numeric_limits<int>::max() / kMlsTileSize;
+    if (index.x < kMinTile || index.x > kMaxTile || index.y < kMinTile || index.y > kMaxTile)
+      fields.fail("tile index (" + std::to_string(index.x) + ", " + std::to_string(index.y) +
+                  ") out of range");
     if (map.find_tile(index) != nullptr)
       fields.fail("tile (" + std::to_string(index.x) + ", " + std::to_string(index.y) + ") appears twice");
     map.set_tile_version(index, fields.get<std::uint64_t>());
@@ -223,6 +230,10 @@ void write_all(int fd, const std::string& data, const std::string& name) {
 
 std::string serialize_mls_map(const MlsMap& map) {
   return encode(map);
+}
+
+MlsMap deserialize_mls_map(std::string_view data, const std::string& source) {
+  return decode(data, source);
 }
 
 void save_mls_map(const MlsMap& map, const std::filesystem::path& path) {

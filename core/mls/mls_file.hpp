@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include "core/mls/mls_map.hpp"
 
@@ -22,6 +23,10 @@ void save_mls_map(const MlsMap& map, const std::filesystem::path& path);
 
 /// The bytes save_mls_map writes (for a download without a file).
 [[nodiscard]] std::string serialize_mls_map(const MlsMap& map);
+
+/// Decodes the bytes of a native map file (as serialize_mls_map writes them); `source` names them in error
+/// messages. Throws MlsFileError as load_mls_map does.
+[[nodiscard]] MlsMap deserialize_mls_map(std::string_view data, const std::string& source);
 
 /// Loads a native map file. Throws MlsFileError on a missing, truncated, corrupted or foreign file.
 [[nodiscard]] MlsMap load_mls_map(const std::filesystem::path& path);

@@ -36,6 +36,10 @@ MapServerMetadata read_map_server_yaml(const std::filesystem::path& yaml_path) {
   std::ifstream in(yaml_path);
   if (!in)
     throw MapFileError(yaml_path, "cannot open the file");
+  return read_map_server_yaml(in, yaml_path);
+}
+
+MapServerMetadata read_map_server_yaml(std::istream& in, const std::filesystem::path& yaml_path) {
   MapServerMetadata metadata;
   bool has_image = false;
   bool has_resolution = false;
@@ -118,10 +122,7 @@ struct PgmImage {
   std::vector<int> values;
 };
 
-PgmImage read_pgm(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw MapFileError(path, "cannot open the image");
+PgmImage read_pgm(std::istream& in, const std::filesystem::path& path) {
   const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   std::size_t at = 0;
   // Header tokens are separated by whitespace; '#' starts a comment up to the end of the line.
@@ -158,7 +159,11 @@ PgmImage read_pgm(const std::filesystem::path& path) {
   if (static_cast<double>(image.width) * image.height > 1e9)
     throw MapFileError(path, "the image is too large");
   const std::size_t count = static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height);
-  image.values.resize(count);
+  // The pixels are allocated only once the file can hold them: a 30-byte file must not claim 4 GB (found by
+  // fuzzing). In P2 every pixel but the last takes at least two bytes (a digit and a separator).
+  if (magic == "P2" && (at > bytes.size() || count > (bytes.size() - at + 1) / 2))
+    throw MapFileError(path, "truncated PGM: " + std::to_string(count) + " pixels cannot fit in the " +
+                                 std::to_string(at > bytes.size() ? 0 : bytes.size() - at) + " bytes left");
   if (magic == "P5") {
     ++at;  // exactly one whitespace byte separates maxval from the pixels
     const std::size_t bytes_per_value = image.maxval > 255 ? 2 : 1;
@@ -166,10 +171,12 @@ PgmImage read_pgm(const std::filesystem::path& path) {
       throw MapFileError(path, "truncated PGM: expected " + std::to_string(count * bytes_per_value) +
                                    " bytes of pixels, found " +
                                    std::to_string(at > bytes.size() ? 0 : bytes.size() - at));
+    image.values.resize(count);
     const auto* data = reinterpret_cast<const unsigned char*>(bytes.data() + at);
     for (std::size_t i = 0; i < count; ++i)
       image.values[i] = bytes_per_value == 1 ? data[i] : (data[2 * i] << 8) | data[2 * i + 1];
   } else {
+    image.values.resize(count);
     for (std::size_t i = 0; i < count; ++i) {
       const std::string token = next_token();
       const std::optional<double> value = parse_number(token);
@@ -177,6 +184,9 @@ PgmImage read_pgm(const std::filesystem::path& path) {
         throw MapFileError(path, token.empty() ? "truncated PGM: the file ends after " + std::to_string(i) +
                                                      " of " + std::to_string(count) + " pixels"
                                                : "bad PGM pixel value \"" + token + "\"");
+      if (*value >
+          image.maxval)  // before the cast to int, which overflows for a huge value (found by fuzzing)
+        throw MapFileError(path, "pixel value " + token + " exceeds maxval " + std::to_string(image.maxval));
       image.values[i] = static_cast<int>(*value);
     }
   }
@@ -187,15 +197,28 @@ PgmImage read_pgm(const std::filesystem::path& path) {
   return image;
 }
 
-}  // namespace
-
-OccupancyGrid read_map_server_image(const std::filesystem::path& image_path,
-                                    const MapServerMetadata& metadata) {
+void require_pgm_extension(const std::filesystem::path& image_path) {
   const std::string extension = image_path.extension().string();
   if (extension != ".pgm" && extension != ".PGM")
     throw MapFileError(image_path,
                        "only PGM map images are supported (convert it, e.g. `convert map.png map.pgm`)");
-  const PgmImage image = read_pgm(image_path);
+}
+
+}  // namespace
+
+OccupancyGrid read_map_server_image(const std::filesystem::path& image_path,
+                                    const MapServerMetadata& metadata) {
+  require_pgm_extension(image_path);
+  std::ifstream in(image_path, std::ios::binary);
+  if (!in)
+    throw MapFileError(image_path, "cannot open the image");
+  return read_map_server_image(in, image_path, metadata);
+}
+
+OccupancyGrid read_map_server_image(std::istream& in, const std::filesystem::path& image_path,
+                                    const MapServerMetadata& metadata) {
+  require_pgm_extension(image_path);
+  const PgmImage image = read_pgm(in, image_path);
   OccupancyGrid grid(image.width, image.height, metadata.resolution, metadata.origin.head<2>(),
                      CellState::unknown);
   for (int row = 0; row < image.height; ++row) {

@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <filesystem>
+#include <istream>
 #include <string>
 
 #include "core/planning/occupancy_grid.hpp"
@@ -22,6 +23,9 @@ struct MapServerMetadata {
 /// Reads the YAML file. Required: image, resolution, origin; negate, occupied_thresh, free_thresh and mode
 /// default to map_server's usual values. Throws MapFileError.
 [[nodiscard]] MapServerMetadata read_map_server_yaml(const std::filesystem::path& yaml_path);
+/// The same from a stream; `yaml_path` names it in error messages and resolves a relative image path.
+[[nodiscard]] MapServerMetadata read_map_server_yaml(std::istream& in,
+                                                     const std::filesystem::path& yaml_path);
 
 /// Reads a PGM image (binary P5 or ASCII P2, 8 or 16 bit) as a map_server map with the given metadata:
 /// occupancy p = shade (negate) or 1 - shade, with shade = value / maxval; p > occupied_thresh is occupied,
@@ -30,6 +34,9 @@ struct MapServerMetadata {
 /// the grid's last row, so cell (0, 0) is the lower-left pixel at `origin`. Yaw is ignored, as map_server's
 /// users do. Throws MapFileError.
 [[nodiscard]] OccupancyGrid read_map_server_image(const std::filesystem::path& image_path,
+                                                  const MapServerMetadata& metadata);
+/// The same from a stream (opened binary); `image_path` names it (its extension must be .pgm).
+[[nodiscard]] OccupancyGrid read_map_server_image(std::istream& in, const std::filesystem::path& image_path,
                                                   const MapServerMetadata& metadata);
 
 /// read_map_server_yaml then read_map_server_image.

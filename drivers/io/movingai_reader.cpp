@@ -46,6 +46,10 @@ std::optional<CellState> terrain(char c) {
 
 OccupancyGrid read_movingai_map(const std::filesystem::path& path) {
   std::ifstream in = open_text(path);
+  return read_movingai_map(in, path);
+}
+
+OccupancyGrid read_movingai_map(std::istream& in, const std::filesystem::path& path) {
   std::string line;
   int width = -1;
   int height = -1;
@@ -111,6 +115,10 @@ OccupancyGrid read_movingai_map(const std::filesystem::path& path) {
 
 MovingAiScenario read_movingai_scenario(const std::filesystem::path& path) {
   std::ifstream in = open_text(path);
+  return read_movingai_scenario(in, path);
+}
+
+MovingAiScenario read_movingai_scenario(std::istream& in, const std::filesystem::path& path) {
   std::string line;
   if (!std::getline(in, line) || trimmed(line).substr(0, 8) != "version ")
     throw MapFileError(path, "not a MovingAI scenario: the first line is not \"version N\"");

@@ -2,6 +2,7 @@
 
 #include <cstddef>
 #include <filesystem>
+#include <istream>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,8 @@ namespace strata::io {
 /// (out of bounds), 'T' (trees), 'W' (water). Reading stops after H rows, so text appended after the map
 /// (some copies carry a BibTeX block) is ignored. Throws MapFileError.
 [[nodiscard]] OccupancyGrid read_movingai_map(const std::filesystem::path& path);
+/// The same from a stream; `source` names it in error messages.
+[[nodiscard]] OccupancyGrid read_movingai_map(std::istream& in, const std::filesystem::path& source);
 
 /// One query of a MovingAI scenario: the optimal length of the path from start to goal (8-connected,
 /// diagonal sqrt 2, no corner cutting). Length 0 with start != goal marks a goal with no path.
@@ -37,5 +40,7 @@ struct MovingAiScenario {
 /// start x, start y, goal x, goal y, optimal length; tabs or spaces). Lines without exactly 9 fields are
 /// skipped and counted; a 9-field line whose numbers do not parse is an error. Throws MapFileError.
 [[nodiscard]] MovingAiScenario read_movingai_scenario(const std::filesystem::path& path);
+/// The same from a stream; `source` names it in error messages.
+[[nodiscard]] MovingAiScenario read_movingai_scenario(std::istream& in, const std::filesystem::path& source);
 
 }  // namespace strata::io

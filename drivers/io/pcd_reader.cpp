@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -34,9 +36,14 @@ struct PcdHeader {
   std::size_t values_per_point = 0;
 };
 
+/// 2^40: more points, bytes or fields than any PCD file holds, and products of two stay far from overflow.
+constexpr double kMaxCount = 1099511627776.0;
+
 std::size_t to_count(const std::filesystem::path& path, std::string_view keyword, std::string_view field) {
   const std::optional<double> value = parse_number(field);
-  if (!value || *value < 0.0 || *value != static_cast<double>(static_cast<std::size_t>(*value)))
+  // Compared before the cast: converting a double beyond size_t's range is undefined (the PLY reader's
+  // element count had that bug; fuzzing found it).
+  if (!value || !(*value >= 0.0 && *value <= kMaxCount) || *value != std::floor(*value))
     throw PointFileError(path, "header " + std::string(keyword) + ": '" + std::string(field) +
                                    "' is not a non-negative integer");
   return static_cast<std::size_t>(*value);
@@ -97,8 +104,12 @@ PcdHeader read_header(std::istream& in, const std::filesystem::path& path) {
   if (!header.points_given) {
     if (!width_given)
       throw PointFileError(path, "PCD header gives neither POINTS nor WIDTH");
+    if (height != 0 && width > static_cast<std::size_t>(kMaxCount) / height)
+      throw PointFileError(path, "PCD header: WIDTH x HEIGHT is too many points");
     header.points = width * height;
   }
+  if (header.points > static_cast<std::size_t>(kMaxCount))
+    throw PointFileError(path, "PCD header: " + std::to_string(header.points) + " points is too many");
   for (std::size_t i = 0; i < header.fields.size(); ++i) {
     PcdField& field = header.fields[i];
     const std::size_t size = sizes[i];
@@ -117,6 +128,8 @@ PcdHeader read_header(std::istream& in, const std::filesystem::path& path) {
     field.column = header.values_per_point;
     header.record_size += size * field.count;
     header.values_per_point += field.count;
+    if (header.record_size > static_cast<std::size_t>(kMaxCount))
+      throw PointFileError(path, "PCD header: a point record of over 2^40 bytes");
   }
   return header;
 }
@@ -173,6 +186,10 @@ void read_binary(std::istream& in, const PcdHeader& header, const std::filesyste
                  LoadedCloud& cloud) {
   const std::array<const PcdField*, 3> xyz = xyz_fields(header, path);
   const std::vector<unsigned char> data = read_rest(in);
+  if (header.record_size != 0 && header.points > data.size() / header.record_size)
+    throw PointFileError(path, "truncated: " + std::to_string(data.size()) + " data bytes, " +
+                                   std::to_string(header.points) + " points of " +
+                                   std::to_string(header.record_size) + " bytes");
   const std::size_t needed = header.points * header.record_size;
   if (data.size() < needed)
     throw PointFileError(path, "truncated: " + std::to_string(data.size()) + " data bytes, " +
@@ -201,6 +218,11 @@ void read_binary_compressed(std::istream& in, const PcdHeader& header, const std
   if (data.size() - 8 < compressed_size)
     throw PointFileError(path, "truncated: " + std::to_string(data.size() - 8) + " compressed bytes of " +
                                    std::to_string(compressed_size));
+  if (header.record_size != 0 &&
+      header.points > std::numeric_limits<std::uint32_t>::max() / header.record_size)
+    throw PointFileError(path, "binary_compressed data unpacks to " + std::to_string(uncompressed_size) +
+                                   " bytes, " + std::to_string(header.points) + " points of " +
+                                   std::to_string(header.record_size) + " bytes need more");
   const std::size_t needed = header.points * header.record_size;
   if (uncompressed_size != needed)
     throw PointFileError(path, "binary_compressed data unpacks to " + std::to_string(uncompressed_size) +
@@ -229,6 +251,10 @@ LoadedCloud read_pcd(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw PointFileError(path, "cannot open");
+  return read_pcd(in, path);
+}
+
+LoadedCloud read_pcd(std::istream& in, const std::filesystem::path& path) {
   const PcdHeader header = read_header(in, path);
   LoadedCloud cloud;
   cloud.points.reserve(std::min<std::size_t>(header.points, std::size_t{1} << 24));  // a header may lie

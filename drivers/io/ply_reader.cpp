@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <fstream>
 #include <iterator>
 #include <string>
@@ -13,6 +14,9 @@
 
 namespace strata::io {
 namespace {
+
+/// 2^40: more elements or list items than any PLY file holds (checked before converting a count to size_t).
+constexpr double kMaxCount = 1099511627776.0;
 
 struct PlyProperty {
   std::string name;
@@ -97,6 +101,10 @@ LoadedCloud read_ply(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw PointFileError(path, "cannot open");
+  return read_ply(in, path);
+}
+
+LoadedCloud read_ply(std::istream& in, const std::filesystem::path& path) {
   std::string line;
   if (!std::getline(in, line) || (line != "ply" && line != "ply\r"))
     throw PointFileError(path, "not a PLY file: the first line is not 'ply'");
@@ -122,7 +130,8 @@ LoadedCloud read_ply(const std::filesystem::path& path) {
         throw PointFileError(path, "unknown PLY format '" + std::string(words[1]) + "'");
     } else if (words[0] == "element" && words.size() == 3) {
       const std::optional<double> count = parse_number(words[2]);
-      if (!count || *count < 0.0)
+      // Checked before the cast: a double beyond size_t's range is undefined to convert (found by fuzzing).
+      if (!count || !(*count >= 0.0 && *count <= kMaxCount) || *count != std::floor(*count))
         throw PointFileError(path, "PLY element '" + std::string(words[1]) + "' has a bad count");
       elements.push_back({std::string(words[1]), static_cast<std::size_t>(*count), {}});
     } else if (words[0] == "property" && !elements.empty()) {
@@ -171,6 +180,8 @@ LoadedCloud read_ply(const std::filesystem::path& path) {
   cloud.points.reserve(std::min<std::size_t>(vertex->count, std::size_t{1} << 24));  // a header may lie
   std::vector<double> row;
   for (auto element = elements.begin(); element != std::next(vertex); ++element) {
+    if (element->properties.empty())
+      continue;  // takes no bytes, however large its count (a loop of 2^40 empty rows would hang)
     for (std::size_t i = 0; i < element->count; ++i) {
       row.assign(element->properties.size(), 0.0);
       for (std::size_t k = 0; k < element->properties.size(); ++k) {
@@ -179,8 +190,10 @@ LoadedCloud read_ply(const std::filesystem::path& path) {
           row[k] = values.next(property.type);
           continue;
         }
-        const double items = values.next(property.count_type);
-        for (std::size_t j = 0; j < static_cast<std::size_t>(std::max(0.0, items)); ++j)
+        const double items = values.next(property.count_type);  // a float type is legal, and may be anything
+        if (!(items >= 0.0 && items <= kMaxCount) || items != std::floor(items))
+          throw PointFileError(path, "PLY list '" + property.name + "' has a bad length");
+        for (std::size_t j = 0; j < static_cast<std::size_t>(items); ++j)
           static_cast<void>(values.next(property.type));
       }
       if (element == vertex)

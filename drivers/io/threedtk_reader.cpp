@@ -43,6 +43,10 @@ LoadedCloud read_3dtk_scan(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in)
     throw PointFileError(path, "cannot open");
+  return read_3dtk_scan(in, path);
+}
+
+LoadedCloud read_3dtk_scan(std::istream& in, const std::filesystem::path& path) {
   const Eigen::Matrix3d c = axis_change();
   LoadedCloud cloud;
   std::string line;
@@ -79,6 +83,10 @@ Eigen::Isometry3d read_3dtk_pose(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in)
     throw PointFileError(path, "cannot open");
+  return read_3dtk_pose(in, path);
+}
+
+Eigen::Isometry3d read_3dtk_pose(std::istream& in, const std::filesystem::path& path) {
   std::string position_line;
   std::string angle_line;
   std::getline(in, position_line);
@@ -102,6 +110,10 @@ Eigen::Isometry3d read_3dtk_frames(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in)
     throw PointFileError(path, "cannot open");
+  return read_3dtk_frames(in, path);
+}
+
+Eigen::Isometry3d read_3dtk_frames(std::istream& in, const std::filesystem::path& path) {
   std::vector<double> last;
   std::string line;
   while (std::getline(in, line)) {

@@ -13,6 +13,10 @@ LoadedCloud read_xyz(const std::filesystem::path& path) {
   std::ifstream in(path);
   if (!in)
     throw PointFileError(path, "cannot open");
+  return read_xyz(in, path);
+}
+
+LoadedCloud read_xyz(std::istream& in, const std::filesystem::path& path) {
   std::array<std::size_t, 3> columns{0, 1, 2};
   bool first_row = true;
   LoadedCloud cloud;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <istream>
 
 #include "drivers/io/loaded_cloud.hpp"
 
@@ -10,5 +11,7 @@ namespace strata::io {
 /// (e.g. "x,y,z,nx,ny,nz") the columns named x, y and z are used; without one, the first three columns.
 /// Lines starting with '#' are comments. Throws PointFileError.
 [[nodiscard]] LoadedCloud read_xyz(const std::filesystem::path& path);
+/// The same from a stream; `source` names it in error messages.
+[[nodiscard]] LoadedCloud read_xyz(std::istream& in, const std::filesystem::path& source);
 
 }  // namespace strata::io

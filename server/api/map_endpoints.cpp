@@ -172,7 +172,10 @@ net::HttpResponse HttpRouter::maps(const net::HttpRequest& request, std::string_
       nlohmann::json list = nlohmann::json::array();
       for (const auto& file : maps->list_maps())
         list.push_back({{"name", file.name}, {"bytes", file.bytes}, {"modified", file.modified}});
-      return json_response(request, http::status::ok, nlohmann::json{{"maps", std::move(list)}}.dump());
+      // A file copied into the maps directory may have a name that is not UTF-8: shown with U+FFFD.
+      return json_response(request, http::status::ok,
+                           nlohmann::json{{"maps", std::move(list)}}.dump(
+                               -1, ' ', false, nlohmann::json::error_handler_t::replace));
     }
     if (request.method() != http::verb::post)
       return method_not_allowed(request, "GET, HEAD, POST");
@@ -195,7 +198,7 @@ net::HttpResponse HttpRouter::maps(const net::HttpRequest& request, std::string_
   }
   // "/{name}/load"
   constexpr std::string_view kLoad = "/load";
-  if (rest.size() > 1 && rest.ends_with(kLoad)) {
+  if (rest.size() > kLoad.size() + 1 && rest.ends_with(kLoad)) {  // "/load" alone names no map
     const std::string name(rest.substr(1, rest.size() - 1 - kLoad.size()));
     if (request.method() != http::verb::post)
       return method_not_allowed(request, "POST");

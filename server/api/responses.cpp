@@ -46,8 +46,10 @@ net::HttpResponse command_error(const net::HttpRequest& request, std::string_vie
     status = http::status::conflict;
   else if (code == "corrupt_file")
     status = http::status::unprocessable_entity;
+  // The message may name a file (not necessarily UTF-8): invalid bytes become U+FFFD, dump() never throws.
   auto response = json_response(request, status,
-                                nlohmann::json{{"error", {{"code", code}, {"message", message}}}}.dump());
+                                nlohmann::json{{"error", {{"code", code}, {"message", message}}}}.dump(
+                                    -1, ' ', false, nlohmann::json::error_handler_t::replace));
   return response;
 }
 

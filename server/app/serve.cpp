@@ -95,6 +95,9 @@ std::string read_token_file(const std::filesystem::path& path) {
 }
 
 int serve(const ServeOptions& options) {
+  // A write past the file size limit (RLIMIT_FSIZE) then fails with EFBIG, so a map save reports io_error
+  // and leaves the previous file, instead of the signal's default action killing the robot's server.
+  std::signal(SIGXFSZ, SIG_IGN);
   // First, before anything starts: a bad certificate or key stops the server with the file's name.
   std::shared_ptr<boost::asio::ssl::context> tls;
   if (!options.tls_certificate.empty() || !options.tls_key.empty()) {

@@ -237,7 +237,10 @@ nlohmann::json info() {
 }
 
 std::string rest_error(ErrorCode code, std::string_view message) {
-  return nlohmann::json{{"error", {{"code", to_string(code)}, {"message", message}}}}.dump();
+  // The message may quote what a client sent (a request path) or a file name: not necessarily UTF-8, which
+  // JSON must be. Invalid bytes become U+FFFD instead of dump() throwing (found by fuzzing).
+  return nlohmann::json{{"error", {{"code", to_string(code)}, {"message", message}}}}.dump(
+      -1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 }  // namespace strata::protocol

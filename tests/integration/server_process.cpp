@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -11,13 +12,15 @@
 #include <regex>
 #include <stdexcept>
 #include <thread>
+#include <utility>
 
 namespace strata::testing {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd) {
+pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd,
+            std::uint64_t file_size_limit = RLIM_INFINITY) {
   std::vector<std::string> argv_storage{STRATA_BINARY};
   argv_storage.insert(argv_storage.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -31,6 +34,10 @@ pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd) 
     dup2(stdout_fd, STDOUT_FILENO);
     if (stderr_fd >= 0)
       dup2(stderr_fd, STDERR_FILENO);
+    if (file_size_limit != RLIM_INFINITY) {
+      const rlimit limit{file_size_limit, file_size_limit};
+      setrlimit(RLIMIT_FSIZE, &limit);
+    }
     execv(argv[0], argv.data());
     _exit(127);
   }
@@ -63,14 +70,17 @@ bool read_some(int fd, std::string& out, Clock::time_point deadline) {
 
 }  // namespace
 
-ServerProcess::ServerProcess(std::vector<std::string> extra_args) {
+ServerProcess::ServerProcess(std::vector<std::string> extra_args)
+    : ServerProcess(std::move(extra_args), RLIM_INFINITY) {}
+
+ServerProcess::ServerProcess(std::vector<std::string> extra_args, std::uint64_t file_size_limit) {
   int pipe_fds[2];
   if (pipe2(pipe_fds, O_CLOEXEC) != 0)
     throw std::runtime_error("pipe failed");
   std::vector<std::string> args{"serve", "--bind",           "127.0.0.1",       "--port",
                                 "0",     "--operator-token", kTestOperatorToken};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
-  pid_ = spawn(args, pipe_fds[1], -1);  // stderr (the log) goes to the test's output
+  pid_ = spawn(args, pipe_fds[1], -1, file_size_limit);  // stderr (the log) goes to the test's output
   close(pipe_fds[1]);
 
   // The server prints one line on stdout once it listens; wait for it and read the real port.
@@ -112,6 +122,15 @@ int ServerProcess::stop() {
   waitpid(pid_, &status, 0);
   pid_ = -1;
   return exit_status(status);
+}
+
+void ServerProcess::kill_now() {
+  if (pid_ <= 0)
+    return;
+  kill(pid_, SIGKILL);
+  int status = 0;
+  waitpid(pid_, &status, 0);
+  pid_ = -1;
 }
 
 CommandResult run_strata(const std::vector<std::string>& args, std::chrono::seconds timeout) {

@@ -19,6 +19,8 @@ inline constexpr const char* kTestOperatorToken = "integration-test-operator-tok
 class ServerProcess {
  public:
   explicit ServerProcess(std::vector<std::string> extra_args = {});
+  /// `file_size_limit` (bytes) becomes the process's RLIMIT_FSIZE: a disk that fills up.
+  ServerProcess(std::vector<std::string> extra_args, std::uint64_t file_size_limit);
   ~ServerProcess();
   ServerProcess(const ServerProcess&) = delete;
   ServerProcess& operator=(const ServerProcess&) = delete;
@@ -31,6 +33,8 @@ class ServerProcess {
   [[nodiscard]] long resident_kib() const;
   /// Sends SIGTERM and waits; returns the exit status (or 128 + signal).
   int stop();
+  /// Sends SIGKILL (no chance to clean up, as a power cut or the OOM killer) and waits.
+  void kill_now();
 
  private:
   pid_t pid_ = -1;

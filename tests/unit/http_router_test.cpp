@@ -48,6 +48,7 @@ class RecordingMaps : public MapCommands {
     return CommandResult::success();
   }
   CommandResult load_map(const std::string& name) override {
+    loaded.push_back(name);
     if (name != "known")
       return CommandResult::failure("not_found", "no map named " + name);
     return CommandResult::success();
@@ -57,6 +58,7 @@ class RecordingMaps : public MapCommands {
     return {format.begin(), format.end()};
   }
   std::vector<std::string> saved;
+  std::vector<std::string> loaded;
 };
 
 net::ServerServices services_for(const RobotState& robot, const MapState& map, MotionCommands& motion,
@@ -278,6 +280,15 @@ TEST_F(Router, MapDownloadsAndSavedMaps) {
             http::status::ok);
   EXPECT_EQ(router_.handle(operator_request(http::verb::post, "/api/v1/maps/other/load")).result(),
             http::status::not_found);
+  EXPECT_EQ(maps_.loaded, (std::vector<std::string>{"known", "other"}));
+}
+
+// "/api/v1/maps/load" names no map: the name's length was computed as 5 - 1 - 5 (wrapping), so it loaded a
+// map called "load".
+TEST_F(Router, LoadWithoutAMapNameIsNotFound) {
+  EXPECT_EQ(router_.handle(operator_request(http::verb::post, "/api/v1/maps/load")).result(),
+            http::status::not_found);
+  EXPECT_TRUE(maps_.loaded.empty());
 }
 
 TEST_F(Router, MetricsArePrometheusText) {

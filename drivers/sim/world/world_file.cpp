@@ -175,10 +175,16 @@ HeightField make_terrain(const Fields& f) {
   const Eigen::Vector2d size = f.vector<2>("size");
   if (!(size.array() > 0.0).all())
     f.fail("\"size\" must be positive");
-  const int nx = static_cast<int>(std::round(size.x() / cell)) + 1;
-  const int ny = static_cast<int>(std::round(size.y() / cell)) + 1;
-  if (static_cast<long>(nx) * ny > 16'000'000)
+  // Counted in double first: a size far larger than the cell overflows int (found by fuzzing, as was a size
+  // below one cell, which HeightField refused with an exception this function's callers do not expect).
+  const double cells_x = std::round(size.x() / cell);
+  const double cells_y = std::round(size.y() / cell);
+  if (!(cells_x >= 1.0 && cells_y >= 1.0))
+    f.fail("\"size\" must be at least one \"cell\" each way");
+  if ((cells_x + 1.0) * (cells_y + 1.0) > 16'000'000.0)
     f.fail("terrain has too many cells; use a larger \"cell\"");
+  const int nx = static_cast<int>(cells_x) + 1;
+  const int ny = static_cast<int>(cells_y) + 1;
   std::vector<double> heights(static_cast<std::size_t>(nx) * static_cast<std::size_t>(ny), base);
   // Smooth hills: a raised cosine of the given radius and height (negative height: a hollow).
   if (f.has("hills")) {

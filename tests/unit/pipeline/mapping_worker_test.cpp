@@ -5,6 +5,7 @@
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -224,6 +225,49 @@ TEST(MappingWorker, FullQueueDropsTheOldestScanAndStoppedWorkerRefusesCommands) 
   worker.stop();
   EXPECT_EQ(worker.load_map("x.smls").code, "not_found");
   EXPECT_EQ(worker.save_map("x.smls").code, "unavailable");
+}
+
+// Faults from a sensor or a localizer gone wrong: an empty scan, a scan of NaN, infinite and absurdly far
+// points, a scan at a NaN pose. None may add a patch, stop the worker or spoil the map: it maps the next
+// good scan exactly as a worker that never saw them, and saves and loads it.
+TEST(MappingWorker, EmptyNonFiniteAndAbsurdScansChangeNothing) {
+  const ScanEvent& good = campus_scans()[0];
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path());
+  worker.start();
+
+  ScanEvent empty = good;
+  empty.points.clear();
+  worker.submit(empty, map_from_sensor(good));
+  ScanEvent garbage = good;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  garbage.points = {{nan, 0, 0},           {0, nan, 1},    {inf, 0, 0},    {0, -inf, 0},
+                    {1e30F, 1e30F, 1e30F}, {-3e38F, 2, 0}, {2, 3e38F, -1}, {0, 0, 0}};
+  worker.submit(garbage, map_from_sensor(good));
+  Eigen::Isometry3d nan_pose = map_from_sensor(good);
+  nan_pose.translation().x() = std::numeric_limits<double>::quiet_NaN();
+  worker.submit(good, nan_pose);
+  worker.flush();
+  const auto after_faults = state.snapshot();
+  EXPECT_TRUE(after_faults == nullptr || after_faults->patches == 0) << "garbage became map";
+
+  worker.submit(good, map_from_sensor(good));
+  worker.flush();
+  MapState reference_state;
+  MappingWorker reference(reference_state, dir.path() / "reference");
+  reference.start();
+  reference.submit(good, map_from_sensor(good));
+  reference.flush();
+  ASSERT_NE(state.snapshot(), nullptr);
+  ASSERT_NE(reference_state.snapshot(), nullptr);
+  EXPECT_GT(state.snapshot()->patches, 0U);
+  EXPECT_EQ(state.snapshot()->patches, reference_state.snapshot()->patches);
+  EXPECT_EQ(state.snapshot()->cells, reference_state.snapshot()->cells);
+  EXPECT_EQ(worker.save_map("after-faults.smls").ok, true);
+  EXPECT_EQ(worker.load_map("after-faults.smls").ok, true);
+  EXPECT_EQ(state.snapshot()->patches, reference_state.snapshot()->patches);
 }
 
 TEST(MappingWorkerNames, OnlyPlainFileNames) {
