@@ -140,13 +140,16 @@ std::string LiveLidarDriver::description() const {
 void LiveLidarDriver::start(Outputs outputs) {
   if (thread_.joinable())
     return;
-  source_.start([this, outputs = std::move(outputs)](ScanEvent&& scan) {
-    prepare(scan, options_);
-    ++scans_;
-    outputs.on_sample(sample_at(scan.stamp));
-    outputs.on_scan(std::move(scan));
+  // Everything on the socket and the timer starts on the driver's own io thread, like all that follows.
+  boost::asio::post(io_, [this, outputs = std::move(outputs)]() mutable {
+    source_.start([this, outputs = std::move(outputs)](ScanEvent&& scan) {
+      prepare(scan, options_);
+      ++scans_;
+      outputs.on_sample(sample_at(scan.stamp));
+      outputs.on_scan(std::move(scan));
+    });
+    schedule_counters();
   });
-  schedule_counters();
   thread_ = std::thread([this] { io_.run(); });
 }
 

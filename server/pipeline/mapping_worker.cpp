@@ -146,6 +146,11 @@ double wall_clock_now() {
 }  // namespace
 
 void MappingWorker::map_scan(const Scan& scan) {
+  if (!scan.map_from_sensor.matrix().allFinite() || !scan.event.sensor_to_base.matrix().allFinite()) {
+    // A broken pose would put the scan (and the region to refresh) nowhere: drop it, keep the map.
+    spdlog::warn("mapping: scan at t={:.1f} not mapped: its pose is not finite", scan.event.stamp);
+    return;
+  }
   // How long the scan took to get here since it reached the pipeline: the localizer (preprocessing,
   // registration) and this queue. Logged with the mapping's own times: the scan-to-client latency budget.
   const double waited_ms =

@@ -106,8 +106,10 @@ TEST(Lidar, Vlp16AndOusterCapturesPlayAtTheirRecordedRate) {
       args.emplace_back("--lidar-keep-partial");
     ServerProcess server(args);
     WsClient client(server.port());
-    const auto status =
-        wait_for_status(client, [](const nlohmann::json& s) { return s["driver"]["finished"] == true; });
+    // Finished means every scan was handed on; the map follows once the mapping thread has taken the last.
+    const auto status = wait_for_status(client, [](const nlohmann::json& s) {
+      return s["driver"]["finished"] == true && s["map"]["cells"].get<int>() > 100;
+    });
     print_summary(capture.pcap.c_str(), status);
     EXPECT_EQ(status["driver"]["kind"], "pcap") << capture.pcap;
     EXPECT_GT(status["registration"]["scans"].get<int>(), 0) << capture.pcap;
