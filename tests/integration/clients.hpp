@@ -243,4 +243,19 @@ class BasicWsClient {
 using WsClient = BasicWsClient<tcp::socket>;
 using WssClient = BasicWsClient<TlsSocket>;
 
+/// Reads status messages until `done` holds for one; returns it. Fails after many minutes of messages.
+template <typename Condition>
+nlohmann::json wait_for_status(WsClient& client, Condition done) {
+  nlohmann::json last;
+  for (int i = 0; i < 100000; ++i) {
+    const auto message = client.read(std::chrono::seconds(60));
+    if (message["op"] != "status")
+      continue;
+    last = message;
+    if (done(message))
+      return message;
+  }
+  throw std::runtime_error("the status never reached the condition; last: " + last.dump());
+}
+
 }  // namespace strata::testing

@@ -37,21 +37,6 @@ fs::path lidar_data() {
   GTEST_SKIP() << "no lidar capture " << (file) \
                << " (set STRATA_DATA_DIR to the directory holding lidar_pcap/)"
 
-/// Reads status messages until `done` holds for one; returns it. Fails after many minutes of messages.
-template <typename Condition>
-nlohmann::json wait_for_status(WsClient& client, Condition done) {
-  nlohmann::json last;
-  for (int i = 0; i < 100000; ++i) {
-    const auto message = client.read(std::chrono::seconds(60));
-    if (message["op"] != "status")
-      continue;
-    last = message;
-    if (done(message))
-      return message;
-  }
-  throw std::runtime_error("the status never reached the condition; last: " + last.dump());
-}
-
 void print_summary(const char* what, const nlohmann::json& status) {
   std::printf("%s: %d scans, %d accepted, %d rejected, %d dropped; map %d cells, %d tiles\n", what,
               status["registration"]["scans"].get<int>(), status["registration"]["accepted"].get<int>(),

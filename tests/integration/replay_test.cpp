@@ -30,21 +30,6 @@ std::string read_bytes(const fs::path& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-/// Reads status messages until `done` holds for one; returns it. Fails after many minutes of messages.
-template <typename Condition>
-nlohmann::json wait_for_status(WsClient& client, Condition done) {
-  nlohmann::json last;
-  for (int i = 0; i < 100000; ++i) {
-    const auto message = client.read(std::chrono::seconds(60));
-    if (message["op"] != "status")
-      continue;
-    last = message;
-    if (done(message))
-      return message;
-  }
-  throw std::runtime_error("the status never reached the condition; last: " + last.dump());
-}
-
 /// Saves the server's map as `name` through an operator's connection; returns the file's bytes.
 std::string save_map(WsClient& op, const fs::path& maps_dir, const std::string& name) {
   op.send_text(R"({"op":"save_map","name":")" + name + R"(","id":"save"})");
