@@ -15,6 +15,8 @@
 #include <string>
 #include <tuple>
 
+#include "core/files/temporary_files.hpp"
+
 namespace strata {
 namespace {
 
@@ -238,7 +240,7 @@ MlsMap deserialize_mls_map(std::string_view data, const std::string& source) {
 
 void save_mls_map(const MlsMap& map, const std::filesystem::path& path) {
   const std::string data = encode(map);
-  const std::filesystem::path temporary = path.string() + ".tmp." + std::to_string(::getpid());
+  const std::filesystem::path temporary = temporary_path_for(path);
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0)
     throw MlsFileError("cannot create " + temporary.string() + ": " + std::strerror(errno));

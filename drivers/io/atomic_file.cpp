@@ -8,10 +8,12 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/files/temporary_files.hpp"
+
 namespace strata::io {
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view data) {
-  const std::filesystem::path temporary = path.string() + ".tmp." + std::to_string(::getpid());
+  const std::filesystem::path temporary = temporary_path_for(path);
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0)
     throw std::runtime_error("cannot create " + temporary.string() + ": " + std::strerror(errno));

@@ -39,6 +39,12 @@ net::HttpResponse HttpRouter::metrics(const net::HttpRequest& request) const {
          count(metrics_.ws_bytes_out));
   metric(out, "strata_auth_failures_total", "counter", "requests that offered a wrong operator token",
          count(metrics_.auth_failures));
+  metric(out, "strata_ws_refused_origin_total", "counter",
+         "WebSocket upgrades refused: a browser page from an origin not allowed",
+         count(metrics_.ws_refused_origin));
+  metric(out, "strata_ws_refused_full_total", "counter",
+         "WebSocket upgrades refused: the WebSocket client limit was reached",
+         count(metrics_.ws_refused_full));
 
   const auto registration = services_.robot->registration();
   metric(out, "strata_scans_total", "counter", "scans the localizer processed",

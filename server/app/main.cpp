@@ -14,6 +14,7 @@
 #include "server/app/register_command.hpp"
 #include "server/app/serve.hpp"
 #include "server/auth/operator_token.hpp"
+#include "server/auth/request_auth.hpp"
 
 int main(int argc, char** argv) {
   CLI::App app{
@@ -155,6 +156,24 @@ int main(int argc, char** argv) {
       ->check(CLI::ExistingFile);
   serve_cmd->add_option("--tls-key", serve.tls_key, "The TLS certificate's private key (PEM, unencrypted)")
       ->check(CLI::ExistingFile);
+  serve_cmd
+      ->add_option("--allowed-origins", serve.allowed_origins,
+                   "Browser origins (scheme://host[:port]) that may open the WebSocket besides this "
+                   "server's own web app, e.g. a kiosk page served elsewhere; * allows any. Pages from "
+                   "other origins are refused (403); scripts, which send no Origin, are not affected")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& origin) {
+            return strata::auth::is_valid_origin_pattern(origin)
+                       ? std::string()
+                       : "'" + origin + "' is not an origin (http://host[:port], https://host[:port], *)";
+          },
+          "ORIGIN"));
+  serve_cmd
+      ->add_option("--max-clients", serve.max_clients,
+                   "WebSocket clients at once; one more is refused with HTTP 503 until one leaves")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
   serve_cmd->add_flag(
       "--lidar-keep-partial", serve.lidar.keep_partial,
       "Also hand on partial lidar revolutions (the ends of a capture, after dropped packets): "

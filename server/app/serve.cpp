@@ -195,6 +195,8 @@ int serve(const ServeOptions& options) {
   services.sim_world = driver->world();  // null for a replay: no simulated world to draw
   services.operator_token = operator_token;
   services.web_root = web_root;
+  services.allowed_origins = options.allowed_origins;
+  services.max_websocket_clients = options.max_clients;
   auto context = std::make_shared<net::ServerContext>(std::move(services));
   const boost::asio::ip::tcp::endpoint endpoint(boost::asio::ip::make_address(options.bind_address),
                                                 options.port);

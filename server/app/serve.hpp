@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
@@ -57,6 +58,10 @@ struct ServeOptions {
   /// serves https:// and wss:// only and refuses plain HTTP.
   std::filesystem::path tls_certificate;
   std::filesystem::path tls_key;
+  /// Browser origins besides the server's own that may open the WebSocket ("*": any); pages elsewhere
+  /// are refused with 403, clients without an Origin header (scripts) are not affected.
+  std::vector<std::string> allowed_origins;
+  std::size_t max_clients = 256;  ///< WebSocket clients at once; one more is refused with 503
   RobotParameters robot;
   ReplayParameters replay;
   LidarParameters lidar;

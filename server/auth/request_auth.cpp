@@ -79,6 +79,48 @@ bool is_same_origin(const net::HttpRequest& request) {
   return !origin_host.empty() && iequals(origin_host, trimmed(host->value()));
 }
 
+namespace {
+
+/// An Origin as it is compared: without blanks around it and without a trailing '/'.
+std::string_view normalized_origin(std::string_view origin) {
+  origin = trimmed(origin);
+  if (origin.ends_with('/'))
+    origin.remove_suffix(1);
+  return origin;
+}
+
+}  // namespace
+
+bool origin_allowed(const net::HttpRequest& request, const std::vector<std::string>& allowed_origins) {
+  const auto origin = request.find(http::field::origin);
+  if (origin == request.end())
+    return true;
+  if (is_same_origin(request))
+    return true;
+  const std::string_view offered = normalized_origin(origin->value());
+  return std::any_of(allowed_origins.begin(), allowed_origins.end(), [offered](const std::string& allowed) {
+    return allowed == "*" || iequals(normalized_origin(allowed), offered);
+  });
+}
+
+bool is_valid_origin_pattern(std::string_view origin) {
+  origin = normalized_origin(origin);
+  if (origin == "*" || origin == "null")
+    return true;
+  std::size_t host_start = 0;
+  if (origin.starts_with("http://"))
+    host_start = 7;
+  else if (origin.starts_with("https://"))
+    host_start = 8;
+  else
+    return false;
+  const std::string_view host = origin.substr(host_start);
+  return !host.empty() && std::all_of(host.begin(), host.end(), [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '-' || c == ':' || c == '[' ||
+           c == ']';
+  });
+}
+
 AuthOutcome authenticate(const net::HttpRequest& request, std::string_view operator_token) {
   const auto check = [operator_token](std::string_view token) {
     return !operator_token.empty() && constant_time_equal(token, operator_token) ? AuthOutcome::kOperator

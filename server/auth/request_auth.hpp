@@ -1,6 +1,8 @@
 #pragma once
 
+#include <string>
 #include <string_view>
+#include <vector>
 
 #include "server/auth/operator_token.hpp"
 #include "server/net/http_types.hpp"
@@ -28,5 +30,18 @@ inline constexpr std::string_view kTokenCookie = "strata_token";
 
 /// Whether the request's Origin header names the host in its Host header (scheme ignored).
 [[nodiscard]] bool is_same_origin(const net::HttpRequest& request);
+
+/// Whether a WebSocket upgrade may proceed as far as its origin goes. Browsers send the page's Origin on
+/// every WebSocket, and a page from anywhere may open one to any address it can reach: without this check
+/// any web site a user on the robot's network visits could watch the robot (cross-site WebSocket
+/// hijacking). Allowed: no Origin header (scripts and tools, which are not browsers), the server's own
+/// origin (the web app it serves: is_same_origin), and the origins listed in `allowed_origins` (a kiosk page
+/// served elsewhere), or any with "*". "null" (sandboxed frames, file:// pages) only if listed.
+[[nodiscard]] bool origin_allowed(const net::HttpRequest& request,
+                                  const std::vector<std::string>& allowed_origins);
+
+/// Whether `origin` can be an entry of allowed-origins: "*", "null", or `http(s)://host[:port]` without
+/// a path (a trailing '/' is tolerated).
+[[nodiscard]] bool is_valid_origin_pattern(std::string_view origin);
 
 }  // namespace strata::auth

@@ -96,16 +96,36 @@ void HttpSession<Stream>::upgrade_to_websocket() {
     refusal.body() = protocol::rest_error(
         protocol::ErrorCode::kBadRequest,
         "unsupported subprotocol; this server speaks " + std::string(protocol::kSubprotocol));
+  } else if (!auth::origin_allowed(request, context_->services.allowed_origins)) {
+    // Before the token: a page from another site gets nothing, not even the answer whether a token is right.
+    context_->metrics.ws_refused_origin.fetch_add(1, std::memory_order_relaxed);
+    spdlog::info("refused a WebSocket from the browser origin {} (not this server's, not in allowed-origins)",
+                 std::string(request[http::field::origin]));
+    refusal = HttpResponse{http::status::forbidden, request.version()};
+    refusal.body() = protocol::rest_error(protocol::ErrorCode::kForbidden,
+                                          "WebSocket connections from this page's origin are not allowed "
+                                          "(the server's allowed-origins option)");
   } else if (auth == auth::AuthOutcome::kBadToken) {
     // Refused rather than downgraded to watching: the client meant to operate and should know why it can't.
     context_->metrics.auth_failures.fetch_add(1, std::memory_order_relaxed);
     refusal = HttpResponse{http::status::unauthorized, request.version()};
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kUnauthorized, "the operator token is wrong");
-  } else {
+  } else if (auto slot = context_->websocket_clients.try_acquire()) {
     beast::get_lowest_layer(stream_).expires_never();  // the WebSocket stream has its own timeouts
     const auto role = auth == auth::AuthOutcome::kOperator ? auth::Role::kOperator : auth::Role::kViewer;
-    std::make_shared<WebSocketSession<Stream>>(std::move(stream_), context_, role)->run(parser_->release());
+    std::make_shared<WebSocketSession<Stream>>(std::move(stream_), context_, role, std::move(*slot))
+        ->run(parser_->release());
     return;
+  } else {
+    context_->metrics.ws_refused_full.fetch_add(1, std::memory_order_relaxed);
+    spdlog::warn("refused a WebSocket client: {} are connected already, the limit (max-clients)",
+                 context_->websocket_clients.max());
+    refusal = HttpResponse{http::status::service_unavailable, request.version()};
+    refusal.set(http::field::retry_after, "10");
+    refusal.body() = protocol::rest_error(protocol::ErrorCode::kUnavailable,
+                                          "too many WebSocket clients: the server takes at most " +
+                                              std::to_string(context_->websocket_clients.max()) +
+                                              " at once; try again later");
   }
   refusal.set(http::field::server, "strata");
   refusal.set(http::field::content_type, "application/json");

@@ -9,6 +9,7 @@
 #include "server/api/http_router.hpp"
 #include "server/control/robot_commands.hpp"
 #include "server/net/client_hub.hpp"
+#include "server/net/connection_limit.hpp"
 #include "server/net/outgoing_message.hpp"
 #include "server/net/server_metrics.hpp"
 #include "server/net/server_services.hpp"
@@ -28,6 +29,7 @@ struct ServerContext {
       : services(std::move(services_in)),
         sim_world_message(services.sim_world ? protocol::sim_world_message(*services.sim_world)
                                              : std::string()),
+        websocket_clients(services.max_websocket_clients),
         status(*services.robot, services.map, hub),
         map_stream(services.map ? std::make_unique<streams::MapStream>(*services.map) : nullptr),
         navigation_stream(services.motion ? std::make_unique<streams::NavigationStream>(*services.motion)
@@ -50,6 +52,7 @@ struct ServerContext {
   ServerServices services;
   std::string sim_world_message;  ///< sent to every client on connect; empty for a real robot
   ClientHub hub;
+  ConnectionLimit websocket_clients;  ///< a WebSocket session holds a slot from the upgrade to its end
   ServerMetrics metrics;
   streams::StatusStream status;
   std::unique_ptr<streams::MapStream> map_stream;

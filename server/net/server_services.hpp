@@ -1,7 +1,9 @@
 #pragma once
 
+#include <cstddef>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "drivers/sim/world/world.hpp"
 #include "server/control/robot_commands.hpp"
@@ -21,6 +23,11 @@ struct ServerServices {
   const sim::World* sim_world = nullptr;  ///< the simulated world, or null for a real robot
   std::string operator_token;             ///< empty: nobody is an operator
   std::filesystem::path web_root;
+  /// Browser origins (`scheme://host[:port]`) that may open the WebSocket besides the server's own; "*":
+  /// any. Requests without an Origin header (scripts) always may (auth::origin_allowed).
+  std::vector<std::string> allowed_origins;
+  /// WebSocket clients at once; one more is refused with 503 at the upgrade.
+  std::size_t max_websocket_clients = 256;
 };
 
 }  // namespace strata::net

@@ -50,9 +50,10 @@ bool accepts_subprotocol(std::string_view offered) {
 
 template <class Stream>
 WebSocketSession<Stream>::WebSocketSession(Stream&& stream, std::shared_ptr<ServerContext> context,
-                                           auth::Role role)
+                                           auth::Role role, ConnectionLimit::Slot slot)
     : ws_(std::move(stream)),
       context_(std::move(context)),
+      slot_(std::move(slot)),
       role_(role),
       queue_(kSendQueueCapacity),
       limiter_(kMessagesPerSecond, kMessageBurst) {}

@@ -9,6 +9,7 @@
 
 #include "server/auth/operator_token.hpp"
 #include "server/net/client_hub.hpp"
+#include "server/net/connection_limit.hpp"
 #include "server/net/http_types.hpp"
 #include "server/net/rate_limiter.hpp"
 #include "server/net/send_queue.hpp"
@@ -26,7 +27,9 @@ template <class Stream>
 class WebSocketSession : public ClientConnection,
                          public std::enable_shared_from_this<WebSocketSession<Stream>> {
  public:
-  WebSocketSession(Stream&& stream, std::shared_ptr<ServerContext> context, auth::Role role);
+  /// `slot`: this client's place under the WebSocket client limit, held until the session ends.
+  WebSocketSession(Stream&& stream, std::shared_ptr<ServerContext> context, auth::Role role,
+                   ConnectionLimit::Slot slot);
   ~WebSocketSession() override;
 
   /// Completes the upgrade `request` asked for, then starts streaming.
@@ -48,6 +51,7 @@ class WebSocketSession : public ClientConnection,
   boost::beast::websocket::stream<Stream> ws_;
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<ServerContext> context_;
+  ConnectionLimit::Slot slot_;  // after context_: given back before the context can go
   auth::Role role_;
   SendQueue queue_;
   RateLimiter limiter_;

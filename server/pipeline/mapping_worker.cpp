@@ -12,6 +12,7 @@
 #include <system_error>
 #include <utility>
 
+#include "core/files/temporary_files.hpp"
 #include "core/mls/map_export.hpp"
 #include "core/mls/mls_file.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
@@ -59,6 +60,10 @@ bool valid_map_name(const std::string& name) {
 MappingWorker::MappingWorker(MapState& state, std::filesystem::path maps_dir, MappingOptions options)
     : state_(state), maps_dir_(std::move(maps_dir)), options_(std::move(options)), live_(options_.map) {
   std::filesystem::create_directories(maps_dir_);  // throws with the reason when it cannot
+  // A save killed before its rename (power cut, SIGKILL) leaves its temporary behind; nothing ever reads
+  // it, so it would only take space. Only files named like our temporaries, of processes that are gone.
+  for (const auto& stale : remove_stale_temporaries(maps_dir_))
+    spdlog::info("removed {}: left by an interrupted map save", stale.string());
 }
 
 MappingWorker::~MappingWorker() {
@@ -220,6 +225,11 @@ bool MappingWorker::run_on_mapping_thread(Task task) const {
 CommandResult MappingWorker::save_map(const std::string& name) {
   if (!valid_map_name(name))
     return CommandResult::failure("bad_params", "'" + name + "' is not a plain file name");
+  if (temporary_file_owner(name)) {
+    // Such a file is not listed, and the next start may remove it as a save's leftover.
+    return CommandResult::failure("bad_params",
+                                  "'" + name + "' is named like a temporary file (NAME.tmp.NUMBER)");
+  }
   CommandResult result = CommandResult::failure("unavailable", "the mapping worker is not running");
   run_on_mapping_thread([&] {
     try {
@@ -268,7 +278,7 @@ std::vector<MapFileInfo> MappingWorker::list_maps() const {
   for (const auto& entry : std::filesystem::directory_iterator(maps_dir_, error)) {
     const std::string name = entry.path().filename().string();
     // Hidden files and save_mls_map's temporaries (name.tmp.PID) are not maps.
-    if (!valid_map_name(name) || name.find(".tmp.") != std::string::npos || !entry.is_regular_file(error))
+    if (!valid_map_name(name) || temporary_file_owner(name) || !entry.is_regular_file(error))
       continue;
     MapFileInfo info;
     info.name = name;

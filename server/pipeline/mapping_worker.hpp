@@ -42,7 +42,8 @@ struct MappingStatus {
 /// thread, in order with the scans, so they see the map between two scans, never during one.
 class MappingWorker final : public MapCommands {
  public:
-  /// `maps_dir` holds saved maps; it is created if missing.
+  /// `maps_dir` holds saved maps; it is created if missing, and temporaries left there by interrupted saves
+  /// (remove_stale_temporaries) are removed.
   MappingWorker(MapState& state, std::filesystem::path maps_dir, MappingOptions options = {});
   ~MappingWorker() override;
   MappingWorker(const MappingWorker&) = delete;

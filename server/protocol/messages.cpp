@@ -37,6 +37,8 @@ std::string_view to_string(ErrorCode code) {
       return "unauthorized";
     case ErrorCode::kRateLimited:
       return "rate_limited";
+    case ErrorCode::kForbidden:
+      return "forbidden";
     case ErrorCode::kInternal:
       return "internal";
   }

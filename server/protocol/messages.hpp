@@ -24,6 +24,7 @@ enum class ErrorCode {
   kBadParams,     ///< a known op (or REST body) with missing, mistyped or out-of-range fields
   kUnauthorized,  ///< needs the operator token, or the token offered is wrong
   kRateLimited,   ///< the client sends faster than the limit
+  kForbidden,     ///< refused whatever the token: a WebSocket from a browser origin that is not allowed
   kInternal,
 };
 [[nodiscard]] std::string_view to_string(ErrorCode code);

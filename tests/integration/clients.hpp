@@ -115,6 +115,33 @@ inline http::response<http::string_body> https_request(ssl::context& tls, std::u
   return http_exchange(stream, port, method, target, std::move(body), token);
 }
 
+/// A WebSocket upgrade request on /ws with `extra` headers, sent by hand so that a refusal's status and
+/// body can be read (a WebSocket client only reports that the handshake failed).
+inline http::response<http::string_body> websocket_upgrade(
+    std::uint16_t port, const std::vector<std::pair<http::field, std::string>>& extra) {
+  boost::asio::io_context io;
+  tcp::socket socket(io);
+  open_stream(socket, port);
+  http::request<http::empty_body> request{http::verb::get, "/ws", 11};
+  request.set(http::field::host, "127.0.0.1:" + std::to_string(port));
+  request.set(http::field::upgrade, "websocket");
+  request.set(http::field::connection, "Upgrade");
+  request.set(http::field::sec_websocket_key, "dGhlIHNhbXBsZSBub25jZQ==");
+  request.set(http::field::sec_websocket_version, "13");
+  request.set(http::field::sec_websocket_protocol, "strata.v1");
+  for (const auto& [field, value] : extra)
+    request.set(field, value);
+  http::write(socket, request);
+  beast::flat_buffer buffer;
+  http::response_parser<http::string_body> parser;
+  http::read_header(socket, buffer, parser);
+  if (parser.get().result() != http::status::switching_protocols)
+    http::read(socket, buffer, parser);  // a refusal has a body; a 101 has none and the stream begins
+  beast::error_code ignored;
+  socket.shutdown(tcp::socket::shutdown_both, ignored);
+  return parser.release();
+}
+
 /// A WebSocket client on /ws that reads JSON messages with a timeout: WsClient over TCP (ws://), WssClient
 /// over TLS (wss://).
 template <class Stream>
@@ -122,11 +149,13 @@ class BasicWsClient {
  public:
   static constexpr bool kTls = std::is_same_v<Stream, TlsSocket>;
 
-  /// Throws beast::system_error when the handshake is refused.
+  /// Throws beast::system_error when the handshake is refused. `origin`: the Origin header a browser page
+  /// would send (none: a script).
   explicit BasicWsClient(std::uint16_t port, std::string subprotocol = "strata.v1",
-                         std::string target = "/ws", std::string authorization = {}) requires(!kTls)
+                         std::string target = "/ws", std::string authorization = {},
+                         std::string origin = {}) requires(!kTls)
       : ws_(io_) {
-    handshake(port, subprotocol, target, authorization);
+    handshake(port, subprotocol, target, authorization, origin);
   }
   /// Over TLS, trusting `tls`.
   BasicWsClient(ssl::context& tls, std::uint16_t port, std::string subprotocol = "strata.v1",
@@ -222,16 +251,19 @@ class BasicWsClient {
 
  private:
   void handshake(std::uint16_t port, const std::string& subprotocol, const std::string& target,
-                 const std::string& authorization) {
+                 const std::string& authorization, const std::string& origin = {}) {
     open_stream(ws_.next_layer(), port);
-    ws_.set_option(
-        websocket::stream_base::decorator([subprotocol, authorization](websocket::request_type& request) {
+    ws_.set_option(websocket::stream_base::decorator(
+        [subprotocol, authorization, origin](websocket::request_type& request) {
           if (!subprotocol.empty())
             request.set(http::field::sec_websocket_protocol, subprotocol);
           if (!authorization.empty())
             request.set(http::field::authorization, authorization);
+          if (!origin.empty())
+            request.set(http::field::origin, origin);
         }));
-    ws_.handshake(response_, "127.0.0.1", target);
+    // Host with the port, as browsers send it (the same-origin check compares it with Origin).
+    ws_.handshake(response_, "127.0.0.1:" + std::to_string(port), target);
   }
 
   boost::asio::io_context io_;

@@ -24,6 +24,24 @@ TEST(ServeConfig, TheConfigFileSetsOptions) {
   std::filesystem::remove(file);
 }
 
+TEST(ServeConfig, TheSecurityKeysComeFromTheConfigFile) {
+  const auto file = std::filesystem::temp_directory_path() /
+                    ("strata-config-security-" + std::to_string(::getpid()) + ".ini");
+  {
+    std::ofstream out(file);
+    out << "[serve]\nscanner = \"none\"\nmax-clients = 1\n"
+           "allowed-origins = [\"https://kiosk.example\", \"http://panel.example:3000\"]\n";
+  }
+  ServerProcess server({"--config", file.string()});
+  std::filesystem::remove(file);
+  WsClient panel(server.port(), "strata.v1", "/ws", {}, "http://panel.example:3000");
+  EXPECT_EQ(panel.read()["op"], "hello");
+  // max-clients = 1: the second is refused; and a page from an origin not listed is refused as such.
+  EXPECT_EQ(websocket_upgrade(server.port(), {}).result(), http::status::service_unavailable);
+  EXPECT_EQ(websocket_upgrade(server.port(), {{http::field::origin, "https://elsewhere.example"}}).result(),
+            http::status::forbidden);
+}
+
 TEST(ServeConfig, BadRobotParametersAreRefusedAtStart) {
   for (const char* option : {"--robot-radius", "--robot-height", "--max-step", "--max-slope"}) {
     const auto result = run_strata({"serve", "--port", "0", option, "-1"});

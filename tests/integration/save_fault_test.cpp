@@ -2,7 +2,10 @@
 // and a disk that fills up. The map file must always load as the previous map or the new one, never be
 // half written, and no temporary file may take its place.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <boost/asio/connect.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
@@ -134,7 +137,8 @@ TEST_F(SaveFaults, KilledDuringSavesTheMapFileIsThePreviousOrTheNewMap) {
     } else {
       ++replaced;
     }
-    // Only a killed save's own temporary may be left beside the map (name.tmp.PID, never listed or loaded).
+    // Only a killed save's own temporary may be left beside the map (name.tmp.PID, never listed or loaded);
+    // the next server removes it at start (AServerRemovesWhatKilledSavesLeft).
     for (const std::string& name : other_files(maps_dir_))
       EXPECT_TRUE(name.starts_with(std::string(kMapName) + ".tmp.")) << name;
   }
@@ -151,6 +155,51 @@ TEST_F(SaveFaults, KilledDuringSavesTheMapFileIsThePreviousOrTheNewMap) {
   const auto loaded = http_request(server.port(), http::verb::post,
                                    std::string("/api/v1/maps/") + kMapName + "/load", {}, kTestOperatorToken);
   EXPECT_EQ(loaded.result(), http::status::ok) << loaded.body();
+}
+
+/// The id of a process that has ended: what a save killed by a power cut leaves in its temporary's name.
+pid_t ended_process() {
+  const pid_t child = ::fork();
+  if (child == 0)
+    ::_exit(0);
+  int status = 0;
+  ::waitpid(child, &status, 0);
+  return child;
+}
+
+TEST_F(SaveFaults, AServerRemovesWhatKilledSavesLeftAndNothingElse) {
+  const std::string dead = std::to_string(ended_process());
+  const auto write = [this](const std::string& name) { std::ofstream(maps_dir_ / name) << "bytes"; };
+  // Left by killed saves: removed.
+  write(std::string(kMapName) + ".tmp." + dead);
+  write("other map.tmp." + dead);
+  // Not ours, or not stale: kept. A running process's temporary (this test's own pid: a save under way in
+  // another server), files that only look similar, a directory and a link with the temporaries' name.
+  const std::vector<std::string> kept{"site.strata",
+                                      "running.strata.tmp." + std::to_string(::getpid()),
+                                      "notes.tmp",
+                                      "data.tmp.12ab",
+                                      "data.tmp.",
+                                      ".tmp." + dead,
+                                      "trailing.tmp." + dead + ".bak"};
+  for (const auto& name : kept)
+    write(name);
+  fs::create_directory(maps_dir_ / ("folder.tmp." + dead));
+  fs::create_symlink(maps_dir_ / "site.strata", maps_dir_ / ("link.tmp." + dead));
+
+  ServerProcess server(server_args(maps_dir_, 1));
+  std::vector<std::string> left = other_files(maps_dir_);
+  left.push_back(kMapName);
+  std::sort(left.begin(), left.end());
+  std::vector<std::string> expected = kept;
+  expected.push_back("folder.tmp." + dead);
+  expected.push_back("link.tmp." + dead);
+  std::sort(expected.begin(), expected.end());
+  EXPECT_EQ(left, expected);
+  // A map may not be saved under such a name: the next start could take it for a leftover.
+  const auto refused = http_request(server.port(), http::verb::post, "/api/v1/maps",
+                                    nlohmann::json{{"name", "x.tmp.1"}}.dump(), kTestOperatorToken);
+  EXPECT_EQ(refused.result(), http::status::bad_request) << refused.body();
 }
 
 // A full disk, without root: the server runs with a file size limit (RLIMIT_FSIZE) smaller than its map.

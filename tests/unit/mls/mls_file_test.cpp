@@ -1,6 +1,7 @@
 #include "core/mls/mls_file.hpp"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cstdint>
 #include <filesystem>
@@ -8,6 +9,7 @@
 #include <iterator>
 #include <string>
 
+#include "core/files/temporary_files.hpp"
 #include "core/mls/drivable_map.hpp"
 #include "core/mls/map_export.hpp"
 #include "tests/unit/mls/mls_scenes.hpp"
@@ -91,6 +93,16 @@ TEST_F(MlsFileTest, SameContentSeesADifference) {
   MlsMap changed = scene_map();
   changed.insert_scan({{0.05, 0.05, 0.02}}, {0, 0, 1});
   EXPECT_FALSE(changed.same_content(scene_map()));
+}
+
+TEST(TemporaryFiles, OnlyTheSavesOwnNamesAreTemporaries) {
+  EXPECT_EQ(temporary_path_for("/maps/site.strata").filename().string(),
+            "site.strata.tmp." + std::to_string(::getpid()));
+  EXPECT_EQ(temporary_file_owner("site.strata.tmp.4242"), 4242);
+  EXPECT_EQ(temporary_file_owner("a.tmp.b.tmp.7"), 7);
+  for (const char* name : {"site.strata", "notes.tmp", "x.tmp.", "x.tmp.12ab", "x.tmp.-3", "x.tmp.+3",
+                           "x.tmp.0", ".tmp.12", "x.tmp.99999999999999999999", "x.tmp.12.bak"})
+    EXPECT_FALSE(temporary_file_owner(name)) << name;
 }
 
 TEST_F(MlsFileTest, TruncatedFileIsRejectedAndTheMapUntouched) {

@@ -1,6 +1,8 @@
 #include <gtest/gtest.h>
 
 #include <set>
+#include <string>
+#include <vector>
 
 #include "server/auth/operator_token.hpp"
 #include "server/auth/request_auth.hpp"
@@ -84,6 +86,35 @@ TEST(RequestAuth, WithoutAConfiguredTokenNobodyOperates) {
   request.set(http::field::authorization, "Bearer ");
   EXPECT_EQ(authenticate(request, ""), AuthOutcome::kBadToken);
   EXPECT_EQ(authenticate(upgrade(), ""), AuthOutcome::kViewer);
+}
+
+TEST(OriginPolicy, NoOriginTheServerItselfAndListedOriginsMayUpgrade) {
+  const std::vector<std::string> none;
+  const std::vector<std::string> kiosk{"https://kiosk.example:8443/"};
+  auto request = upgrade();
+  EXPECT_TRUE(origin_allowed(request, none));  // a script: no Origin header
+  request.set(http::field::origin, "http://robot:8080");
+  EXPECT_TRUE(origin_allowed(request, none));  // the web app the server serves
+  request.set(http::field::origin, "https://kiosk.example:8443");
+  EXPECT_FALSE(origin_allowed(request, none));
+  EXPECT_TRUE(origin_allowed(request, kiosk));  // listed (a trailing '/' in the list does not matter)
+  EXPECT_TRUE(origin_allowed(request, {"*"}));
+  request.set(http::field::origin, "https://kiosk.example:8444");
+  EXPECT_FALSE(origin_allowed(request, kiosk));
+  request.set(http::field::origin, "http://robot:8081");  // the same host on another port is another origin
+  EXPECT_FALSE(origin_allowed(request, none));
+  request.set(http::field::origin, "null");
+  EXPECT_FALSE(origin_allowed(request, kiosk));
+  EXPECT_TRUE(origin_allowed(request, {"null"}));
+}
+
+TEST(OriginPolicy, OnlyOriginsAreValidPatterns) {
+  for (const char* good : {"*", "null", "http://kiosk", "https://kiosk.example:8443", "http://10.0.0.5:3000/",
+                           "http://[::1]:8080"})
+    EXPECT_TRUE(is_valid_origin_pattern(good)) << good;
+  for (const char* bad : {"", "kiosk.example", "ftp://kiosk", "https://", "https://kiosk/app", "http://a b",
+                          "https://kiosk.example, https://other"})
+    EXPECT_FALSE(is_valid_origin_pattern(bad)) << bad;
 }
 
 }  // namespace

@@ -1,0 +1,113 @@
+// Who may open the WebSocket, and how many: the Origin policy against cross-site WebSocket hijacking and the
+// WebSocket client limit, on the real server with real clients (proto/PROTOCOL.md "Who may do what",
+// "Limits").
+#include <gtest/gtest.h>
+
+#include <string>
+#include <thread>
+
+#include "integration/clients.hpp"
+#include "integration/server_process.hpp"
+
+namespace strata::testing {
+namespace {
+
+constexpr const char* kKiosk = "https://kiosk.example:8443";
+
+class OriginPolicy : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    server_ = new ServerProcess({"--scanner", "none", "--allowed-origins", kKiosk});
+  }
+  static void TearDownTestSuite() {
+    delete server_;
+    server_ = nullptr;
+  }
+  static std::uint16_t port() { return server_->port(); }
+  static std::string own_origin() { return "http://127.0.0.1:" + std::to_string(port()); }
+  static inline ServerProcess* server_ = nullptr;
+};
+
+TEST_F(OriginPolicy, ScriptsWithoutAnOriginAndTheServedAppConnect) {
+  WsClient script(port());
+  EXPECT_EQ(script.read()["op"], "hello");
+  // The web app the server serves: its page's origin is the server itself.
+  WsClient app(port(), "strata.v1", "/ws", {}, own_origin());
+  EXPECT_EQ(app.read()["role"], "viewer");
+  auto app_operator =
+      std::make_unique<WsClient>(port(), "strata.v1, strata.token." + std::string(kTestOperatorToken), "/ws",
+                                 std::string(), own_origin());
+  EXPECT_EQ(app_operator->read()["role"], "operator");
+}
+
+TEST_F(OriginPolicy, APageFromAnotherSiteIsRefusedEvenWithTheToken) {
+  const auto refused = websocket_upgrade(port(), {{http::field::origin, "https://evil.example"}});
+  EXPECT_EQ(refused.result(), http::status::forbidden);
+  const auto body = nlohmann::json::parse(refused.body());
+  expect_schema("rest", "error", body);
+  EXPECT_EQ(body["error"]["code"], "forbidden");
+  // Knowing the token does not help a foreign page: it is refused before the token is looked at.
+  const auto with_token = websocket_upgrade(
+      port(),
+      {{http::field::origin, "https://evil.example"},
+       {http::field::sec_websocket_protocol, "strata.v1, strata.token." + std::string(kTestOperatorToken)}});
+  EXPECT_EQ(with_token.result(), http::status::forbidden);
+  // Same host name, other port: another origin.
+  EXPECT_EQ(websocket_upgrade(port(), {{http::field::origin, "http://127.0.0.1:1"}}).result(),
+            http::status::forbidden);
+  // Sandboxed frames and file:// pages send "null".
+  EXPECT_EQ(websocket_upgrade(port(), {{http::field::origin, "null"}}).result(), http::status::forbidden);
+  EXPECT_THROW(WsClient(port(), "strata.v1", "/ws", {}, "https://evil.example"), beast::system_error);
+  const auto metrics = http_get(port(), "/metrics").body();
+  EXPECT_EQ(metrics.find("strata_ws_refused_origin_total 0\n"), std::string::npos) << metrics;
+}
+
+TEST_F(OriginPolicy, AnAllowedOriginConnects) {
+  WsClient kiosk(port(), "strata.v1", "/ws", {}, kKiosk);
+  EXPECT_EQ(kiosk.read()["op"], "hello");
+  WsClient upper_case(port(), "strata.v1", "/ws", {}, "HTTPS://KIOSK.EXAMPLE:8443");
+  EXPECT_EQ(upper_case.read()["op"], "hello");
+}
+
+TEST(OriginOption, AMalformedOriginIsRefusedAtStart) {
+  const auto result = run_strata({"serve", "--port", "0", "--allowed-origins", "kiosk.example"});
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("kiosk.example"), std::string::npos) << result.output;
+}
+
+TEST(ClientLimit, OneClientOverTheLimitGets503UntilOneLeaves) {
+  ServerProcess server({"--scanner", "none", "--max-clients", "2"});
+  auto first = std::make_unique<WsClient>(server.port());
+  first->read_op("hello");
+  WsClient second(server.port());
+  second.read_op("hello");
+
+  const auto refused = websocket_upgrade(server.port(), {});
+  EXPECT_EQ(refused.result(), http::status::service_unavailable);
+  const auto body = nlohmann::json::parse(refused.body());
+  expect_schema("rest", "error", body);
+  EXPECT_EQ(body["error"]["code"], "unavailable");
+  EXPECT_NE(body["error"]["message"].get<std::string>().find("at most 2"), std::string::npos) << body;
+  EXPECT_THROW(WsClient{server.port()}, beast::system_error);
+  // Plain HTTP is not limited by it.
+  EXPECT_EQ(http_get(server.port(), "/healthz").result(), http::status::ok);
+
+  // Once a client has gone, its place is free again (the server notices the close asynchronously).
+  first.reset();
+  bool connected = false;
+  for (int attempt = 0; attempt < 200 && !connected; ++attempt) {
+    try {
+      WsClient again(server.port());
+      connected = again.read()["op"] == "hello";
+    } catch (const beast::system_error&) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    }
+  }
+  EXPECT_TRUE(connected);
+  const auto metrics = http_get(server.port(), "/metrics").body();
+  EXPECT_EQ(metrics.find("strata_ws_refused_full_total 0\n"), std::string::npos) << metrics;
+  second.read_op("pose");  // the clients that were in were not disturbed
+}
+
+}  // namespace
+}  // namespace strata::testing
