@@ -43,15 +43,20 @@ void Simulator::step(double dt) {
 
   const Eigen::Isometry3d base_in_world = stance_.pose.to_isometry();
   if (stop_and_go) {
-    if (auto scan = tilting_.advance(*world_, base_in_world, time_, time_ + dt)) {
+    if (auto scan = tilting_.advance(*world_, base_in_world, time_, time_ + dt); scan && !sensor_out()) {
       since_last_scan_ = 0.0;
       finish_scan(std::move(*scan));
     }
   } else if (config_.scanner == ScannerKind::kLidar) {
-    if (auto scan = lidar_.advance(*world_, base_in_world, time_, time_ + dt))
+    if (auto scan = lidar_.advance(*world_, base_in_world, time_, time_ + dt); scan && !sensor_out())
       finish_scan(std::move(*scan));
   }
   time_ += dt;
+}
+
+bool Simulator::sensor_out() const {
+  const auto& outage = config_.sensor_outage;
+  return outage && time_ >= outage->start && time_ < outage->start + outage->duration;
 }
 
 void Simulator::command(const VelocityCommand& command) {
@@ -73,6 +78,8 @@ RobotSample Simulator::sample() const {
   sample.velocity = base_.velocity();
   sample.scanning = tilting_.scanning();
   sample.blocked_by = blocked_by_;
+  sample.awaiting_scan = config_.scanner == ScannerKind::kLidar ||
+                         (config_.scanner == ScannerKind::kTilting && tilting_.scanning());
   return sample;
 }
 

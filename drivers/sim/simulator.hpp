@@ -34,6 +34,13 @@ struct SimulatorConfig {
   SpinningLidarConfig lidar;
   double scan_spacing = 2.0;  ///< m driven between stop-and-go scans
   double cruise_speed = 0.6;  ///< m/s along the demo route
+  /// A fault drill: the sensor delivers nothing from `start` for `duration` simulated seconds (a scan that
+  /// completes then is lost; the stop-and-go robot stands and tries again until a scan comes through).
+  struct SensorOutage {
+    double start = 0.0;
+    double duration = 0.0;
+  };
+  std::optional<SensorOutage> sensor_outage;
 };
 
 /// What the robot knows and what is true at one instant of simulated time.
@@ -44,6 +51,9 @@ struct RobotSample {
   VelocityCommand velocity;
   bool scanning = false;   ///< standing still for a stop-and-go scan
   std::string blocked_by;  ///< why the last step could not move ("step", "slope", ...), or empty
+  /// A scan is due from the sensor: always for a spinning lidar and the replay and lidar drivers, for the
+  /// stop-and-go scanner only while it scans. What the status's sensor watch times (a stalled sensor).
+  bool awaiting_scan = true;
 };
 
 /// The simulated robot in its world, advanced in fixed steps of simulated time. Pure and
@@ -69,6 +79,7 @@ class Simulator {
 
  private:
   void finish_scan(ScanEvent scan);
+  [[nodiscard]] bool sensor_out() const;
 
   std::shared_ptr<const World> world_;
   SimulatorConfig config_;

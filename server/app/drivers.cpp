@@ -38,14 +38,44 @@ std::unique_ptr<RobotDriver> make_replay(const ServeOptions& options) {
   return std::make_unique<replay::ReplayDriver>(replay::open_dataset(options.replay.directory), replay);
 }
 
+/// --sim-sensor-outage "START,DURATION": simulated seconds, both finite, START >= 0, DURATION > 0.
+sim::SimulatorConfig::SensorOutage parse_outage(const std::string& text) {
+  const std::size_t comma = text.find(',');
+  const auto number = [&text](const std::string& item) {
+    std::size_t used = 0;
+    double value = 0.0;
+    try {
+      value = std::stod(item, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(value))
+      throw std::runtime_error("--sim-sensor-outage '" + text + "': '" + item + "' is not a number");
+    return value;
+  };
+  if (comma == std::string::npos)
+    throw std::runtime_error("--sim-sensor-outage '" + text +
+                             "': expected START,DURATION (simulated seconds)");
+  const sim::SimulatorConfig::SensorOutage outage{number(text.substr(0, comma)),
+                                                  number(text.substr(comma + 1))};
+  if (outage.start < 0.0 || outage.duration <= 0.0)
+    throw std::runtime_error("--sim-sensor-outage '" + text + "': START must be >= 0 and DURATION > 0");
+  return outage;
+}
+
 std::unique_ptr<RobotDriver> make_simulator(const ServeOptions& options) {
   auto world = std::make_shared<const sim::World>(load_world(options.world));
   sim::SimulatorConfig config;
   config.seed = options.seed;
   config.scanner = parse_scanner(options.scanner);
-  const std::string description =
+  std::string description =
       fmt::format("world '{}', {} scanner, seed {}, time scale {}", world->description().name,
                   options.scanner, options.seed, options.time_scale);
+  if (!options.sim_sensor_outage.empty()) {
+    config.sensor_outage = parse_outage(options.sim_sensor_outage);
+    description += fmt::format(", sensor outage drill from t={} s for {} s", config.sensor_outage->start,
+                               config.sensor_outage->duration);
+  }
   return std::make_unique<sim::SimulatorDriver>(
       sim::Simulator(std::move(world), config),
       sim::SimulatedRobotConfig{.step_rate = 100.0, .time_scale = options.time_scale}, description);
@@ -117,6 +147,10 @@ std::unique_ptr<RobotDriver> make_lidar(const ServeOptions& options) {
 }  // namespace
 
 std::unique_ptr<RobotDriver> make_driver(const ServeOptions& options) {
+  const bool simulated =
+      options.lidar.pcap.empty() && options.lidar.model.empty() && options.replay.directory.empty();
+  if (!simulated && !options.sim_sensor_outage.empty())
+    throw std::runtime_error("--sim-sensor-outage is a drill for the simulated robot only");
   if (!options.lidar.pcap.empty() || !options.lidar.model.empty())
     return make_lidar(options);
   if (!options.replay.directory.empty())

@@ -149,6 +149,16 @@ int main(int argc, char** argv) {
                    "Hand at most this many scans to the pipeline, then keep serving the map (0: all)")
       ->capture_default_str();
   serve_cmd
+      ->add_option("--sensor-timeout", serve.sensor_timeout,
+                   "Seconds a due scan may be late before the status reports the sensor stalled (0: 10 s, "
+                   "longer when --time-scale is below 1)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 3600.0));
+  serve_cmd->add_option(
+      "--sim-sensor-outage", serve.sim_sensor_outage,
+      "Fault drill with the simulator: START,DURATION in simulated seconds from the start during "
+      "which the sensor delivers no scans (the status reports it stalled, then recovered)");
+  serve_cmd
       ->add_option(
           "--tls-cert", serve.tls_certificate,
           "TLS certificate (PEM, may hold the chain): serve https:// and wss:// on the port and refuse "

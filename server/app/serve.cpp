@@ -116,6 +116,10 @@ int serve(const ServeOptions& options) {
   const std::unique_ptr<RobotDriver> driver = make_driver(options);
   const Eigen::Isometry3d map_from_odom = driver->initial_map_from_odom();
   robot_state.set_driver(DriverStatus{driver->kind(), false});
+  // A stalled sensor: 10 s of wall time waiting for a due scan, stretched when --time-scale is below 1 (the
+  // simulated scanner then takes longer per scan).
+  robot_state.set_sensor_timeout(
+      options.sensor_timeout > 0.0 ? options.sensor_timeout : 10.0 * std::max(1.0, 1.0 / options.time_scale));
   // --record: every sample and scan the pipeline receives, on the recorder's own thread.
   std::unique_ptr<replay::Recorder> recorder;
   if (!options.record.empty()) {
@@ -168,8 +172,9 @@ int serve(const ServeOptions& options) {
     if (recorder != nullptr)
       recorder->record(sample);
   };
-  outputs.on_scan = [&localizer, &scans_taken, max_scans = options.max_scans,
+  outputs.on_scan = [&robot_state, &localizer, &scans_taken, max_scans = options.max_scans,
                      recorder = recorder.get()](ScanEvent scan) {
+    robot_state.scan_delivered();  // the sensor works, whether or not the pipeline takes the scan
     if (max_scans != 0 && scans_taken >= max_scans)
       return;  // --max-scans: a run of a fixed length; the map stays as it is
     ++scans_taken;

@@ -67,6 +67,12 @@ struct ServeOptions {
   LidarParameters lidar;
   std::filesystem::path record;  ///< write the scans and odometry here (replay layout); empty: no recording
   std::size_t max_scans = 0;     ///< hand at most this many scans to the pipeline; 0: all
+  /// Wall-clock seconds a due scan may be waited for before the status says the sensor stalled; 0: 10 s,
+  /// longer when --time-scale slows the simulator down.
+  double sensor_timeout = 0.0;
+  /// A fault drill with the simulator: "START,DURATION", simulated seconds from the start during which
+  /// the sensor delivers nothing; empty: none.
+  std::string sim_sensor_outage;
 };
 
 /// The token in a file, without surrounding whitespace; throws when the file cannot be read.

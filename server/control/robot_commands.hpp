@@ -14,6 +14,7 @@ struct CommandResult {
   bool ok = true;
   std::string code;
   std::string message;
+  std::uint64_t goal_id = 0;  ///< set_goal: the id of the goal it accepted
   static CommandResult success() { return {}; }
   static CommandResult failure(std::string code, std::string message) {
     return {false, std::move(code), std::move(message)};
@@ -30,6 +31,10 @@ class MotionCommands {
   virtual CommandResult set_goal(const GoalRequest& goal) = 0;
   /// Cancels the active goal and stops the robot.
   virtual CommandResult cancel_goal() = 0;
+  /// Cancels goal `goal_id` with `reason` and stops the robot, but only while that goal is still the active
+  /// one: the WebSocket operator connection that set it closed. A goal replaced since, reached, failed or
+  /// cancelled is left alone. Returns whether it cancelled.
+  virtual bool cancel_goal_if_active(std::uint64_t goal_id, const std::string& reason) = 0;
   /// Drives at (v m/s, w rad/s) for 0.5 s unless renewed; overrides (and cancels) a goal.
   virtual CommandResult teleop(double v, double w) = 0;
   /// Stops teleoperation at once (the teleoperating client disconnected).

@@ -60,10 +60,18 @@ WebSocketSession<Stream>::WebSocketSession(Stream&& stream, std::shared_ptr<Serv
 
 template <class Stream>
 WebSocketSession<Stream>::~WebSocketSession() {
-  context_->hub.leave(this);
-  // A dropped connection stops the robot it was driving by hand (ARCHITECTURE.md 6).
+  // A dropped connection stops the robot it was driving by hand (ARCHITECTURE.md 6), and cancels the goal
+  // it set if that goal is still the one being driven: an operator who is gone cannot watch or stop the
+  // robot any more. (A goal set over REST has no connection and runs on.)
   if (teleoperating_ && context_->services.motion != nullptr)
     context_->services.motion->stop_teleop();
+  if (goal_id_ != 0 && context_->services.motion != nullptr &&
+      context_->services.motion->cancel_goal_if_active(goal_id_, "operator_disconnected")) {
+    spdlog::warn("the operator connection that set goal {} closed: goal cancelled, the robot stops",
+                 goal_id_);
+  }
+  // Last: once the status no longer counts this client, its goal is already cancelled.
+  context_->hub.leave(this);
   if (open_)
     spdlog::info("websocket client left ({} connected)", context_->hub.size());
 }
@@ -195,7 +203,10 @@ void WebSocketSession<Stream>::handle_request(const protocol::ClientRequest& req
         } else if constexpr (std::is_same_v<T, protocol::SetGoalRequest>) {
           if (motion == nullptr)
             return unavailable("navigation");
-          reply(motion->set_goal(r.goal), op, id);
+          const CommandResult result = motion->set_goal(r.goal);
+          if (result.ok)
+            goal_id_ = result.goal_id;
+          reply(result, op, id);
         } else if constexpr (std::is_same_v<T, protocol::CancelGoalRequest>) {
           if (motion == nullptr)
             return unavailable("navigation");

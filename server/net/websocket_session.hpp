@@ -59,6 +59,7 @@ class WebSocketSession : public ClientConnection,
   std::chrono::steady_clock::time_point write_started_{};
   bool open_ = false;
   bool teleoperating_ = false;
+  std::uint64_t goal_id_ = 0;  // the last goal this connection set: cancelled when it closes
 };
 
 extern template class WebSocketSession<PlainStream>;

@@ -69,16 +69,17 @@ void Navigator::stop() {
 CommandResult Navigator::set_goal(const GoalRequest& goal) {
   if (!std::isfinite(goal.x) || !std::isfinite(goal.y) || (goal.z && !std::isfinite(*goal.z)))
     return CommandResult::failure("bad_params", "goal coordinates must be finite numbers");
+  CommandResult result = CommandResult::success();
   {
     std::lock_guard lock(mutex_);
     commanded_ = true;
     teleop_until_.reset();
-    tracker_.accept(goal, stamp_);
+    result.goal_id = tracker_.accept(goal, stamp_);
     drop_path();
     goal_waiting_ = true;
   }
   wake_.notify_all();
-  return CommandResult::success();
+  return result;
 }
 
 CommandResult Navigator::cancel_goal() {
@@ -89,6 +90,16 @@ CommandResult Navigator::cancel_goal() {
   drop_path();
   goal_waiting_ = false;
   return CommandResult::success();
+}
+
+bool Navigator::cancel_goal_if_active(std::uint64_t goal_id, const std::string& reason) {
+  std::lock_guard lock(mutex_);
+  if (!tracker_.is_active(goal_id))
+    return false;
+  tracker_.cancel(stamp_, reason);
+  drop_path();
+  goal_waiting_ = false;
+  return true;  // drive() now answers a stop: commanded_ was set with the goal
 }
 
 CommandResult Navigator::teleop(double v, double w) {

@@ -53,6 +53,7 @@ class Navigator : public MotionCommands {
   // MotionCommands
   CommandResult set_goal(const GoalRequest& goal) override;
   CommandResult cancel_goal() override;
+  bool cancel_goal_if_active(std::uint64_t goal_id, const std::string& reason) override;
   CommandResult teleop(double v, double w) override;
   void stop_teleop() override;
   [[nodiscard]] GoalStatus goal_status() const override;

@@ -86,11 +86,18 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
            {"patches", extras.map->patches},
            {"bytes", extras.map->memory_bytes}};
   }
+  nlohmann::json sensor{{"state", extras.sensor.stalled ? "stalled" : "ok"},
+                        {"overdue_seconds", extras.sensor.overdue},
+                        {"timeout_seconds", extras.sensor.timeout},
+                        {"scans", extras.sensor.scans}};
+  if (extras.sensor.seconds_since_last_scan)
+    sensor["seconds_since_last_scan"] = *extras.sensor.seconds_since_last_scan;
   return {{"registration", std::move(reg)},
           {"clients", extras.clients},
           {"scan_rate", extras.scan_rate},
           {"map", std::move(map)},
-          {"driver", {{"kind", extras.driver.kind}, {"finished", extras.driver.finished}}}};
+          {"driver", {{"kind", extras.driver.kind}, {"finished", extras.driver.finished}}},
+          {"sensor", std::move(sensor)}};
 }
 
 std::string status_message(const RegistrationStatus& registration, const StatusExtras& extras) {

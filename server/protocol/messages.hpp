@@ -39,6 +39,7 @@ struct StatusExtras {
   double scan_rate = 0.0;                  ///< scans registered per second, recent average
   std::shared_ptr<const MapSnapshot> map;  ///< null before the first map
   DriverStatus driver;                     ///< where the scans come from
+  SensorStatus sensor;                     ///< whether its scans arrive when due
 };
 /// The body of GET /api/v1/status: registration quality and counts, scan rate, map size, clients.
 [[nodiscard]] nlohmann::json status_fields(const RegistrationStatus& registration,

@@ -42,7 +42,9 @@ struct GoalStatus {
   std::uint64_t id = 0;  ///< 0: there has never been a goal
   GoalRequest target;
   GoalPhase phase = GoalPhase::kCancelled;
-  std::string reason;  ///< for failed: "unreachable", "blocked", "no_map", "off_map", ...; else empty
+  /// For failed: "unreachable", "blocked", "no_map", "off_map", ...; for cancelled, when not by a command:
+  /// "operator_disconnected" (the operator connection that set the goal closed); else empty.
+  std::string reason;
   double stamp = 0.0;  ///< simulated/robot seconds when the phase last changed
 };
 

@@ -42,11 +42,12 @@ bool GoalTracker::fail(std::uint64_t id, std::string reason, double stamp) {
   return true;
 }
 
-bool GoalTracker::cancel(double stamp) {
+bool GoalTracker::cancel(double stamp, std::string reason) {
   if (!active())
     return false;
   status_.phase = GoalPhase::kCancelled;
   status_.stamp = stamp;
+  status_.reason = std::move(reason);
   return true;
 }
 

@@ -19,8 +19,8 @@ class GoalTracker {
   bool driving(std::uint64_t id, double stamp);
   bool reached(std::uint64_t id, double stamp);
   bool fail(std::uint64_t id, std::string reason, double stamp);
-  /// Cancels the active goal, if there is one.
-  bool cancel(double stamp);
+  /// Cancels the active goal, if there is one; `reason` says why when no command did (empty: one did).
+  bool cancel(double stamp, std::string reason = {});
 
   [[nodiscard]] const GoalStatus& status() const { return status_; }
   /// accepted, planning or driving.

@@ -8,6 +8,7 @@
 
 #include "core/geometry/pose.hpp"
 #include "drivers/sim/simulator.hpp"
+#include "server/state/sensor_watch.hpp"
 
 namespace strata {
 
@@ -50,8 +51,21 @@ struct RobotSnapshot {
 class RobotState {
  public:
   void publish(const sim::RobotSample& sample) {
+    const auto now = SensorWatch::Clock::now();
     std::lock_guard lock(mutex_);
     latest_ = sample;
+    sensor_.sample(sample.awaiting_scan, now);
+  }
+  /// The driver delivered a scan (whether or not the pipeline takes it).
+  void scan_delivered() {
+    const auto now = SensorWatch::Clock::now();
+    std::lock_guard lock(mutex_);
+    sensor_.scan(now);
+  }
+  /// Seconds a due scan may be waited for before the sensor counts as stalled.
+  void set_sensor_timeout(double seconds) {
+    std::lock_guard lock(mutex_);
+    sensor_.set_timeout(seconds);
   }
   void set_correction(const Eigen::Isometry3d& map_from_odom, bool localized) {
     std::lock_guard lock(mutex_);
@@ -66,6 +80,8 @@ class RobotState {
   void set_driver(const DriverStatus& driver) {
     std::lock_guard lock(mutex_);
     driver_ = driver;
+    if (driver.finished)
+      sensor_.finished();
   }
 
   [[nodiscard]] std::optional<RobotSnapshot> snapshot() const {
@@ -84,6 +100,11 @@ class RobotState {
     std::lock_guard lock(mutex_);
     return driver_;
   }
+  [[nodiscard]] SensorStatus sensor() const {
+    const auto now = SensorWatch::Clock::now();
+    std::lock_guard lock(mutex_);
+    return sensor_.status(now);
+  }
 
  private:
   mutable std::mutex mutex_;
@@ -92,6 +113,7 @@ class RobotState {
   bool localized_ = false;
   RegistrationStatus registration_;
   DriverStatus driver_;
+  SensorWatch sensor_;
 };
 
 }  // namespace strata

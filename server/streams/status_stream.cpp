@@ -1,5 +1,7 @@
 #include "server/streams/status_stream.hpp"
 
+#include <spdlog/spdlog.h>
+
 namespace strata::streams {
 namespace {
 
@@ -12,6 +14,7 @@ protocol::StatusExtras StatusStream::extras() const {
   extras.clients = hub_.size();
   extras.map = map_ != nullptr ? map_->snapshot() : nullptr;
   extras.driver = robot_.driver();
+  extras.sensor = robot_.sensor();
   std::lock_guard lock(mutex_);
   if (samples_.size() >= 2) {
     const double seconds =
@@ -35,7 +38,18 @@ std::string StatusStream::poll() {
     while (samples_.size() > 2 && now - samples_.front().first > kRateWindow)
       samples_.pop_front();
   }
-  return protocol::status_message(registration, extras());
+  const protocol::StatusExtras now = extras();
+  // The log says when the sensor stalls and when it is back, once each (the status says it every second).
+  if (now.sensor.stalled != sensor_stalled_) {
+    sensor_stalled_ = now.sensor.stalled;
+    if (sensor_stalled_) {
+      spdlog::warn("sensor stalled: a scan has been due for {:.1f} s (timeout {:.1f} s)", now.sensor.overdue,
+                   now.sensor.timeout);
+    } else {
+      spdlog::info("sensor recovered: scans are arriving again");
+    }
+  }
+  return protocol::status_message(registration, now);
 }
 
 }  // namespace strata::streams

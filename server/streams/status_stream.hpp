@@ -13,7 +13,8 @@
 
 namespace strata::streams {
 
-/// The status stream: registration quality, scan rate over the last 10 s, map size and clients.
+/// The status stream: registration quality, scan rate over the last 10 s, map size, clients and whether
+/// the sensor's scans arrive.
 class StatusStream {
  public:
   StatusStream(const RobotState& robot, const MapState* map, const net::ClientHub& hub)
@@ -32,6 +33,7 @@ class StatusStream {
   const net::ClientHub& hub_;
   mutable std::mutex mutex_;
   std::deque<std::pair<std::chrono::steady_clock::time_point, std::size_t>> samples_;
+  bool sensor_stalled_ = false;  // as last polled, for the log
 };
 
 }  // namespace strata::streams

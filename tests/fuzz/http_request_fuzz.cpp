@@ -22,6 +22,7 @@ class AcceptingMotion : public strata::MotionCommands {
     return strata::CommandResult::success();
   }
   strata::CommandResult cancel_goal() override { return strata::CommandResult::success(); }
+  bool cancel_goal_if_active(std::uint64_t, const std::string&) override { return false; }
   strata::CommandResult teleop(double, double) override { return strata::CommandResult::success(); }
   void stop_teleop() override {}
   [[nodiscard]] strata::GoalStatus goal_status() const override { return {}; }

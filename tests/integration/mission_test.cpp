@@ -216,6 +216,70 @@ TEST_F(Mission, ClosingTheConnectionStopsATeleoperatedRobot) {
   wait_until_still(observer);
 }
 
+/// Reads status messages until the server counts `clients` WebSocket clients.
+void wait_for_clients(WsClient& client, std::size_t clients) {
+  wait_for_status(client, [clients](const nlohmann::json& status) { return status["clients"] == clients; });
+}
+
+TEST_F(Mission, ClosingTheOperatorConnectionCancelsItsGoalAndStopsTheRobot) {
+  WsClient observer(port());
+  std::uint64_t id = 0;
+  {
+    auto op = WsClient::operator_client(port(), kTestOperatorToken);
+    op->read_op("hello");
+    op->send_text(R"({"op":"teleop","v":0,"w":0,"id":"stop"})");
+    op->read_op("ack");
+    wait_for_map(*op, 1);
+    // Of two goals the robot reached before, the farther one: it drives for a few seconds.
+    const auto pose = nlohmann::json::parse(http_get(port(), "/api/v1/pose").body());
+    const bool near_south = std::hypot(pose["x"].get<double>() + 6.0, pose["y"].get<double>() + 5.5) < 2.0;
+    op->send_text(near_south ? R"({"op":"set_goal","x":-6.5,"y":-1.5})"
+                             : R"({"op":"set_goal","x":-6,"y":-5.5})");
+    op->read_op("ack");
+    id = nlohmann::json::parse(http_get(port(), "/api/v1/goal").body())["id"];
+    const auto driving = wait_for_goal(*op, id, {"driving", "failed", "reached"});
+    ASSERT_EQ(driving["phase"], "driving") << driving.dump();
+  }  // the operator's connection closes mid-goal
+  const auto cancelled = wait_for_goal(observer, id, {"cancelled", "reached", "failed"});
+  EXPECT_EQ(cancelled["phase"], "cancelled") << cancelled.dump();
+  EXPECT_EQ(cancelled["reason"], "operator_disconnected") << cancelled.dump();
+  const auto goal = nlohmann::json::parse(http_get(port(), "/api/v1/goal").body());
+  expect_schema("rest", "goal", goal);
+  EXPECT_EQ(goal["id"], id);
+  EXPECT_EQ(goal["phase"], "cancelled");
+  EXPECT_EQ(goal["reason"], "operator_disconnected");
+  // The robot stops and stays stopped: two more seconds of poses without a millimetre of motion.
+  const auto still = wait_until_still(observer);
+  for (int poses = 0; poses < 50;) {
+    const auto message = observer.read();
+    if (message["op"] != "pose")
+      continue;
+    ++poses;
+    EXPECT_LT(std::hypot(message["truth"]["x"].get<double>() - still["x"].get<double>(),
+                         message["truth"]["y"].get<double>() - still["y"].get<double>()),
+              1e-3);
+  }
+
+  // A goal set over REST has no connection: an operator connection that closes does not cancel it, even
+  // one that had set the goal it replaced.
+  std::uint64_t rest_id = 0;
+  {
+    auto op = WsClient::operator_client(port(), kTestOperatorToken);
+    op->read_op("hello");
+    op->send_text(R"({"op":"set_goal","x":-6.5,"y":-1.5})");
+    op->read_op("ack");
+    const auto replaced =
+        http_request(port(), http::verb::post, "/api/v1/goal", R"({"x":-6,"y":-5.5})", kTestOperatorToken);
+    ASSERT_EQ(replaced.result(), http::status::accepted) << replaced.body();
+    rest_id = nlohmann::json::parse(replaced.body())["id"];
+  }
+  wait_for_clients(observer, 1);  // the server has let the operator's connection go
+  const auto rest_goal = nlohmann::json::parse(http_get(port(), "/api/v1/goal").body());
+  EXPECT_EQ(rest_goal["id"], rest_id);
+  EXPECT_NE(rest_goal["phase"], "cancelled") << rest_goal.dump();
+  http_request(port(), http::verb::delete_, "/api/v1/goal", {}, kTestOperatorToken);  // for the next test
+}
+
 TEST_F(Mission, SavesLoadsAndDownloadsTheMap) {
   auto op = WsClient::operator_client(port(), kTestOperatorToken);
   op->read_op("hello");

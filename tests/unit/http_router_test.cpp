@@ -34,6 +34,7 @@ class RecordingMotion : public MotionCommands {
     status.phase = GoalPhase::kCancelled;
     return CommandResult::success();
   }
+  bool cancel_goal_if_active(std::uint64_t, const std::string&) override { return false; }
   CommandResult teleop(double, double) override { return CommandResult::success(); }
   void stop_teleop() override {}
   [[nodiscard]] GoalStatus goal_status() const override { return status; }

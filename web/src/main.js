@@ -115,7 +115,7 @@ function showGoal(goal) {
   const element = $('goal-state');
   element.dataset.phase = goal.phase;
   let text = phaseText[goal.phase] ?? goal.phase;
-  if (goal.phase === 'failed' && goal.reason) text += ` (${goal.reason.replaceAll('_', ' ')})`;
+  if ((goal.phase === 'failed' || goal.phase === 'cancelled') && goal.reason) text += ` (${goal.reason.replaceAll('_', ' ')})`;
   if (goal.x !== undefined && goal.phase !== 'none') text += ` · ${goal.x.toFixed(1)}, ${goal.y.toFixed(1)}`;
   element.textContent = text;
   view.paths.showGoal(goal);

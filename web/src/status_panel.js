@@ -22,7 +22,12 @@ export class StatusPanel {
   showStatus(status) {
     const r = status.registration;
     field('loc-scans').textContent = `${r.scans} (${r.accepted} ok, ${r.rejected} rejected)`;
-    field('scan-rate').textContent = `${(status.scan_rate * 60).toFixed(1)} / min`;
+    const rate = field('scan-rate');
+    rate.textContent = `${(status.scan_rate * 60).toFixed(1)} / min`;
+    // The sensor stopped delivering scans it owes (a cable, a crashed lidar): say so until a scan comes.
+    const stalled = status.sensor?.state === 'stalled';
+    rate.dataset.sensor = stalled ? 'stalled' : 'ok';
+    if (stalled) rate.textContent += ` · sensor stalled, ${status.sensor.overdue_seconds.toFixed(0)} s without a scan`;
     if (status.driver) {
       // A replay plays a recording and cannot move; say so, and when it has played everything.
       const finished = status.driver.finished ? ' (finished)' : '';

@@ -124,6 +124,42 @@ TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops) {
   EXPECT_FALSE(navigator.plan_pending());  // nothing to plan for
 }
 
+// The WebSocket operator connection that set a goal closed: its goal is cancelled with a reason and the
+// robot stops, but only while it is still the goal being driven; one replaced since is left alone.
+TEST(Navigator, CancelIfActiveCancelsOnlyThatGoal) {
+  const MlsMap map = test::bridge_scene();
+  Navigator navigator;
+  publish(navigator, map);
+  (void)navigator.drive(at(5.05, 0.05, 0.0), 0.0);
+  const CommandResult first = navigator.set_goal({8.05, 0.05, {}});
+  ASSERT_TRUE(first.ok);
+  EXPECT_EQ(first.goal_id, navigator.goal_status().id);
+  const CommandResult second = navigator.set_goal({5.05, 4.05, {}});
+  ASSERT_TRUE(second.ok);
+  EXPECT_NE(second.goal_id, first.goal_id);
+  ASSERT_TRUE(navigator.plan_pending());
+  ASSERT_NE(navigator.path(), nullptr);
+
+  EXPECT_FALSE(navigator.cancel_goal_if_active(first.goal_id, "operator_disconnected"));  // replaced
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
+  EXPECT_TRUE(navigator.goal_status().reason.empty());
+  ASSERT_NE(navigator.path(), nullptr);
+
+  EXPECT_TRUE(navigator.cancel_goal_if_active(second.goal_id, "operator_disconnected"));
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kCancelled);
+  EXPECT_EQ(navigator.goal_status().reason, "operator_disconnected");
+  EXPECT_EQ(navigator.path(), nullptr);
+  const auto command = navigator.drive(at(5.05, 0.05, 0.0), 0.2);
+  ASSERT_TRUE(command.has_value());
+  EXPECT_EQ(command->v, 0.0);
+  EXPECT_EQ(command->w, 0.0);
+  EXPECT_FALSE(navigator.cancel_goal_if_active(second.goal_id, "operator_disconnected"));  // done already
+
+  // A new goal starts without the old reason.
+  ASSERT_TRUE(navigator.set_goal({8.05, 0.05, {}}).ok);
+  EXPECT_TRUE(navigator.goal_status().reason.empty());
+}
+
 TEST(Navigator, ReplansWhenANewMapArrives) {
   MlsMap map = test::wall_and_stairs_scene();
   Navigator navigator;
