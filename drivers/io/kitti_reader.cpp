@@ -56,7 +56,7 @@ LoadedCloud read_kitti_velodyne(const std::filesystem::path& path) {
   for (std::size_t offset = 0; offset < data.size(); offset += kRecord) {
     float xyz[3];
     std::memcpy(xyz, data.data() + offset, sizeof xyz);  // little-endian, as KITTI wrote it and we run
-    add_finite(cloud, Eigen::Vector3d(xyz[0], xyz[1], xyz[2]));
+    add_finite(cloud, Eigen::Vector3f(xyz[0], xyz[1], xyz[2]).cast<double>());
   }
   return cloud;
 }
