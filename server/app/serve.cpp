@@ -227,7 +227,7 @@ int serve(const ServeOptions& options) {
       }));
   broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
       io, context->hub, 1.0, [status = &context->status]() -> std::vector<net::OutgoingMessage> {
-        return {net::OutgoingMessage::text(status->poll(), "status", 0.0,
+        return {net::OutgoingMessage::text(status->poll(), "status", std::nullopt,
                                            static_cast<std::uint8_t>(protocol::Stream::kStatus))};
       }));
   // The map is pushed, not polled: the mapping thread posts one broadcast of what changed as soon as it

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 
 namespace strata::net {
@@ -16,16 +17,18 @@ struct OutgoingMessage {
   /// For coalesced streams: where the message stands in its stream (a pose's stamp, a tile's version). A
   /// client's queue drops one that is not newer than the last it queued, so a stream never goes backwards
   /// or repeats, even when the late joiner's snapshot and the next broadcast carry the same data.
-  double order = 0.0;
+  /// Empty: unordered, each one supersedes the last (status). A pose stamped 0 (the simulator's first) is
+  /// ordered like any other, which is why this is not a sentinel value.
+  std::optional<double> order;
   /// The stream it belongs to (protocol::Stream bit); a client gets it only when subscribed. 0: always.
   std::uint8_t stream = 0;
 
-  static OutgoingMessage text(std::string body, std::string coalesce_key = {}, double order = 0.0,
-                              std::uint8_t stream = 0) {
+  static OutgoingMessage text(std::string body, std::string coalesce_key = {},
+                              std::optional<double> order = std::nullopt, std::uint8_t stream = 0) {
     return {std::make_shared<const std::string>(std::move(body)), false, std::move(coalesce_key), order,
             stream};
   }
-  static OutgoingMessage binary_frame(std::string body, std::string coalesce_key, double order,
+  static OutgoingMessage binary_frame(std::string body, std::string coalesce_key, std::optional<double> order,
                                       std::uint8_t stream) {
     return {std::make_shared<const std::string>(std::move(body)), true, std::move(coalesce_key), order,
             stream};

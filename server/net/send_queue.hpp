@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -39,7 +40,7 @@ class SendQueue {
     }
     // A stream only moves forward: drop what is not newer than the last message queued for the key.
     auto [key, inserted] = keys_.try_emplace(message.coalesce_key);
-    if (!inserted && message.order != 0.0 && message.order <= key->second.order)
+    if (!inserted && message.order && key->second.order && *message.order <= *key->second.order)
       return PushResult::kStale;
     key->second.order = message.order;
     if (!inserted && key->second.queued && key->second.position >= first_unsent_position()) {
@@ -87,9 +88,9 @@ class SendQueue {
 
  private:
   struct KeyState {
-    double order = 0.0;          // of the last message queued under the key
-    bool queued = false;         // an entry for the key is in the queue
-    std::uint64_t position = 0;  // its absolute position (popped_ + index) when queued
+    std::optional<double> order;  // of the last message queued under the key
+    bool queued = false;          // an entry for the key is in the queue
+    std::uint64_t position = 0;   // its absolute position (popped_ + index) when queued
   };
   [[nodiscard]] std::uint64_t first_unsent_position() const { return popped_ + (writing_ ? 1 : 0); }
 

@@ -112,7 +112,7 @@ void WebSocketSession<Stream>::on_accept(beast::error_code error) {
     enqueue(OutgoingMessage::text(context_->sim_world_message));
   nlohmann::json status = context_->status.fields();
   status["op"] = "status";
-  enqueue(OutgoingMessage::text(status.dump(), "status", 0.0,
+  enqueue(OutgoingMessage::text(status.dump(), "status", std::nullopt,
                                 static_cast<std::uint8_t>(protocol::Stream::kStatus)));
   if (const auto robot = context_->services.robot->snapshot()) {
     enqueue(OutgoingMessage::text(protocol::pose_message(*robot), "pose", robot->sample.stamp,

@@ -104,5 +104,18 @@ TEST(SendQueue, AStreamNeverGoesBackwardsOrRepeats) {
   EXPECT_EQ(body(queue.start_write()), "pose@3");
 }
 
+TEST(SendQueue, AZeroStampIsAnOrderLikeAnyOther) {
+  // The simulator's first pose is stamped 0: the late joiner's snapshot and the first broadcast both carry
+  // it, and the client must see it once.
+  SendQueue queue(8);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@0", "pose", 0.0)), SendQueue::PushResult::kQueued);
+  ASSERT_NE(queue.start_write(), nullptr);
+  queue.finish_write();
+  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@0 again", "pose", 0.0)), SendQueue::PushResult::kStale);
+  // Unordered messages (status) always supersede.
+  EXPECT_EQ(queue.push(OutgoingMessage::text("s1", "status")), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(OutgoingMessage::text("s2", "status")), SendQueue::PushResult::kCoalesced);
+}
+
 }  // namespace
 }  // namespace strata::net

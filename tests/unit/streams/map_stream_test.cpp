@@ -56,8 +56,10 @@ TEST(MapStream, ATileThatIsGoneIsSentEmptyAndOrdersKeepRising) {
   state.publish(first);
   const auto initial = stream.poll();
   double highest = 0.0;
-  for (const auto& message : initial)
-    highest = std::max(highest, message.order);
+  for (const auto& message : initial) {
+    ASSERT_TRUE(message.order);  // map frames are ordered
+    highest = std::max(highest, *message.order);
+  }
 
   // A loaded map with a lower version: clients must still take its tiles, so orders are not versions.
   auto loaded = std::make_shared<MapSnapshot>();
@@ -67,7 +69,8 @@ TEST(MapStream, ATileThatIsGoneIsSentEmptyAndOrdersKeepRising) {
   const auto sent = stream.poll();
   ASSERT_EQ(sent.size(), 2u);
   for (const auto& message : sent) {
-    EXPECT_GT(message.order, highest);
+    ASSERT_TRUE(message.order);
+    EXPECT_GT(*message.order, highest);
     const auto frame = decode(message);
     ASSERT_TRUE(frame);
     if (frame->tile_x == 5)
