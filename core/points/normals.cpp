@@ -9,7 +9,8 @@ LazyNormals::LazyNormals(const KdTree& tree, std::size_t k)
 
 const Eigen::Vector3d* LazyNormals::at(std::size_t index) {
   if (states_[index] == State::kUnknown) {
-    const std::vector<Neighbor> neighbors = tree_->k_nearest(tree_->points()[index], k_);
+    tree_->k_nearest(tree_->points()[index], k_, neighbors_);
+    const std::vector<Neighbor>& neighbors = neighbors_;
     states_[index] = State::kInvalid;
     if (neighbors.size() >= 5) {
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();

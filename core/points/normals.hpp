@@ -24,6 +24,7 @@ class LazyNormals {
   std::size_t k_;
   std::vector<Eigen::Vector3d> normals_;
   std::vector<State> states_;
+  std::vector<Neighbor> neighbors_;  // scratch, reused
 };
 
 }  // namespace strata

@@ -4,7 +4,6 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/points/crop.hpp"
 #include "core/points/voxel_downsample.hpp"
 
 namespace strata {
@@ -15,7 +14,7 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }
 
 PointCloud preprocess(const PointCloud& scan, double min_range, double voxel_size) {
-  return voxel_downsample(crop_range(scan, min_range, std::numeric_limits<double>::infinity()), voxel_size);
+  return voxel_downsample(scan, voxel_size, min_range);
 }
 
 }  // namespace
