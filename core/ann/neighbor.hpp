@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <optional>
 
 namespace strata {
 
@@ -9,6 +10,12 @@ namespace strata {
 struct Neighbor {
   std::size_t index = 0;
   double squared_distance = 0.0;
+};
+
+/// The closest point to a query and the next closest, within a search bound.
+struct NearestTwo {
+  std::optional<Neighbor> first;
+  std::optional<Neighbor> second;  ///< empty when at most one point lies within the bound
 };
 
 }  // namespace strata

@@ -2,8 +2,6 @@
 
 #include <utility>
 
-#include "core/points/voxel_downsample.hpp"
-
 namespace strata {
 
 std::string_view to_string(Correction correction) {
@@ -20,7 +18,9 @@ std::string_view to_string(Correction correction) {
 
 ScanToMapLocalizer::ScanToMapLocalizer(LocalizerOptions options,
                                        const Eigen::Isometry3d& initial_map_from_odom)
-    : options_(std::move(options)), registration_(options_.registration) {
+    : options_(std::move(options)),
+      registration_(options_.registration),
+      local_map_(options_.local_map_voxel, options_.local_map_scans) {
   global_.apply_correction(initial_map_from_odom);
 }
 
@@ -30,11 +30,9 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   LocalizationUpdate update;
   update.pose = guess;
   if (!local_map_.empty()) {
-    PointCloud model;
-    for (const PointCloud& scan : local_map_)
-      model.insert(model.end(), scan.begin(), scan.end());
-    registration_.set_target(model);
+    registration_.set_thinned_target(local_map_.points(), local_map_.take_normals());
     RegistrationResult result = registration_.register_scan(points, guess);
+    local_map_.keep_normals(registration_.take_normals());
     const bool weak = result.constraint.weakest < options_.weak_direction_guard ||
                       result.constraint.rotation_eigenvalues[0] < options_.weak_rotation_guard;
     const bool only_degenerate = result.assessment.reason == RejectReason::kDegenerateGeometry;
@@ -73,9 +71,7 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   }
   update.map_from_odom = global_.correction();
 
-  local_map_.push_back(voxel_downsample(transformed(points, update.pose), options_.local_map_voxel));
-  while (local_map_.size() > options_.local_map_scans)
-    local_map_.pop_front();
+  local_map_.add(transformed(points, update.pose));
   return update;
 }
 

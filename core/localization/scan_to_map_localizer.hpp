@@ -2,12 +2,12 @@
 
 #include <Eigen/Geometry>
 #include <cstddef>
-#include <deque>
 #include <optional>
 #include <string_view>
 
 #include "core/geometry/pose.hpp"
 #include "core/localization/global_pose.hpp"
+#include "core/localization/local_map.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/registration/register_scan.hpp"
 
@@ -15,8 +15,8 @@ namespace strata {
 
 struct LocalizerOptions {
   RegistrationOptions registration = default_registration();
-  std::size_t local_map_scans = 10;  ///< the model set: this many recent registered scans
-  double local_map_voxel = 0.1;      ///< metres; each scan is thinned to this before joining the model set
+  std::size_t local_map_scans = 10;  ///< the model set: what this many recent registered scans reached
+  double local_map_voxel = 0.1;      ///< metres; the model set keeps one point per voxel of this size
   /// Below this normal-matrix eigenvalue the paired surfaces barely constrain that eigenvector's direction
   /// (a corridor's axis; both ways along an open plane): the translation along it is taken from odometry
   /// and the rest from ICP. Above the
@@ -84,7 +84,7 @@ class ScanToMapLocalizer {
   LocalizerOptions options_;
   ScanRegistration registration_;
   GlobalPose global_;
-  std::deque<PointCloud> local_map_;  // map frame, thinned
+  LocalMap local_map_;  // map frame
 };
 
 }  // namespace strata

@@ -4,20 +4,24 @@
 
 namespace strata {
 
-LazyNormals::LazyNormals(const KdTree& tree, std::size_t k)
-    : tree_(&tree), k_(k), normals_(tree.size()), states_(tree.size(), State::kUnknown) {}
+LazyNormals::LazyNormals(const KdTree& tree, std::size_t k, Estimates earlier)
+    : tree_(&tree), k_(k), estimates_(std::move(earlier)) {
+  estimates_.normals.resize(tree.size());
+  estimates_.states.resize(tree.size(), State::kUnknown);
+}
 
 const Eigen::Vector3d* LazyNormals::at(std::size_t index) {
-  if (states_[index] == State::kUnknown) {
-    const std::vector<Neighbor> neighbors = tree_->k_nearest(tree_->points()[index], k_);
-    states_[index] = State::kInvalid;
-    if (neighbors.size() >= 5) {
+  State& state = estimates_.states[index];
+  if (state == State::kUnknown) {
+    tree_->k_nearest(tree_->points()[index], k_, neighbors_);
+    state = State::kInvalid;
+    if (neighbors_.size() >= 5) {
       Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (const Neighbor& n : neighbors)
+      for (const Neighbor& n : neighbors_)
         mean += tree_->points()[n.index];
-      mean /= static_cast<double>(neighbors.size());
+      mean /= static_cast<double>(neighbors_.size());
       Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-      for (const Neighbor& n : neighbors) {
+      for (const Neighbor& n : neighbors_) {
         const Eigen::Vector3d d = tree_->points()[n.index] - mean;
         covariance += d * d.transpose();
       }
@@ -27,12 +31,12 @@ const Eigen::Vector3d* LazyNormals::at(std::size_t index) {
       // and the middle one not negligible (k neighbours all on one scan line give a line, whose "normal"
       // is any direction across it).
       if (values(2) > 0.0 && values(0) < 0.3 * values(1) && values(1) > 0.05 * values(2)) {
-        normals_[index] = solver.eigenvectors().col(0);
-        states_[index] = State::kValid;
+        estimates_.normals[index] = solver.eigenvectors().col(0);
+        state = State::kValid;
       }
     }
   }
-  return states_[index] == State::kValid ? &normals_[index] : nullptr;
+  return state == State::kValid ? &estimates_.normals[index] : nullptr;
 }
 
 }  // namespace strata

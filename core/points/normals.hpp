@@ -12,18 +12,30 @@ namespace strata {
 /// normals of target points that some source point pairs with: a few thousand of a scan's points.
 class LazyNormals {
  public:
-  explicit LazyNormals(const KdTree& tree, std::size_t k = 20);
+  enum class State : std::uint8_t { kUnknown, kValid, kInvalid };
+  /// What has been estimated so far, per point of the tree: handed to the next tree over the same points
+  /// (a local map that grew), so they are not estimated again.
+  struct Estimates {
+    std::vector<Eigen::Vector3d> normals;
+    std::vector<State> states;
+  };
+
+  /// `earlier`: estimates for the tree's first points, from an earlier tree over them (the rest are
+  /// estimated on first use).
+  explicit LazyNormals(const KdTree& tree, std::size_t k = 20, Estimates earlier = {});
 
   /// The unit normal at point `index`, or nullptr where the neighbourhood is no surface (too few
   /// neighbours, or as spread in its flattest direction as in the others: a corner or scatter).
   [[nodiscard]] const Eigen::Vector3d* at(std::size_t index);
 
+  /// Moves the estimates out; the normals are then empty.
+  [[nodiscard]] Estimates take() { return std::move(estimates_); }
+
  private:
-  enum class State : std::uint8_t { kUnknown, kValid, kInvalid };
   const KdTree* tree_;
   std::size_t k_;
-  std::vector<Eigen::Vector3d> normals_;
-  std::vector<State> states_;
+  Estimates estimates_;
+  std::vector<Neighbor> neighbors_;  // scratch, reused
 };
 
 }  // namespace strata

@@ -11,10 +11,16 @@ namespace strata {
 /// 5 cm voxels, far beyond any scan.
 using VoxelKey = std::uint64_t;
 
+/// floor(value) as an int, for values within int's range: a truncation and a correction, where std::floor
+/// is a library call on the baseline x86-64 instruction set (no SSE4.1 rounding).
+[[nodiscard]] inline int floor_to_int(double value) {
+  const int truncated = static_cast<int>(value);
+  return truncated - (value < static_cast<double>(truncated) ? 1 : 0);
+}
+
 [[nodiscard]] inline Eigen::Vector3i voxel_cell(const Eigen::Vector3d& point, double inverse_voxel_size) {
-  return {static_cast<int>(std::floor(point.x() * inverse_voxel_size)),
-          static_cast<int>(std::floor(point.y() * inverse_voxel_size)),
-          static_cast<int>(std::floor(point.z() * inverse_voxel_size))};
+  return {floor_to_int(point.x() * inverse_voxel_size), floor_to_int(point.y() * inverse_voxel_size),
+          floor_to_int(point.z() * inverse_voxel_size)};
 }
 
 [[nodiscard]] inline VoxelKey voxel_key(const Eigen::Vector3i& cell) {

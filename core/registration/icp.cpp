@@ -19,23 +19,31 @@ double kernel_weight(double residual, double scale) {
 /// onto their partners, by centroids (eq. 4.3), correlation (eq. 4.5) and the rotation solver (eq. 4.6).
 Eigen::Isometry3d point_to_point_step(const PointCloud& moved, const PointCloud& target,
                                       const std::vector<Correspondence>& pairs, const IcpOptions& options) {
+  // Plain least squares (no kernel) weighs every pair 1: no residuals to take, no weights to keep.
+  const bool weighted = options.kernel_scale > 0.0;
+  std::vector<double> weights;
+  if (weighted) {
+    weights.reserve(pairs.size());
+    for (const Correspondence& pair : pairs)
+      weights.push_back(
+          kernel_weight((target[pair.target] - moved[pair.source]).norm(), options.kernel_scale));
+  }
   double total_weight = 0.0;
   Eigen::Vector3d mean_d = Eigen::Vector3d::Zero();
   Eigen::Vector3d mean_x = Eigen::Vector3d::Zero();
-  std::vector<double> weights(pairs.size());
   for (std::size_t i = 0; i < pairs.size(); ++i) {
-    const Eigen::Vector3d& d = moved[pairs[i].source];
-    const Eigen::Vector3d& x = target[pairs[i].target];
-    weights[i] = kernel_weight((x - d).norm(), options.kernel_scale);
-    total_weight += weights[i];
-    mean_d += weights[i] * d;
-    mean_x += weights[i] * x;
+    const double w = weighted ? weights[i] : 1.0;
+    total_weight += w;
+    mean_d += w * moved[pairs[i].source];
+    mean_x += w * target[pairs[i].target];
   }
   mean_d /= total_weight;
   mean_x /= total_weight;
   Eigen::Matrix3d s = Eigen::Matrix3d::Zero();  // eq. 4.5 over centred pairs (eq. 4.4)
-  for (std::size_t i = 0; i < pairs.size(); ++i)
-    s += weights[i] * (moved[pairs[i].source] - mean_d) * (target[pairs[i].target] - mean_x).transpose();
+  for (std::size_t i = 0; i < pairs.size(); ++i) {
+    const double w = weighted ? weights[i] : 1.0;
+    s += w * (moved[pairs[i].source] - mean_d) * (target[pairs[i].target] - mean_x).transpose();
+  }
   Eigen::Isometry3d step = Eigen::Isometry3d::Identity();
   step.linear() = solve_rotation(s, options.rotation_solver);
   step.translation() = mean_x - step.linear() * mean_d;  // eq. 4.10's second term
@@ -98,17 +106,6 @@ double mean_squared_error(const PointCloud& moved, const PointCloud& target, Laz
 
 }  // namespace
 
-std::vector<Correspondence> find_correspondences(const PointCloud& source, const Eigen::Isometry3d& transform,
-                                                 const KdTree& target, double max_distance) {
-  std::vector<Correspondence> pairs;
-  pairs.reserve(source.size());
-  for (std::size_t i = 0; i < source.size(); ++i) {
-    if (const std::optional<Neighbor> found = target.nearest(transform * source[i], max_distance))
-      pairs.push_back({i, found->index});
-  }
-  return pairs;
-}
-
 IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* normals,
                 const Eigen::Isometry3d& guess, const IcpOptions& options) {
   IcpResult result;
@@ -116,16 +113,14 @@ IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* nor
   const IcpMetric metric = normals == nullptr ? IcpMetric::kPointToPoint : options.metric;
   double previous_mse = std::numeric_limits<double>::infinity();
   PointCloud moved(source.size());
+  PartnerSearch partners(target, source.size(), options.max_correspondence_distance);
+  std::vector<Correspondence> pairs;
+  pairs.reserve(source.size());
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     // 1. Find closest point-pairs within the bound (Algorithm 2, steps 1-2).
     for (std::size_t i = 0; i < source.size(); ++i)
       moved[i] = result.transform * source[i];
-    std::vector<Correspondence> pairs;
-    pairs.reserve(source.size());
-    for (std::size_t i = 0; i < source.size(); ++i) {
-      if (const std::optional<Neighbor> found = target.nearest(moved[i], options.max_correspondence_distance))
-        pairs.push_back({i, found->index});
-    }
+    partners.pair(moved, pairs);
     if (pairs.size() < options.min_pairs)
       break;
     ++result.iterations;
@@ -149,10 +144,12 @@ IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* nor
   result.transform.makeAffine();
   // Orthonormalise: many composed steps let rounding creep into the rotation.
   result.transform.linear() = Eigen::Quaterniond(result.transform.rotation()).normalized().toRotationMatrix();
-  result.pairs = find_correspondences(source, result.transform, target, options.max_correspondence_distance);
+  for (std::size_t i = 0; i < source.size(); ++i)
+    moved[i] = result.transform * source[i];
+  partners.pair(moved, result.pairs);
   double sum = 0.0;
   for (const Correspondence& pair : result.pairs)
-    sum += (result.transform * source[pair.source] - target.points()[pair.target]).squaredNorm();
+    sum += (moved[pair.source] - target.points()[pair.target]).squaredNorm();
   result.rmse = result.pairs.empty() ? 0.0 : std::sqrt(sum / static_cast<double>(result.pairs.size()));
   return result;
 }

@@ -7,6 +7,7 @@
 #include "core/ann/kdtree.hpp"
 #include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
+#include "core/registration/partner_search.hpp"
 #include "core/registration/rotation_solvers.hpp"
 
 namespace strata {
@@ -35,12 +36,6 @@ struct IcpOptions {
   std::size_t min_pairs = 6;
 };
 
-/// A source point paired with its closest target point.
-struct Correspondence {
-  std::size_t source = 0;
-  std::size_t target = 0;
-};
-
 struct IcpResult {
   Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();  ///< maps source points into the target frame
   std::vector<Correspondence> pairs;  ///< the final pairing, within the last correspondence bound
@@ -48,11 +43,6 @@ struct IcpResult {
   int iterations = 0;                 ///< pairing + update rounds, over all stages
   bool converged = false;             ///< the MSE settled before the iteration cap
 };
-
-/// Pairs each source point, moved by `transform`, with its closest target point within `max_distance`.
-[[nodiscard]] std::vector<Correspondence> find_correspondences(const PointCloud& source,
-                                                               const Eigen::Isometry3d& transform,
-                                                               const KdTree& target, double max_distance);
 
 /// ICP (thesis Algorithms 1 and 2): pair, solve for the transform, apply, until the MSE settles.
 /// `normals` serves the point-to-plane metric and may be null for point-to-point.

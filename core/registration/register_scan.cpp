@@ -4,18 +4,20 @@
 #include <limits>
 #include <stdexcept>
 
-#include "core/points/crop.hpp"
 #include "core/points/voxel_downsample.hpp"
 
 namespace strata {
 namespace {
+
+/// Neighbours per normal estimate (LazyNormals' default).
+constexpr std::size_t kNormalNeighbours = 20;
 
 double seconds_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 PointCloud preprocess(const PointCloud& scan, double min_range, double voxel_size) {
-  return voxel_downsample(crop_range(scan, min_range, std::numeric_limits<double>::infinity()), voxel_size);
+  return voxel_downsample(scan, voxel_size, min_range);
 }
 
 }  // namespace
@@ -23,9 +25,22 @@ PointCloud preprocess(const PointCloud& scan, double min_range, double voxel_siz
 ScanRegistration::ScanRegistration(RegistrationOptions options) : options_(std::move(options)) {}
 
 void ScanRegistration::set_target(const PointCloud& target) {
+  set_thinned_target(preprocess(target, options_.min_range, options_.target_voxel_size));
+}
+
+void ScanRegistration::set_thinned_target(PointCloud target, LazyNormals::Estimates normals) {
   normals_.reset();
-  target_ = std::make_unique<KdTree>(preprocess(target, options_.min_range, options_.target_voxel_size));
-  normals_ = std::make_unique<LazyNormals>(*target_);
+  target_ = std::make_unique<KdTree>(std::move(target));
+  normals_ = std::make_unique<LazyNormals>(*target_, kNormalNeighbours, std::move(normals));
+}
+
+LazyNormals::Estimates ScanRegistration::take_normals() {
+  if (!normals_)
+    return {};
+  LazyNormals::Estimates estimates = normals_->take();
+  normals_.reset();
+  target_.reset();
+  return estimates;
 }
 
 RegistrationResult ScanRegistration::register_scan(const PointCloud& source, const Eigen::Isometry3d& guess) {

@@ -54,6 +54,12 @@ class ScanRegistration {
 
   /// Downsamples and indexes the scan the next sources are registered onto.
   void set_target(const PointCloud& target);
+  /// Indexes a target that is already cropped and thinned (a local map), as it is. `normals`: estimates
+  /// for its first points from an earlier target that began with the same points (take_normals()).
+  void set_thinned_target(PointCloud target, LazyNormals::Estimates normals = {});
+  /// The target's normals estimated so far, moved out (the target then has none until the next
+  /// set_target).
+  [[nodiscard]] LazyNormals::Estimates take_normals();
   /// Registers `source` onto the target, starting from `guess` (source -> target). Needs set_target.
   [[nodiscard]] RegistrationResult register_scan(const PointCloud& source, const Eigen::Isometry3d& guess);
 

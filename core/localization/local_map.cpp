@@ -1,0 +1,69 @@
+#include "core/localization/local_map.hpp"
+
+#include "core/points/voxel_key.hpp"
+
+namespace strata {
+
+LocalMap::LocalMap(double voxel_size, std::size_t scans)
+    : inverse_voxel_size_(1.0 / voxel_size), scans_(scans) {}
+
+void LocalMap::keep_normals(LazyNormals::Estimates normals) {
+  if (normals.normals.size() == points_.size() && normals.states.size() == points_.size())
+    normals_ = std::move(normals);
+  else
+    normals_ = {};
+}
+
+void LocalMap::add(const PointCloud& points) {
+  ++scan_;
+  for (const Eigen::Vector3d& p : points) {
+    const auto next = static_cast<std::uint32_t>(points_.size());
+    const auto [index, added] = voxels_.try_emplace(voxel_key(voxel_cell(p, inverse_voxel_size_)), next);
+    if (added) {
+      points_.push_back(p);
+      seen_.push_back(scan_);
+    } else {
+      seen_[index] = scan_;
+    }
+  }
+  if (!normals_.states.empty()) {  // the new voxels have none yet
+    normals_.normals.resize(points_.size());
+    normals_.states.resize(points_.size(), LazyNormals::State::kUnknown);
+  }
+  expire();
+}
+
+void LocalMap::expire() {
+  if (scan_ <= scans_)
+    return;
+  const std::uint32_t oldest_kept = scan_ - static_cast<std::uint32_t>(scans_) + 1;
+  std::size_t kept = 0;
+  const bool normals = !normals_.states.empty();
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    if (seen_[i] >= oldest_kept) {
+      points_[kept] = points_[i];
+      seen_[kept] = seen_[i];
+      if (normals) {
+        normals_.normals[kept] = normals_.normals[i];
+        normals_.states[kept] = normals_.states[i];
+      }
+      ++kept;
+    }
+  }
+  if (kept == points_.size())
+    return;
+  points_.resize(kept);
+  seen_.resize(kept);
+  if (normals) {
+    normals_.normals.resize(kept);
+    normals_.states.resize(kept);
+  }
+  // The map holds indices into points_, which just moved: hash the survivors again (a pass over the
+  // live voxels, no scan's points).
+  voxels_.clear();
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    voxels_.try_emplace(voxel_key(voxel_cell(points_[i], inverse_voxel_size_)),
+                        static_cast<std::uint32_t>(i));
+}
+
+}  // namespace strata

@@ -1,0 +1,58 @@
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+#include "core/ann/kdtree.hpp"
+#include "core/points/point_cloud.hpp"
+
+namespace strata {
+
+/// A source point paired with its closest target point.
+struct Correspondence {
+  std::size_t source = 0;
+  std::size_t target = 0;
+};
+
+/// Closest-point pairing over the iterations of one ICP run (thesis Algorithm 2, steps 1-2) that asks the
+/// kd-tree only where the answer can have changed. Each search finds a point's two closest target points,
+/// at distances d1 <= d2: until the point has moved (d2 - d1) / 2 from where it was searched, the first is
+/// still its closest (triangle inequality), so the late iterations, which move the points by millimetres,
+/// mostly reuse their partners. Exact: the pairs are the ones a full search gives (up to equidistant
+/// points).
+class PartnerSearch {
+ public:
+  /// Pairs within `max_distance` of each other with sources of `source_size` points.
+  PartnerSearch(const KdTree& target, std::size_t source_size, double max_distance);
+
+  /// Replaces `pairs` with each moved source point's closest target point within the bound, in source
+  /// order. `moved` keeps its size between calls.
+  void pair(const PointCloud& moved, std::vector<Correspondence>& pairs);
+
+  /// Kd-tree searches so far (the rest were reused).
+  [[nodiscard]] std::size_t searches() const { return searches_; }
+
+ private:
+  static constexpr std::size_t kNone = std::numeric_limits<std::size_t>::max();
+  struct Partner {
+    Eigen::Vector3d searched_at = Eigen::Vector3d::Zero();  ///< the point where it was last searched
+    double reuse_squared =
+        -1.0;  ///< squared distance it may move from there keeping `target`; < 0: unsearched
+    std::size_t target = kNone;     ///< its closest target point within the search reach, if any
+    std::size_t runner_up = kNone;  ///< the next closest: with `target`, bounds the next search
+  };
+
+  const KdTree* target_;
+  double max_squared_;
+  double reach_;  ///< search bound: a little beyond max_distance, so points without a partner can skip too
+  std::vector<Partner> partners_;
+  std::size_t searches_ = 0;
+};
+
+/// Pairs each source point, moved by `transform`, with its closest target point within `max_distance`.
+[[nodiscard]] std::vector<Correspondence> find_correspondences(const PointCloud& source,
+                                                               const Eigen::Isometry3d& transform,
+                                                               const KdTree& target, double max_distance);
+
+}  // namespace strata
