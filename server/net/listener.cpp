@@ -53,7 +53,7 @@ void Listener::accept_next() {
           return;
         if (error)
           return self->on_accept_failed(error);
-        if (self->accept_failures_ > 0)
+        if (self->accept_failures_ > 0 && self->recovery_log_.allow(RateLimiter::Clock::now()))
           spdlog::info("accepting connections again after {} failed attempts", self->accept_failures_);
         self->accept_delay_ = std::chrono::milliseconds(0);
         self->accept_failures_ = 0;
@@ -68,7 +68,9 @@ void Listener::on_accept_failed(const boost::system::error_code& error) {
   accept_delay_ =
       accept_delay_.count() == 0 ? kFirstAcceptDelay : std::min(accept_delay_ * 2, kMaxAcceptDelay);
   ++accept_failures_;
-  if (accept_failures_ == 1 || accept_failure_log_.allow(RateLimiter::Clock::now())) {
+  // The first failure is logged, then one line per 10 s: a server that keeps running out (and recovering)
+  // must not fill the disk with the same line.
+  if (accept_failure_log_.allow(RateLimiter::Clock::now())) {
     spdlog::warn("accept failed: {} ({} times in a row; retrying in {} ms)", error.message(),
                  accept_failures_, accept_delay_.count());
   }

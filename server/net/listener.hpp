@@ -46,6 +46,7 @@ class Listener : public std::enable_shared_from_this<Listener> {
   std::uint64_t refusals_unlogged_ = 0;        // refused at the HTTP limit since the last log line
   // One log line per 10 s at most for each: a flood must not flood the log.
   RateLimiter accept_failure_log_{0.1, 1.0};
+  RateLimiter recovery_log_{0.1, 1.0};
   RateLimiter refusal_log_{0.1, 1.0};
 };
 
