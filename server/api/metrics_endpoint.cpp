@@ -45,6 +45,12 @@ net::HttpResponse HttpRouter::metrics(const net::HttpRequest& request) const {
   metric(out, "strata_ws_refused_full_total", "counter",
          "WebSocket upgrades refused: the WebSocket client limit was reached",
          count(metrics_.ws_refused_full));
+  metric(out, "strata_http_refused_full_total", "counter",
+         "connections refused with 503: the HTTP connection limit was reached",
+         count(metrics_.http_refused_full));
+  metric(out, "strata_http_refused_host_total", "counter",
+         "requests refused: a Host header that is not this server's (DNS rebinding)",
+         count(metrics_.refused_host));
 
   const auto registration = services_.robot->registration();
   metric(out, "strata_scans_total", "counter", "scans the localizer processed",

@@ -13,6 +13,7 @@
 #include "server/app/plan_command.hpp"
 #include "server/app/register_command.hpp"
 #include "server/app/serve.hpp"
+#include "server/auth/host_policy.hpp"
 #include "server/auth/operator_token.hpp"
 #include "server/auth/request_auth.hpp"
 
@@ -184,6 +185,25 @@ int main(int argc, char** argv) {
                    "WebSocket clients at once; one more is refused with HTTP 503 until one leaves")
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
+  serve_cmd
+      ->add_option("--max-http-connections", serve.max_http_connections,
+                   "TCP connections at once that are not WebSocket clients (HTTP requests, idle keep-alive); "
+                   "one more is answered HTTP 503 and closed")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  serve_cmd
+      ->add_option("--allowed-hosts", serve.allowed_hosts,
+                   "Host names requests may be addressed to besides IP addresses, localhost and this "
+                   "machine's name (and name.local), e.g. a DNS name of the robot; * allows any. Requests "
+                   "naming another host are refused (403): against DNS rebinding")
+      ->delimiter(',')
+      ->check(CLI::Validator(
+          [](std::string& host) {
+            return strata::auth::is_valid_host_pattern(host)
+                       ? std::string()
+                       : "'" + host + "' is not a host name (letters, digits, '-', '.'; or *)";
+          },
+          "HOST"));
   serve_cmd->add_flag(
       "--lidar-keep-partial", serve.lidar.keep_partial,
       "Also hand on partial lidar revolutions (the ends of a capture, after dropped packets): "

@@ -25,6 +25,7 @@
 #include "drivers/sim/world/world_file.hpp"
 #include "server/app/build_info.hpp"
 #include "server/app/drivers.hpp"
+#include "server/auth/host_policy.hpp"
 #include "server/auth/operator_token.hpp"
 #include "server/net/listener.hpp"
 #include "server/net/server_context.hpp"
@@ -202,6 +203,10 @@ int serve(const ServeOptions& options) {
   services.web_root = web_root;
   services.allowed_origins = options.allowed_origins;
   services.max_websocket_clients = options.max_clients;
+  services.max_http_connections = options.max_http_connections;
+  services.allowed_hosts = auth::own_host_names();
+  services.allowed_hosts.insert(services.allowed_hosts.end(), options.allowed_hosts.begin(),
+                                options.allowed_hosts.end());
   auto context = std::make_shared<net::ServerContext>(std::move(services));
   const boost::asio::ip::tcp::endpoint endpoint(boost::asio::ip::make_address(options.bind_address),
                                                 options.port);

@@ -62,6 +62,11 @@ struct ServeOptions {
   /// are refused with 403, clients without an Origin header (scripts) are not affected.
   std::vector<std::string> allowed_origins;
   std::size_t max_clients = 256;  ///< WebSocket clients at once; one more is refused with 503
+  /// Other TCP connections at once (HTTP, idle keep-alive); one more is answered 503 and closed.
+  std::size_t max_http_connections = 512;
+  /// Host names requests may name besides IP literals, localhost and this machine's name ("*": any);
+  /// others are refused with 403 (DNS rebinding).
+  std::vector<std::string> allowed_hosts;
   RobotParameters robot;
   ReplayParameters replay;
   LidarParameters lidar;

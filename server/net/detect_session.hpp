@@ -20,7 +20,7 @@ namespace strata::net {
 class DetectSession : public std::enable_shared_from_this<DetectSession> {
  public:
   DetectSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<boost::asio::ssl::context> tls,
-                std::shared_ptr<ServerContext> context);
+                std::shared_ptr<ServerContext> context, ConnectionLimit::Slot http_slot);
   void run();
 
  private:
@@ -35,6 +35,7 @@ class DetectSession : public std::enable_shared_from_this<DetectSession> {
   std::shared_ptr<ServerContext> context_;
   std::optional<http::request_parser<http::empty_body>> plain_request_;
   std::shared_ptr<HttpResponse> refusal_;
+  std::optional<ConnectionLimit::Slot> http_slot_;  // handed on to the HttpSession
 };
 
 }  // namespace strata::net

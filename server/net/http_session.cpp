@@ -8,6 +8,7 @@
 #include <chrono>
 #include <utility>
 
+#include "server/auth/host_policy.hpp"
 #include "server/auth/request_auth.hpp"
 #include "server/net/websocket_session.hpp"
 #include "server/protocol/messages.hpp"
@@ -25,8 +26,11 @@ constexpr std::uint64_t kMaxRequestBodyBytes = 1024 * 1024;
 
 template <class Stream>
 HttpSession<Stream>::HttpSession(Stream&& stream, beast::flat_buffer&& buffer,
-                                 std::shared_ptr<ServerContext> context)
-    : stream_(std::move(stream)), buffer_(std::move(buffer)), context_(std::move(context)) {}
+                                 std::shared_ptr<ServerContext> context, ConnectionLimit::Slot http_slot)
+    : stream_(std::move(stream)),
+      buffer_(std::move(buffer)),
+      context_(std::move(context)),
+      http_slot_(std::move(http_slot)) {}
 
 template <class Stream>
 void HttpSession<Stream>::run() {
@@ -77,6 +81,8 @@ void HttpSession<Stream>::on_read(beast::error_code error, std::size_t /*bytes*/
   }
   const HttpRequest& request = parser_->get();
   context_->metrics.http_requests.fetch_add(1, std::memory_order_relaxed);
+  if (!auth::host_allowed(request[http::field::host], context_->services.allowed_hosts))
+    return refuse_host();
   if (beast::websocket::is_upgrade(request))
     return upgrade_to_websocket();
   write(context_->router.handle(request));
@@ -129,6 +135,24 @@ void HttpSession<Stream>::upgrade_to_websocket() {
   }
   refusal.set(http::field::server, "strata");
   refusal.set(http::field::content_type, "application/json");
+  refusal.keep_alive(false);
+  refusal.prepare_payload();
+  write(std::move(refusal));
+}
+
+template <class Stream>
+void HttpSession<Stream>::refuse_host() {
+  // Every request, the app's files and the WebSocket upgrade included: a rebound page must get nothing.
+  const HttpRequest& request = parser_->get();
+  context_->metrics.refused_host.fetch_add(1, std::memory_order_relaxed);
+  spdlog::debug("refused a request for the host {} (not this server's, not in allowed-hosts)",
+                std::string(request[http::field::host]));
+  HttpResponse refusal{http::status::forbidden, request.version()};
+  refusal.set(http::field::server, "strata");
+  refusal.set(http::field::content_type, "application/json");
+  refusal.body() = protocol::rest_error(protocol::ErrorCode::kForbidden,
+                                        "this server does not answer to the host name in the request's Host "
+                                        "header (the server's allowed-hosts option)");
   refusal.keep_alive(false);
   refusal.prepare_payload();
   write(std::move(refusal));

@@ -19,7 +19,10 @@ template <class Stream>
 class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
  public:
   /// `buffer`: bytes already read from the connection (by the TLS detection), used before reading more.
-  HttpSession(Stream&& stream, boost::beast::flat_buffer&& buffer, std::shared_ptr<ServerContext> context);
+  /// `http_slot`: the connection's place in the HTTP connection limit, given back when the session ends
+  /// (after an upgrade, the WebSocket session holds a WebSocket place instead).
+  HttpSession(Stream&& stream, boost::beast::flat_buffer&& buffer, std::shared_ptr<ServerContext> context,
+              ConnectionLimit::Slot http_slot);
   void run();
 
  private:
@@ -27,6 +30,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   void read_next();
   void on_read(boost::beast::error_code error, std::size_t bytes);
   void upgrade_to_websocket();
+  void refuse_host();
   void write(HttpResponse response);
   void on_write(bool keep_alive, boost::beast::error_code error, std::size_t bytes);
   void shutdown();
@@ -36,6 +40,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   std::shared_ptr<ServerContext> context_;
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<HttpResponse> response_;  // kept alive until its async_write completes
+  ConnectionLimit::Slot http_slot_;
 };
 
 extern template class HttpSession<PlainStream>;

@@ -30,6 +30,7 @@ struct ServerContext {
         sim_world_message(services.sim_world ? protocol::sim_world_message(*services.sim_world)
                                              : std::string()),
         websocket_clients(services.max_websocket_clients),
+        http_connections(services.max_http_connections),
         status(*services.robot, services.map, hub),
         map_stream(services.map ? std::make_unique<streams::MapStream>(*services.map) : nullptr),
         navigation_stream(services.motion ? std::make_unique<streams::NavigationStream>(*services.motion)
@@ -53,6 +54,9 @@ struct ServerContext {
   std::string sim_world_message;  ///< sent to every client on connect; empty for a real robot
   ClientHub hub;
   ConnectionLimit websocket_clients;  ///< a WebSocket session holds a slot from the upgrade to its end
+  /// A connection holds a slot from its accept until it closes or is upgraded to a WebSocket (then it
+  /// counts as a WebSocket client only).
+  ConnectionLimit http_connections;
   ServerMetrics metrics;
   streams::StatusStream status;
   std::unique_ptr<streams::MapStream> map_stream;

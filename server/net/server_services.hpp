@@ -26,8 +26,14 @@ struct ServerServices {
   /// Browser origins (`scheme://host[:port]`) that may open the WebSocket besides the server's own; "*":
   /// any. Requests without an Origin header (scripts) always may (auth::origin_allowed).
   std::vector<std::string> allowed_origins;
+  /// Host header values requests may carry (auth::host_allowed): own_host_names() plus the allowed-hosts
+  /// option; "*": any. IP literals are always allowed.
+  std::vector<std::string> allowed_hosts;
   /// WebSocket clients at once; one more is refused with 503 at the upgrade.
   std::size_t max_websocket_clients = 256;
+  /// TCP connections at once that are not WebSocket clients (HTTP requests, idle keep-alive, connections
+  /// still sending their first request); one more is answered 503 and closed.
+  std::size_t max_http_connections = 512;
 };
 
 }  // namespace strata::net

@@ -106,6 +106,23 @@ inline http::response<http::string_body> http_get(std::uint16_t port, const std:
   return http_request(port, http::verb::get, target);
 }
 
+/// GET `target` with `host` as the Host header (the name a browser would put there), on a fresh connection.
+inline http::response<http::string_body> http_get_for_host(std::uint16_t port, const std::string& target,
+                                                           const std::string& host) {
+  boost::asio::io_context io;
+  tcp::socket socket(io);
+  open_stream(socket, port);
+  http::request<http::empty_body> request{http::verb::get, target, 11};
+  request.set(http::field::host, host);
+  http::write(socket, request);
+  beast::flat_buffer buffer;
+  http::response<http::string_body> response;
+  http::read(socket, buffer, response);
+  beast::error_code ignored;
+  socket.shutdown(tcp::socket::shutdown_both, ignored);
+  return response;
+}
+
 /// The same request over TLS, trusting `tls`.
 inline http::response<http::string_body> https_request(ssl::context& tls, std::uint16_t port,
                                                        http::verb method, const std::string& target,

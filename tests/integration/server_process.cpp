@@ -20,7 +20,7 @@ namespace {
 using Clock = std::chrono::steady_clock;
 
 pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd,
-            std::uint64_t file_size_limit = RLIM_INFINITY) {
+            const ProcessLimits& limits = {}) {
   std::vector<std::string> argv_storage{STRATA_BINARY};
   argv_storage.insert(argv_storage.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -34,9 +34,13 @@ pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd,
     dup2(stdout_fd, STDOUT_FILENO);
     if (stderr_fd >= 0)
       dup2(stderr_fd, STDERR_FILENO);
-    if (file_size_limit != RLIM_INFINITY) {
-      const rlimit limit{file_size_limit, file_size_limit};
+    if (limits.file_size != RLIM_INFINITY) {
+      const rlimit limit{limits.file_size, limits.file_size};
       setrlimit(RLIMIT_FSIZE, &limit);
+    }
+    if (limits.open_files != RLIM_INFINITY) {
+      const rlimit limit{limits.open_files, limits.open_files};
+      setrlimit(RLIMIT_NOFILE, &limit);
     }
     execv(argv[0], argv.data());
     _exit(127);
@@ -73,15 +77,27 @@ bool read_some(int fd, std::string& out, Clock::time_point deadline) {
 ServerProcess::ServerProcess(std::vector<std::string> extra_args)
     : ServerProcess(std::move(extra_args), RLIM_INFINITY) {}
 
-ServerProcess::ServerProcess(std::vector<std::string> extra_args, std::uint64_t file_size_limit) {
+ServerProcess::ServerProcess(std::vector<std::string> extra_args, std::uint64_t file_size_limit)
+    : ServerProcess(std::move(extra_args), ProcessLimits{.file_size = file_size_limit}) {}
+
+ServerProcess::ServerProcess(std::vector<std::string> extra_args, const ProcessLimits& limits) {
   int pipe_fds[2];
   if (pipe2(pipe_fds, O_CLOEXEC) != 0)
     throw std::runtime_error("pipe failed");
   std::vector<std::string> args{"serve", "--bind",           "127.0.0.1",       "--port",
                                 "0",     "--operator-token", kTestOperatorToken};
   args.insert(args.end(), extra_args.begin(), extra_args.end());
-  pid_ = spawn(args, pipe_fds[1], -1, file_size_limit);  // stderr (the log) goes to the test's output
+  // stderr (the log) goes to the test's output, or to the log file asked for.
+  int log_fd = -1;
+  if (!limits.log_file.empty()) {
+    log_fd = open(limits.log_file.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (log_fd < 0)
+      throw std::runtime_error("cannot create " + limits.log_file.string());
+  }
+  pid_ = spawn(args, pipe_fds[1], log_fd, limits);
   close(pipe_fds[1]);
+  if (log_fd >= 0)
+    close(log_fd);
 
   // The server prints one line on stdout once it listens; wait for it and read the real port.
   const std::regex serving(R"(strata: serving on (https?)://127\.0\.0\.1:(\d+))");

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <sys/resource.h>
 #include <sys/types.h>
 
 #include <chrono>
@@ -15,12 +16,20 @@ namespace strata::testing {
 /// The operator token the test servers are started with.
 inline constexpr const char* kTestOperatorToken = "integration-test-operator-token";
 
+/// Resource limits for a server process (setrlimit in the child), and where its log goes.
+struct ProcessLimits {
+  std::uint64_t file_size = RLIM_INFINITY;   ///< RLIMIT_FSIZE, bytes: a disk that fills up
+  std::uint64_t open_files = RLIM_INFINITY;  ///< RLIMIT_NOFILE: a server that runs out of descriptors
+  std::filesystem::path log_file;            ///< stderr (the log) goes here; empty: to the test's output
+};
+
 /// The real strata binary, started with `serve` on a free loopback port and stopped with SIGTERM.
 class ServerProcess {
  public:
   explicit ServerProcess(std::vector<std::string> extra_args = {});
   /// `file_size_limit` (bytes) becomes the process's RLIMIT_FSIZE: a disk that fills up.
   ServerProcess(std::vector<std::string> extra_args, std::uint64_t file_size_limit);
+  ServerProcess(std::vector<std::string> extra_args, const ProcessLimits& limits);
   ~ServerProcess();
   ServerProcess(const ServerProcess&) = delete;
   ServerProcess& operator=(const ServerProcess&) = delete;

@@ -1,0 +1,100 @@
+// The limits on plain connections, on the real server with real sockets (proto/PROTOCOL.md "Limits"): the
+// HTTP connection limit, and a server that runs out of file descriptors and recovers.
+#include <gtest/gtest.h>
+#include <signal.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "integration/clients.hpp"
+#include "integration/server_process.hpp"
+
+namespace strata::testing {
+namespace {
+
+/// GET, tried again while the server still counts a connection that was just closed (it notices the close
+/// asynchronously) and answers 503.
+http::response<http::string_body> get_once_a_place_is_free(std::uint16_t port, const std::string& target) {
+  auto response = http_get(port, target);
+  for (int attempt = 0; attempt < 400 && response.result() == http::status::service_unavailable; ++attempt) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+    response = http_get(port, target);
+  }
+  return response;
+}
+
+/// A TCP connection that sends nothing: an idle keep-alive or a slow client.
+std::unique_ptr<tcp::socket> idle_connection(boost::asio::io_context& io, std::uint16_t port) {
+  auto socket = std::make_unique<tcp::socket>(io);
+  open_stream(*socket, port);
+  return socket;
+}
+
+std::size_t lines_containing(const std::filesystem::path& file, const std::string& text) {
+  std::ifstream in(file);
+  std::size_t count = 0;
+  for (std::string line; std::getline(in, line);)
+    count += line.find(text) != std::string::npos ? 1 : 0;
+  return count;
+}
+
+TEST(HttpConnectionLimit, OneConnectionOverTheLimitGets503UntilOneCloses) {
+  ServerProcess server({"--scanner", "none", "--max-http-connections", "2"});
+  // WebSocket clients give their HTTP place back once upgraded: these two leave both free.
+  WsClient first(server.port());
+  first.read_op("hello");
+  WsClient second(server.port());
+  second.read_op("hello");
+
+  // The server accepts in order: once the third connection is accepted, these two hold both places.
+  boost::asio::io_context io;
+  auto idle = idle_connection(io, server.port());
+  const auto other_idle = idle_connection(io, server.port());
+  const auto refused = http_get(server.port(), "/healthz");
+  EXPECT_EQ(refused.result(), http::status::service_unavailable);
+  EXPECT_EQ(refused[http::field::retry_after], "10");
+  const auto body = nlohmann::json::parse(refused.body());
+  expect_schema("rest", "error", body);
+  EXPECT_EQ(body["error"]["code"], "unavailable");
+  EXPECT_NE(body["error"]["message"].get<std::string>().find("at most 2"), std::string::npos) << body;
+
+  idle.reset();  // one place comes free once the server has noticed the close
+  EXPECT_EQ(get_once_a_place_is_free(server.port(), "/healthz").result(), http::status::ok);
+  const auto metrics = get_once_a_place_is_free(server.port(), "/metrics").body();
+  EXPECT_EQ(metrics.find("strata_http_refused_full_total 0\n"), std::string::npos) << metrics;
+  first.read_op("pose");  // the WebSocket clients were not disturbed
+}
+
+TEST(AcceptBackOff, AServerOutOfDescriptorsRecoversWithoutFloodingItsLog) {
+  const auto log =
+      std::filesystem::temp_directory_path() / ("strata-accept-backoff-" + std::to_string(getpid()) + ".log");
+  // 64 descriptors: the server's own files and a few dozen connections.
+  ServerProcess server({"--scanner", "none"}, ProcessLimits{.open_files = 64, .log_file = log});
+  boost::asio::io_context io;
+  std::vector<std::unique_ptr<tcp::socket>> connections;
+  // The kernel completes connections into the listen backlog whether or not the server can accept them.
+  for (int i = 0; i < 100; ++i)
+    connections.push_back(idle_connection(io, server.port()));
+  bool ran_out = false;
+  for (int attempt = 0; attempt < 400 && !ran_out; ++attempt) {
+    ran_out = lines_containing(log, "accept failed") > 0;
+    std::this_thread::sleep_for(std::chrono::milliseconds(25));
+  }
+  ASSERT_TRUE(ran_out) << "the server never ran out of descriptors";
+  // Out of descriptors for a while: a server retrying at once would log thousands of lines by now.
+  std::this_thread::sleep_for(std::chrono::seconds(1));
+  connections.clear();
+
+  EXPECT_EQ(get_once_a_place_is_free(server.port(), "/healthz").result(), http::status::ok);
+  EXPECT_EQ(kill(server.pid(), 0), 0);  // still running
+  // One line per 10 s at most (and the test takes a few seconds).
+  EXPECT_LE(lines_containing(log, "accept failed"), 2U);
+  EXPECT_GE(lines_containing(log, "accepting connections again"), 1U);
+  std::filesystem::remove(log);
+}
+
+}  // namespace
+}  // namespace strata::testing
