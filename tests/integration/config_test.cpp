@@ -29,8 +29,9 @@ TEST(ServeConfig, TheSecurityKeysComeFromTheConfigFile) {
                     ("strata-config-security-" + std::to_string(::getpid()) + ".ini");
   {
     std::ofstream out(file);
-    out << "[serve]\nscanner = \"none\"\nmax-clients = 1\n"
-           "allowed-origins = [\"https://kiosk.example\", \"http://panel.example:3000\"]\n";
+    out << "[serve]\nscanner = \"none\"\nmax-clients = 1\nmax-http-connections = 8\n"
+           "allowed-origins = [\"https://kiosk.example\", \"http://panel.example:3000\"]\n"
+           "allowed-hosts = [\"robot.example\"]\n";
   }
   ServerProcess server({"--config", file.string()});
   std::filesystem::remove(file);
@@ -39,6 +40,10 @@ TEST(ServeConfig, TheSecurityKeysComeFromTheConfigFile) {
   // max-clients = 1: the second is refused; and a page from an origin not listed is refused as such.
   EXPECT_EQ(websocket_upgrade(server.port(), {}).result(), http::status::service_unavailable);
   EXPECT_EQ(websocket_upgrade(server.port(), {{http::field::origin, "https://elsewhere.example"}}).result(),
+            http::status::forbidden);
+  // allowed-hosts: the robot's DNS name is served, another name is refused (DNS rebinding).
+  EXPECT_EQ(http_get_for_host(server.port(), "/api/v1/pose", "robot.example").result(), http::status::ok);
+  EXPECT_EQ(http_get_for_host(server.port(), "/api/v1/pose", "evil.example").result(),
             http::status::forbidden);
 }
 
