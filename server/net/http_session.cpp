@@ -133,11 +133,7 @@ void HttpSession<Stream>::upgrade_to_websocket() {
                                               std::to_string(context_->websocket_clients.max()) +
                                               " at once; try again later");
   }
-  refusal.set(http::field::server, "strata");
-  refusal.set(http::field::content_type, "application/json");
-  refusal.keep_alive(false);
-  refusal.prepare_payload();
-  write(std::move(refusal));
+  send_refusal(std::move(refusal));
 }
 
 template <class Stream>
@@ -148,11 +144,17 @@ void HttpSession<Stream>::refuse_host() {
   spdlog::debug("refused a request for the host {} (not this server's, not in allowed-hosts)",
                 std::string(request[http::field::host]));
   HttpResponse refusal{http::status::forbidden, request.version()};
-  refusal.set(http::field::server, "strata");
-  refusal.set(http::field::content_type, "application/json");
   refusal.body() = protocol::rest_error(protocol::ErrorCode::kForbidden,
                                         "this server does not answer to the host name in the request's Host "
                                         "header (the server's allowed-hosts option)");
+  send_refusal(std::move(refusal));
+}
+
+template <class Stream>
+void HttpSession<Stream>::send_refusal(HttpResponse refusal) {
+  // A refused request ends the connection: what else the client sent is not read.
+  refusal.set(http::field::server, "strata");
+  refusal.set(http::field::content_type, "application/json");
   refusal.keep_alive(false);
   refusal.prepare_payload();
   write(std::move(refusal));

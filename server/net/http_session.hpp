@@ -31,6 +31,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   void on_read(boost::beast::error_code error, std::size_t bytes);
   void upgrade_to_websocket();
   void refuse_host();
+  /// Writes a JSON error response (its status and body set) and closes the connection after it.
+  void send_refusal(HttpResponse refusal);
   void write(HttpResponse response);
   void on_write(bool keep_alive, boost::beast::error_code error, std::size_t bytes);
   void shutdown();
