@@ -36,9 +36,21 @@ struct LocalizerOptions {
     RegistrationOptions options;
     options.min_range = 0.0;
     options.icp.metric = IcpMetric::kPointToPlane;
-    // Point-to-plane settles in few steps; the tighter fine-stage stop for point-to-point scan pairs is
-    // unmeasured here, so every stage keeps the one threshold.
-    options.fine_mse_change_threshold = options.icp.mse_change_threshold;
+    // Point-to-plane settles in few steps, so the thesis's MSE stop serves; the scan pairs' thinner coarse
+    // source and step stops are unmeasured here. Every pair goes into the degeneracy check: its
+    // eigenvalues decide which directions odometry supplies, and the local map's normals are mostly
+    // estimated already.
+    options.stages = {
+        {.max_correspondence_distance = 1.0,
+         .source_voxel_size = 0.3,
+         .mse_change_threshold = 1e-5,
+         .max_iterations = 30},
+        {.max_correspondence_distance = 0.25,
+         .source_voxel_size = 0.3,
+         .mse_change_threshold = 1e-5,
+         .max_iterations = 30},
+    };
+    options.max_constraint_pairs = 0;
     return options;
   }
 };

@@ -133,9 +133,11 @@ IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* nor
     result.transform = step * result.transform;
     for (const Correspondence& pair : pairs)
       moved[pair.source] = step * moved[pair.source];
-    // 4. Stop when the error has settled (eq. 4.12 and tau).
+    // 4. Stop when the error has settled (eq. 4.12 and tau), or the transform has.
     const double mse = mean_squared_error(moved, target.points(), normals, pairs, metric);
-    if (std::abs(previous_mse - mse) < options.mse_change_threshold) {
+    const bool small_step = step.translation().norm() < options.min_step_translation &&
+                            Eigen::AngleAxisd(step.rotation()).angle() < options.min_step_rotation;
+    if (std::abs(previous_mse - mse) < options.mse_change_threshold || small_step) {
       result.converged = true;
       break;
     }

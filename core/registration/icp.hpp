@@ -27,7 +27,14 @@ struct IcpOptions {
   /// Pairs farther apart than this are no correspondence (the thesis's trimming, 0.25 m).
   double max_correspondence_distance = 0.25;
   /// Stop when the mean squared error changes by less than this between iterations (thesis tau), m^2.
+  /// 0: never on the MSE.
   double mse_change_threshold = 1e-5;
+  /// Stop when a step moves the source by less than both of these (metres, radians); 0: never on the step.
+  /// Steadier than the MSE's change, which jumps as pairs come and go: the MSE stop let point-to-point ICP
+  /// quit while it was still creeping by millimetres, at a point that depended on chance
+  /// (tests/bench/registration_bench.cpp).
+  double min_step_translation = 0.0;
+  double min_step_rotation = 0.0;
   int max_iterations = 30;
   /// Geman-McClure kernel scale (m): pairs with residual r get weight (s^2 / (s^2 + r^2))^2. 0 = plain
   /// least squares over the trimmed pairs, as in the thesis.
@@ -41,10 +48,11 @@ struct IcpResult {
   std::vector<Correspondence> pairs;  ///< the final pairing, within the last correspondence bound
   double rmse = 0.0;                  ///< point-to-point distance over the final pairs, metres
   int iterations = 0;                 ///< pairing + update rounds, over all stages
-  bool converged = false;             ///< the MSE settled before the iteration cap
+  bool converged = false;             ///< the MSE or the steps settled before the iteration cap
 };
 
-/// ICP (thesis Algorithms 1 and 2): pair, solve for the transform, apply, until the MSE settles.
+/// ICP (thesis Algorithms 1 and 2): pair, solve for the transform, apply, until the MSE or the steps
+/// settle.
 /// `normals` serves the point-to-plane metric and may be null for point-to-point.
 [[nodiscard]] IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* normals,
                               const Eigen::Isometry3d& guess, const IcpOptions& options);

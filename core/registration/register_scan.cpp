@@ -1,10 +1,13 @@
 #include "core/registration/register_scan.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <stdexcept>
+#include <utility>
 
 #include "core/points/voxel_downsample.hpp"
+#include "core/registration/degeneracy.hpp"
 
 namespace strata {
 namespace {
@@ -18,6 +21,47 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 
 PointCloud preprocess(const PointCloud& scan, double min_range, double voxel_size) {
   return voxel_downsample(scan, voxel_size, min_range);
+}
+
+/// The source thinned once per voxel size the stages ask for: the scan pass (cropping included) at the
+/// finest size, the coarser sizes from that, which is a tenth of the points.
+class SourceLevels {
+ public:
+  SourceLevels(const PointCloud& scan, const RegistrationOptions& options) {
+    double finest = options.stages.front().source_voxel_size;
+    for (const RegistrationStage& stage : options.stages)
+      finest = std::min(finest, stage.source_voxel_size);
+    levels_.emplace_back(finest, preprocess(scan, options.min_range, finest));
+    for (const RegistrationStage& stage : options.stages) {
+      if (find(stage.source_voxel_size) == nullptr)
+        levels_.emplace_back(stage.source_voxel_size,
+                             voxel_downsample(levels_.front().second, stage.source_voxel_size));
+    }
+  }
+
+  [[nodiscard]] const PointCloud& at(double voxel_size) const { return *find(voxel_size); }
+
+ private:
+  [[nodiscard]] const PointCloud* find(double voxel_size) const {
+    for (const auto& [size, points] : levels_) {
+      if (size == voxel_size)
+        return &points;
+    }
+    return nullptr;
+  }
+
+  std::vector<std::pair<double, PointCloud>> levels_;
+};
+
+/// At most `count` of the pairs, spread evenly over them (all of them if `count` is 0 or enough).
+std::vector<Correspondence> spread_sample(const std::vector<Correspondence>& pairs, std::size_t count) {
+  if (count == 0 || pairs.size() <= count)
+    return pairs;
+  std::vector<Correspondence> sample;
+  sample.reserve(count);
+  for (std::size_t k = 0; k < count; ++k)
+    sample.push_back(pairs[k * pairs.size() / count]);
+  return sample;
 }
 
 }  // namespace
@@ -46,31 +90,37 @@ LazyNormals::Estimates ScanRegistration::take_normals() {
 RegistrationResult ScanRegistration::register_scan(const PointCloud& source, const Eigen::Isometry3d& guess) {
   if (!target_)
     throw std::logic_error("ScanRegistration::register_scan called before set_target");
+  if (options_.stages.empty())
+    throw std::invalid_argument("RegistrationOptions::stages is empty");
   const auto start = std::chrono::steady_clock::now();
-  const PointCloud points = preprocess(source, options_.min_range, options_.source_voxel_size);
+  const SourceLevels source_levels(source, options_);
 
   IcpResult icp;
   icp.transform = guess;
-  const std::vector<double>& schedule = options_.correspondence_schedule;
-  for (std::size_t k = 0; k < schedule.size(); ++k) {
-    IcpOptions stage = options_.icp;
-    stage.max_correspondence_distance = schedule[k];
-    if (k + 1 == schedule.size())
-      stage.mse_change_threshold = options_.fine_mse_change_threshold;
+  const PointCloud* points = nullptr;
+  for (const RegistrationStage& stage : options_.stages) {
+    IcpOptions icp_options = options_.icp;
+    icp_options.max_correspondence_distance = stage.max_correspondence_distance;
+    icp_options.mse_change_threshold = stage.mse_change_threshold;
+    icp_options.min_step_translation = stage.min_step_translation;
+    icp_options.min_step_rotation = stage.min_step_rotation;
+    icp_options.max_iterations = stage.max_iterations;
+    points = &source_levels.at(stage.source_voxel_size);
     const int iterations_so_far = icp.iterations;
-    icp = align(points, *target_, normals_.get(), icp.transform, stage);
+    icp = align(*points, *target_, normals_.get(), icp.transform, icp_options);
     icp.iterations += iterations_so_far;
   }
 
   RegistrationResult result;
   result.refined = icp.transform;
   result.pairs = icp.pairs.size();
-  result.source_points = points.size();
+  result.source_points = points->size();
   result.target_points = target_->size();
   result.rmse = icp.rmse;
   result.iterations = icp.iterations;
   result.converged = icp.converged;
-  result.constraint = translation_constraint(icp.pairs, *normals_, target_->points());
+  result.constraint = translation_constraint(spread_sample(icp.pairs, options_.max_constraint_pairs),
+                                             *normals_, target_->points());
   result.assessment = assess({.pairs = result.pairs,
                               .source_points = result.source_points,
                               .rmse = result.rmse,

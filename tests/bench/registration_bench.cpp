@@ -342,11 +342,27 @@ int main(int argc, char** argv) {
   std::vector<std::pair<std::string, RegistrationOptions>> configs{{"default", {}}};
   if (variants) {
     RegistrationOptions p2p;
+    // Session 5's defaults: the thesis's MSE stop, one source density, a 5 cm target, every pair checked.
+    RegistrationOptions mse_stop;
+    mse_stop.stages = {
+        {.max_correspondence_distance = 1.0,
+         .source_voxel_size = 0.3,
+         .mse_change_threshold = 1e-5,
+         .max_iterations = 30},
+        {.max_correspondence_distance = 0.25,
+         .source_voxel_size = 0.3,
+         .mse_change_threshold = 2e-6,
+         .max_iterations = 30},
+    };
+    mse_stop.target_voxel_size = 0.05;
+    mse_stop.max_constraint_pairs = 0;
+    configs.emplace_back("mse_stop_5cm_target", mse_stop);
     RegistrationOptions polar = p2p;
     polar.icp.rotation_solver = strata::RotationSolver::kPolarDenmanBeavers;
     configs.emplace_back("point_to_point_polar", polar);
     RegistrationOptions thesis = p2p;
-    thesis.correspondence_schedule = {0.25};
+    thesis.stages = {
+        {.max_correspondence_distance = 0.25, .source_voxel_size = 0.3, .mse_change_threshold = 1e-5}};
     configs.emplace_back("point_to_point_single_0.25", thesis);
     RegistrationOptions plane;
     plane.icp.metric = strata::IcpMetric::kPointToPlane;

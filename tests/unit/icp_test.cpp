@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+#include <utility>
+
 #include "core/registration/register_scan.hpp"
 #include "tests/unit/synthetic_scenes.hpp"
 
@@ -20,8 +23,8 @@ struct Scene {
   Eigen::Isometry3d truth;
 };
 
-Scene moved_room(const Eigen::Isometry3d& truth) {
-  return {transformed(test::room_scene(0.1, 0.005, 11), truth.inverse()), test::room_scene(0.1, 0.005, 12),
+Scene moved_room(const Eigen::Isometry3d& truth, double step = 0.1) {
+  return {transformed(test::room_scene(step, 0.005, 11), truth.inverse()), test::room_scene(step, 0.005, 12),
           truth};
 }
 
@@ -80,6 +83,68 @@ TEST(Icp, NoTargetWithinTheBoundLeavesTheGuess) {
   EXPECT_TRUE(result.transform.isApprox(guess));
   EXPECT_EQ(result.iterations, 0);
   EXPECT_TRUE(result.pairs.empty());
+}
+
+TEST(Icp, StopsWhenTheStepsAreSmall) {
+  const Scene scene = moved_room(make_transform(0.1, -0.05, 0.02, 0.0, 0.01, 0.04), 0.25);
+  const KdTree tree(scene.target);
+  IcpOptions options;
+  options.mse_change_threshold = 0.0;  // the MSE never stops it: only the step limits or the cap can
+  options.max_iterations = 40;
+  const IcpResult capped = align(scene.source, tree, nullptr, Eigen::Isometry3d::Identity(), options);
+  EXPECT_FALSE(capped.converged);
+  EXPECT_EQ(capped.iterations, 40);
+
+  options.min_step_translation = 1e-4;
+  options.min_step_rotation = 1e-4;
+  const IcpResult stopped = align(scene.source, tree, nullptr, Eigen::Isometry3d::Identity(), options);
+  EXPECT_TRUE(stopped.converged);
+  EXPECT_LT(stopped.iterations, 40);
+  EXPECT_LT(translation_error(stopped.transform, scene.truth), 0.02);
+  EXPECT_LT(rotation_error(stopped.transform, scene.truth), 0.005);
+}
+
+TEST(RegisterScan, EachStageThinsTheSourceToItsOwnVoxel) {
+  const Scene scene = moved_room(make_transform(0.2, 0.1, 0.0, 0.0, 0.0, 0.05), 0.2);
+  RegistrationOptions options;
+  options.stages = {{.max_correspondence_distance = 1.0,
+                     .source_voxel_size = 0.8,
+                     .min_step_translation = 1e-3,
+                     .min_step_rotation = 1e-3},
+                    {.max_correspondence_distance = 0.25,
+                     .source_voxel_size = 0.3,
+                     .min_step_translation = 1e-4,
+                     .min_step_rotation = 1e-4}};
+  const RegistrationResult two =
+      register_scan(scene.source, scene.target, Eigen::Isometry3d::Identity(), options);
+  std::swap(options.stages.front().source_voxel_size, options.stages.back().source_voxel_size);
+  const RegistrationResult swapped =
+      register_scan(scene.source, scene.target, Eigen::Isometry3d::Identity(), options);
+  // The result reports the last stage's points: fewer with the coarser voxel last.
+  EXPECT_LT(swapped.source_points, two.source_points);
+  EXPECT_TRUE(two.accepted()) << two.assessment.message;
+  EXPECT_LT(translation_error(two.transform, scene.truth), 0.03);
+
+  options.stages.clear();
+  EXPECT_THROW(
+      static_cast<void>(register_scan(scene.source, scene.target, Eigen::Isometry3d::Identity(), options)),
+      std::invalid_argument);
+}
+
+TEST(RegisterScan, TheDegeneracyCheckUsesAtMostTheSampleOfPairs) {
+  const Scene scene = moved_room(make_transform(0.1, 0.0, 0.0, 0.0, 0.0, 0.02), 0.2);
+  RegistrationOptions options;
+  options.max_constraint_pairs = 50;
+  const RegistrationResult sampled =
+      register_scan(scene.source, scene.target, Eigen::Isometry3d::Identity(), options);
+  ASSERT_GT(sampled.pairs, 50U);
+  EXPECT_LE(sampled.constraint.normals_used, 50U);
+  options.max_constraint_pairs = 0;
+  const RegistrationResult all =
+      register_scan(scene.source, scene.target, Eigen::Isometry3d::Identity(), options);
+  EXPECT_GT(all.constraint.normals_used, 50U);
+  // A spread sample measures the same geometry: the room constrains every direction either way.
+  EXPECT_NEAR(sampled.constraint.weakest, all.constraint.weakest, 0.05);
 }
 
 TEST(RegisterScan, RecoversALargerOffsetCoarseToFine) {
