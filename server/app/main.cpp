@@ -214,6 +214,9 @@ int main(int argc, char** argv) {
   // Every serve option can also come from a config file: `strata serve --config strata.ini`, with the options
   // by their long names under a [serve] section (deploy/strata.example.ini). The command line wins.
   app.set_config("--config", "", "Read options from this file (INI/TOML; see deploy/strata.example.ini)");
+  // A key no option has is refused at start, not ignored: a misspelt `max-client` would otherwise leave the
+  // robot on the default without a word.
+  app.allow_config_extras(CLI::config_extras_mode::error);
   serve_cmd->fallthrough();  // `strata serve --config FILE` works as well as `strata --config FILE serve`
 
   strata::app::RegisterOptions register_options;
@@ -228,7 +231,17 @@ int main(int argc, char** argv) {
   auto* version_cmd =
       app.add_subcommand("version", "Print the version and the libraries Strata was built with");
 
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ConfigError& e) {
+    // CLI11 says "INI was not able to parse serve.max-client"; say what that means and where to look.
+    std::cerr << "strata: config file: " << e.what()
+              << " (no option of that name; the keys are the long options of `strata serve --help`, under "
+                 "[serve])\n";
+    return e.get_exit_code();
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  }
   // Logs go to stderr; stdout carries only what scripts read (the "serving on" line, command output).
   spdlog::set_default_logger(spdlog::stderr_color_mt("strata"));
   spdlog::set_level(spdlog::level::from_str(log_level));

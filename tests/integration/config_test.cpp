@@ -4,6 +4,8 @@
 
 #include <filesystem>
 #include <fstream>
+#include <regex>
+#include <sstream>
 
 #include "integration/clients.hpp"
 #include "integration/server_process.hpp"
@@ -56,6 +58,60 @@ TEST(ServeConfig, BadRobotParametersAreRefusedAtStart) {
   const auto token = run_strata({"serve", "--port", "0", "--operator-token", "short"});
   EXPECT_NE(token.exit_code, 0);
   EXPECT_NE(token.output.find("operator token"), std::string::npos) << token.output;
+}
+
+TEST(ServeConfig, AKeyNoOptionHasIsRefusedAtStart) {
+  // A misspelt key (max-client for max-clients) must not leave the robot on the default without a word.
+  const auto file =
+      std::filesystem::temp_directory_path() / ("strata-config-typo-" + std::to_string(::getpid()) + ".ini");
+  {
+    std::ofstream out(file);
+    out << "[serve]\nscanner = \"none\"\nmax-client = 4\n";
+  }
+  const auto result = run_strata({"serve", "--port", "0", "--config", file.string()});
+  std::filesystem::remove(file);
+  EXPECT_NE(result.exit_code, 0);
+  EXPECT_NE(result.output.find("max-client"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("config file"), std::string::npos) << result.output;
+}
+
+// The files we ship (the package's /etc/strata/strata.ini and the commented example) start the server as
+// they are; only what names this machine's paths is overridden on the command line.
+TEST(ServeConfig, TheShippedConfigFilesStartTheServer) {
+  const auto scratch =
+      std::filesystem::temp_directory_path() / ("strata-config-shipped-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(scratch);
+  { std::ofstream(scratch / "operator-token") << kTestOperatorToken << "\n"; }
+  for (const char* name : {"strata.ini", "strata.example.ini"}) {
+    SCOPED_TRACE(name);
+    ServerProcess server({"--config", std::string(STRATA_DEPLOY_DIR) + "/" + name, "--maps-dir",
+                          (scratch / "maps").string(), "--operator-token-file",
+                          (scratch / "operator-token").string(), "--scanner", "none"});
+    const auto world = nlohmann::json::parse(http_get(server.port(), "/api/v1/sim/world").body());
+    EXPECT_EQ(world["name"], "campus");
+  }
+  std::filesystem::remove_all(scratch);
+}
+
+// Every key the shipped files set or show commented out is an option of `strata serve`, so uncommenting
+// one never stops the service.
+TEST(ServeConfig, EveryKeyInTheShippedConfigFilesIsAServeOption) {
+  const auto help = run_strata({"serve", "--help"});
+  ASSERT_EQ(help.exit_code, 0) << help.output;
+  const std::regex key_line(R"(^(?:; )?([a-z][a-z0-9-]*) = )");
+  for (const char* name : {"strata.ini", "strata.example.ini"}) {
+    std::ifstream in(std::string(STRATA_DEPLOY_DIR) + "/" + name);
+    ASSERT_TRUE(in) << name;
+    int keys = 0;
+    for (std::string line; std::getline(in, line);) {
+      std::smatch match;
+      if (!std::regex_search(line, match, key_line))
+        continue;
+      ++keys;
+      EXPECT_NE(help.output.find("--" + match[1].str()), std::string::npos) << name << ": " << line;
+    }
+    EXPECT_GT(keys, 5) << name;
+  }
 }
 
 }  // namespace
