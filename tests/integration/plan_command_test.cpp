@@ -29,7 +29,7 @@ class WalledMap {
   [[nodiscard]] std::string path() const { return path_.string(); }
 
  private:
-  fs::path path_ = fs::temp_directory_path() / "strata_plan_walled.map";
+  fs::path path_ = private_temp_path("strata_plan_walled", ".map");
 };
 
 TEST(PlanCommand, PlansCornerToCornerOnTheNav2Map) {
@@ -125,12 +125,12 @@ TEST(PlanCommand, MovingAiMapInCells) {
 }
 
 TEST(PlanCommand, BadInputExitsWithOne) {
-  const fs::path bad = fs::temp_directory_path() / "strata_plan_bad.yaml";
+  const fs::path bad = private_temp_path("strata_plan_bad", ".yaml");
   { std::ofstream(bad) << "resolution: 0.05\n"; }
   const CommandResult run = run_strata({"plan", "--map", bad.string(), "--start", "0,0", "--goal", "1,1"});
   fs::remove(bad);
   EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.output.find("strata_plan_bad.yaml"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find(bad.filename().string()), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("missing image"), std::string::npos) << run.output;
 
   const WalledMap map;

@@ -45,17 +45,17 @@ TEST(RegisterCommand, RegistersTheRealRoomPairAndPrintsJson) {
 }
 
 TEST(RegisterCommand, BadFileFailsWithAClearMessage) {
-  const fs::path bad = fs::temp_directory_path() / "strata_register_bad.pcd";
+  const fs::path bad = private_temp_path("strata_register_bad", ".pcd");
   { std::ofstream(bad) << "not a point cloud\n"; }
   const CommandResult run = run_strata({"register", bad.string(), bad.string()});
   fs::remove(bad);
   EXPECT_EQ(run.exit_code, 1);
-  EXPECT_NE(run.output.find("strata_register_bad.pcd"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find(bad.filename().string()), std::string::npos) << run.output;
   EXPECT_NE(run.output.find("not a PCD"), std::string::npos) << run.output;
 }
 
 TEST(RegisterCommand, MalformedGuessIsRefused) {
-  const fs::path file = fs::temp_directory_path() / "strata_register_guess.xyz";
+  const fs::path file = private_temp_path("strata_register_guess", ".xyz");
   { std::ofstream(file) << "0 0 0\n1 0 0\n0 1 0\n"; }
   const CommandResult run = run_strata({"register", file.string(), file.string(), "--guess", "1 2 3"});
   fs::remove(file);

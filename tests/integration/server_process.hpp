@@ -2,6 +2,7 @@
 
 #include <sys/resource.h>
 #include <sys/types.h>
+#include <unistd.h>
 
 #include <chrono>
 #include <cstdint>
@@ -72,6 +73,12 @@ inline nlohmann::json json_of(const CommandResult& result) {
 inline std::filesystem::path data_dir() {
   const char* from_env = std::getenv("STRATA_DATA_DIR");
   return from_env != nullptr ? std::filesystem::path(from_env) : std::filesystem::path(STRATA_DATA_DIR);
+}
+
+/// A file name in the temporary directory that no other test process uses: ctest runs a suite's tests as
+/// parallel processes, and a fixed name shared by two of them is removed under the other's feet.
+inline std::filesystem::path private_temp_path(const std::string& stem, const std::string& extension) {
+  return std::filesystem::temp_directory_path() / (stem + "-" + std::to_string(::getpid()) + extension);
 }
 
 }  // namespace strata::testing
