@@ -6,9 +6,13 @@
 #include <string>
 
 #include "drivers/scan_event.hpp"
-#include "drivers/sim/simulator.hpp"
+#include "drivers/robot_sample.hpp"
 
 namespace strata {
+
+namespace sim {
+class World;
+}  // namespace sim
 
 /// Where the pipeline's data comes from (the simulator, a dataset replay, later a live sensor or a packet
 /// capture): a source of odometry samples and 3D scans, which may also take velocity commands and may
@@ -16,7 +20,7 @@ namespace strata {
 class RobotDriver {
  public:
   /// Called on the driver's thread for every odometry sample (newest state of the base).
-  using SampleSink = std::function<void(const sim::RobotSample&)>;
+  using SampleSink = std::function<void(const RobotSample&)>;
   /// Called on the driver's thread for every completed scan; must return at once.
   using ScanSink = std::function<void(ScanEvent)>;
   /// Blocks until the pipeline has finished every scan handed to the ScanSink so far. A source that can
@@ -24,7 +28,7 @@ class RobotDriver {
   /// a live source never calls it. Returns false when the pipeline is stopping.
   using PipelineIdle = std::function<bool()>;
   /// Asked with the latest sample: a (v, w) command for the base, or nothing (leave the base as it is).
-  using CommandSource = std::function<std::optional<sim::VelocityCommand>(const sim::RobotSample&)>;
+  using CommandSource = std::function<std::optional<VelocityCommand>(const RobotSample&)>;
 
   struct Outputs {
     SampleSink on_sample;

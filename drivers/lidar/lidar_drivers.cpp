@@ -11,8 +11,8 @@ namespace strata::lidar {
 namespace {
 
 /// The odometry a lidar alone hands on: none, so a constant pose (see LidarDriverOptions).
-sim::RobotSample sample_at(double stamp) {
-  sim::RobotSample sample;
+RobotSample sample_at(double stamp) {
+  RobotSample sample;
   sample.stamp = stamp;
   return sample;
 }

@@ -75,7 +75,7 @@ Recorder::~Recorder() {
                directory_.string(), s.scans, s.samples, s.dropped, s.errors);
 }
 
-void Recorder::record(const sim::RobotSample& sample) {
+void Recorder::record(const RobotSample& sample) {
   {
     std::lock_guard lock(mutex_);
     if (queued_samples_ >= limits_.queued_samples) {
@@ -143,7 +143,7 @@ void Recorder::run() {
 
 void Recorder::write(const Item& item) {
   try {
-    if (const auto* sample = std::get_if<sim::RobotSample>(&item)) {
+    if (const auto* sample = std::get_if<RobotSample>(&item)) {
       odometry_csv_ << odometry_csv_row(*sample);
       odometry_csv_.flush();
       if (!odometry_csv_)

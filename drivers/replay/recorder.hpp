@@ -13,7 +13,7 @@
 #include <variant>
 
 #include "drivers/scan_event.hpp"
-#include "drivers/sim/simulator.hpp"
+#include "drivers/robot_sample.hpp"
 
 namespace strata::replay {
 
@@ -49,7 +49,7 @@ class Recorder {
   Recorder& operator=(const Recorder&) = delete;
 
   /// From the driver's thread; return at once.
-  void record(const sim::RobotSample& sample);
+  void record(const RobotSample& sample);
   void record(const ScanEvent& scan);
   /// Waits until everything queued so far is written (tests, shutdown).
   void flush();
@@ -57,7 +57,7 @@ class Recorder {
   [[nodiscard]] const std::filesystem::path& directory() const { return directory_; }
 
  private:
-  using Item = std::variant<sim::RobotSample, ScanEvent>;
+  using Item = std::variant<RobotSample, ScanEvent>;
   void run();
   void write(const Item& item);
   void write_metadata(bool finished);

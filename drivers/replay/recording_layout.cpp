@@ -48,8 +48,8 @@ std::string odometry_csv_header() {
   return fmt::format("stamp,{},{}\n", kPoseColumns, kTruthColumns);
 }
 
-std::string odometry_csv_row(const sim::RobotSample& sample) {
-  return fmt::format("{},{},{}\n", number(sample.stamp), pose(sample.odometry), pose(sample.truth));
+std::string odometry_csv_row(const RobotSample& sample) {
+  return fmt::format("{},{},{}\n", number(sample.stamp), pose(sample.odometry), sample.truth ? pose(*sample.truth) : std::string(",,,,,"));
 }
 
 std::string scan_file_name(std::size_t index) {

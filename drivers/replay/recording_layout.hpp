@@ -4,7 +4,7 @@
 #include <string_view>
 
 #include "drivers/scan_event.hpp"
-#include "drivers/sim/simulator.hpp"
+#include "drivers/robot_sample.hpp"
 
 namespace strata::replay {
 
@@ -32,7 +32,7 @@ inline constexpr int kRecordingVersion = 1;
 [[nodiscard]] std::string scans_csv_row(const ScanEvent& scan, const std::string& file);
 /// The header of odometry.csv: stamp, the odometry pose, the true pose.
 [[nodiscard]] std::string odometry_csv_header();
-[[nodiscard]] std::string odometry_csv_row(const sim::RobotSample& sample);
+[[nodiscard]] std::string odometry_csv_row(const RobotSample& sample);
 /// scans/NNNNNN.pcd for the index-th scan (from 0).
 [[nodiscard]] std::string scan_file_name(std::size_t index);
 

@@ -65,7 +65,7 @@ ReplayDriver::ReplayDriver(Dataset dataset, ReplayOptions options)
         scans.front().reference->to_isometry() * odometry.front().to_isometry().inverse();
 
   const auto sample_of = [](double stamp, const Pose3& pose, const std::optional<Pose3>& reference) {
-    sim::RobotSample sample;
+    RobotSample sample;
     sample.stamp = stamp;
     sample.odometry = pose;
     sample.truth = reference.value_or(pose);  // shown as "truth": the reference when there is one

@@ -57,7 +57,7 @@ class ReplayDriver final : public RobotDriver {
   struct Event {
     double stamp = 0.0;
     std::optional<std::size_t> scan;  ///< index into scans_, else an odometry sample
-    sim::RobotSample sample;
+    RobotSample sample;
   };
   void run(Outputs outputs);
   /// Sleeps until `wall_time`; false when stopped meanwhile.

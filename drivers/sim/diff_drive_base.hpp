@@ -1,14 +1,9 @@
 #pragma once
 
 #include "core/geometry/pose.hpp"
+#include "drivers/robot_sample.hpp"
 
 namespace strata::sim {
-
-/// A velocity command for a differential-drive base: forward speed v (m/s) and turn rate w (rad/s).
-struct VelocityCommand {
-  double v = 0.0;
-  double w = 0.0;
-};
 
 struct DiffDriveLimits {
   double max_speed = 1.0;         ///< m/s

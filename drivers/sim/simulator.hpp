@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/geometry/pose.hpp"
+#include "drivers/robot_sample.hpp"
 #include "drivers/scan_event.hpp"
 #include "drivers/sim/diff_drive_base.hpp"
 #include "drivers/sim/route_driver.hpp"
@@ -41,19 +42,6 @@ struct SimulatorConfig {
     double duration = 0.0;
   };
   std::optional<SensorOutage> sensor_outage;
-};
-
-/// What the robot knows and what is true at one instant of simulated time.
-struct RobotSample {
-  double stamp = 0.0;  ///< simulated seconds since the start
-  Pose3 odometry;      ///< what the wheels report: planar, and it drifts
-  Pose3 truth;         ///< the ground truth, for display and evaluation only
-  VelocityCommand velocity;
-  bool scanning = false;   ///< standing still for a stop-and-go scan
-  std::string blocked_by;  ///< why the last step could not move ("step", "slope", ...), or empty
-  /// A scan is due from the sensor: always for a spinning lidar and the replay and lidar drivers, for the
-  /// stop-and-go scanner only while it scans. What the status's sensor watch times (a stalled sensor).
-  bool awaiting_scan = true;
 };
 
 /// The simulated robot in its world, advanced in fixed steps of simulated time. Pure and

@@ -10,7 +10,7 @@ SimulatorDriver::SimulatorDriver(Simulator simulator, SimulatedRobotConfig confi
   // into the robot at start(), and lives as long as this driver.
   world_ = &simulator_->world();
   const RobotSample start = simulator_->sample();
-  initial_map_from_odom_ = start.truth.to_isometry() * start.odometry.to_isometry().inverse();
+  initial_map_from_odom_ = start.truth->to_isometry() * start.odometry.to_isometry().inverse();
 }
 
 SimulatorDriver::~SimulatorDriver() {

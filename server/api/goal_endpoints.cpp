@@ -8,10 +8,10 @@
 
 namespace strata::api {
 
-namespace http = net::http;
+namespace http = protocol::http;
 using protocol::ErrorCode;
 
-net::HttpResponse HttpRouter::goal(const net::HttpRequest& request) const {
+protocol::HttpResponse HttpRouter::goal(const protocol::HttpRequest& request) const {
   MotionCommands* motion = services_.motion;
   const bool write = request.method() == http::verb::post || request.method() == http::verb::delete_;
   if (!is_read(request) && !write)
@@ -54,7 +54,7 @@ net::HttpResponse HttpRouter::goal(const net::HttpRequest& request) const {
   return json_response(request, http::status::ok, protocol::goal_fields(motion->goal_status()).dump());
 }
 
-net::HttpResponse HttpRouter::path(const net::HttpRequest& request) const {
+protocol::HttpResponse HttpRouter::path(const protocol::HttpRequest& request) const {
   if (services_.motion == nullptr) {
     return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
                           "navigation is not available on this server");

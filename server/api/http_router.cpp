@@ -9,23 +9,23 @@
 
 #include "server/api/responses.hpp"
 #include "server/auth/request_auth.hpp"
-#include "server/net/static_files.hpp"
+#include "server/api/static_files.hpp"
 #include "server/protocol/messages.hpp"
 
 namespace strata::api {
 
-namespace http = net::http;
+namespace http = protocol::http;
 using protocol::ErrorCode;
 
-HttpRouter::HttpRouter(const net::ServerServices& services, const net::ClientHub& hub,
-                       const streams::StatusStream& status, const net::ServerMetrics& metrics)
+HttpRouter::HttpRouter(const ServerServices& services, const streams::ClientHub& hub,
+                       const streams::StatusStream& status, const streams::ServerMetrics& metrics)
     : services_(services),
       hub_(hub),
       status_(status),
       metrics_(metrics),
       sim_world_(services.sim_world ? protocol::sim_world(*services.sim_world).dump() : std::string()) {}
 
-net::HttpResponse HttpRouter::handle(const net::HttpRequest& request) const {
+protocol::HttpResponse HttpRouter::handle(const protocol::HttpRequest& request) const {
   const std::string_view target = request.target();
   const std::size_t question = target.find('?');
   const std::string_view path = target.substr(0, question);
@@ -49,10 +49,10 @@ net::HttpResponse HttpRouter::handle(const net::HttpRequest& request) const {
   }
 }
 
-std::optional<net::HttpResponse> HttpRouter::route_api(const net::HttpRequest& request, std::string_view path,
+std::optional<protocol::HttpResponse> HttpRouter::route_api(const protocol::HttpRequest& request, std::string_view path,
                                                        std::string_view query) const {
   // Read-only endpoints first: one Allow list for all of them.
-  const auto read_only = [&](auto&& answer) -> net::HttpResponse {
+  const auto read_only = [&](auto&& answer) -> protocol::HttpResponse {
     if (!is_read(request))
       return method_not_allowed(request, "GET, HEAD");
     return answer();
@@ -94,7 +94,7 @@ std::optional<net::HttpResponse> HttpRouter::route_api(const net::HttpRequest& r
   return std::nullopt;
 }
 
-std::optional<net::HttpResponse> HttpRouter::require_operator(const net::HttpRequest& request) const {
+std::optional<protocol::HttpResponse> HttpRouter::require_operator(const protocol::HttpRequest& request) const {
   switch (auth::authenticate(request, services_.operator_token)) {
     case auth::AuthOutcome::kOperator:
       return std::nullopt;
@@ -108,14 +108,14 @@ std::optional<net::HttpResponse> HttpRouter::require_operator(const net::HttpReq
                         "this needs the operator token (Authorization: Bearer <token>)");
 }
 
-net::HttpResponse HttpRouter::serve_static(const net::HttpRequest& request, std::string_view path) const {
+protocol::HttpResponse HttpRouter::serve_static(const protocol::HttpRequest& request, std::string_view path) const {
   if (!is_read(request)) {
     auto response = make_response(request, http::status::method_not_allowed, "method not allowed\n",
                                   "text/plain; charset=utf-8");
     response.set(http::field::allow, "GET, HEAD");
     return response;
   }
-  const auto file = net::resolve_static_path(services_.web_root, path);
+  const auto file = api::resolve_static_path(services_.web_root, path);
   if (!file) {
     return make_response(request, http::status::not_found, "not found\n", "text/plain; charset=utf-8");
   }
@@ -124,7 +124,7 @@ net::HttpResponse HttpRouter::serve_static(const net::HttpRequest& request, std:
     return make_response(request, http::status::not_found, "not found\n", "text/plain; charset=utf-8");
   }
   std::string body{std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
-  auto response = make_response(request, http::status::ok, std::move(body), net::mime_type(*file));
+  auto response = make_response(request, http::status::ok, std::move(body), api::mime_type(*file));
   // Vite names bundled assets by content hash: they never change under the same name.
   response.set(http::field::cache_control,
                path.starts_with("/assets/") ? "public, max-age=31536000, immutable" : "no-cache");

@@ -14,7 +14,7 @@
 namespace strata::api {
 namespace {
 
-namespace http = net::http;
+namespace http = protocol::http;
 using protocol::ErrorCode;
 
 /// FNV-1a, 64 bits: a content fingerprint for ETags (not security; versions alone can repeat after a load).
@@ -46,10 +46,10 @@ std::string_view query_value(std::string_view query, std::string_view name) {
 }
 
 /// A response that can be answered 304 when the client has it already.
-net::HttpResponse cacheable(const net::HttpRequest& request, std::string body, std::string_view content_type,
+protocol::HttpResponse cacheable(const protocol::HttpRequest& request, std::string body, std::string_view content_type,
                             const std::string& etag) {
   if (etag_matches(request[http::field::if_none_match], etag)) {
-    net::HttpResponse response{http::status::not_modified, request.version()};
+    protocol::HttpResponse response{http::status::not_modified, request.version()};
     response.set(http::field::server, "strata");
     response.set(http::field::etag, etag);
     response.keep_alive(request.keep_alive());
@@ -64,7 +64,7 @@ net::HttpResponse cacheable(const net::HttpRequest& request, std::string body, s
 
 }  // namespace
 
-net::HttpResponse HttpRouter::map_download(const net::HttpRequest& request, std::string_view query) const {
+protocol::HttpResponse HttpRouter::map_download(const protocol::HttpRequest& request, std::string_view query) const {
   if (services_.maps == nullptr) {
     return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
                           "maps are not available on this server");
@@ -97,7 +97,7 @@ net::HttpResponse HttpRouter::map_download(const net::HttpRequest& request, std:
                         "format must be one of strata, ply, pgm, yaml");
 }
 
-net::HttpResponse HttpRouter::occupancy(const net::HttpRequest& request) const {
+protocol::HttpResponse HttpRouter::occupancy(const protocol::HttpRequest& request) const {
   const auto snapshot = services_.map ? services_.map->snapshot() : nullptr;
   if (!snapshot || !snapshot->occupancy) {
     return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
@@ -115,7 +115,7 @@ net::HttpResponse HttpRouter::occupancy(const net::HttpRequest& request) const {
   return response;
 }
 
-net::HttpResponse HttpRouter::tile_index(const net::HttpRequest& request) const {
+protocol::HttpResponse HttpRouter::tile_index(const protocol::HttpRequest& request) const {
   const auto snapshot = services_.map ? services_.map->snapshot() : nullptr;
   nlohmann::json tiles = nlohmann::json::array();
   if (snapshot) {
@@ -133,7 +133,7 @@ net::HttpResponse HttpRouter::tile_index(const net::HttpRequest& request) const 
       nlohmann::json{{"version", snapshot ? snapshot->version : 0}, {"tiles", std::move(tiles)}}.dump());
 }
 
-net::HttpResponse HttpRouter::tile(const net::HttpRequest& request, std::string_view coordinates) const {
+protocol::HttpResponse HttpRouter::tile(const protocol::HttpRequest& request, std::string_view coordinates) const {
   // "{x}/{y}", integers.
   const std::size_t slash = coordinates.find('/');
   int x = 0;
@@ -159,7 +159,7 @@ net::HttpResponse HttpRouter::tile(const net::HttpRequest& request, std::string_
                         fmt::format("no tile {},{} in the map", x, y));
 }
 
-net::HttpResponse HttpRouter::maps(const net::HttpRequest& request, std::string_view rest) const {
+protocol::HttpResponse HttpRouter::maps(const protocol::HttpRequest& request, std::string_view rest) const {
   if (auto refusal = require_operator(request))
     return std::move(*refusal);
   MapCommands* maps = services_.maps;

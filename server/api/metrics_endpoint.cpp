@@ -16,7 +16,7 @@ void metric(std::string& out, std::string_view name, std::string_view type, std:
 
 }  // namespace
 
-net::HttpResponse HttpRouter::metrics(const net::HttpRequest& request) const {
+protocol::HttpResponse HttpRouter::metrics(const protocol::HttpRequest& request) const {
   const auto count = [](const std::atomic<std::uint64_t>& counter) {
     return static_cast<double>(counter.load(std::memory_order_relaxed));
   };
@@ -72,8 +72,8 @@ net::HttpResponse HttpRouter::metrics(const net::HttpRequest& request) const {
   metric(out, "strata_map_patches", "gauge", "MLS map patches", map["patches"].get<double>());
   metric(out, "strata_map_bytes", "gauge", "MLS map memory, bytes", map["bytes"].get<double>());
 
-  auto response = make_response(request, net::http::status::ok, std::move(out), "text/plain; version=0.0.4");
-  response.set(net::http::field::cache_control, "no-store");
+  auto response = make_response(request, protocol::http::status::ok, std::move(out), "text/plain; version=0.0.4");
+  response.set(protocol::http::field::cache_control, "no-store");
   return response;
 }
 

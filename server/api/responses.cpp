@@ -4,11 +4,11 @@
 
 namespace strata::api {
 
-namespace http = net::http;
+namespace http = protocol::http;
 
-net::HttpResponse make_response(const net::HttpRequest& request, http::status status, std::string body,
+protocol::HttpResponse make_response(const protocol::HttpRequest& request, http::status status, std::string body,
                                 std::string_view content_type) {
-  net::HttpResponse response{status, request.version()};
+  protocol::HttpResponse response{status, request.version()};
   response.set(http::field::server, "strata");
   response.set(http::field::content_type, content_type);
   response.keep_alive(request.keep_alive());
@@ -19,13 +19,13 @@ net::HttpResponse make_response(const net::HttpRequest& request, http::status st
   return response;
 }
 
-net::HttpResponse json_response(const net::HttpRequest& request, http::status status, std::string body) {
+protocol::HttpResponse json_response(const protocol::HttpRequest& request, http::status status, std::string body) {
   auto response = make_response(request, status, std::move(body), "application/json");
   response.set(http::field::cache_control, "no-store");
   return response;
 }
 
-net::HttpResponse error_response(const net::HttpRequest& request, http::status status,
+protocol::HttpResponse error_response(const protocol::HttpRequest& request, http::status status,
                                  protocol::ErrorCode code, std::string_view message) {
   auto response = json_response(request, status, protocol::rest_error(code, message));
   if (status == http::status::unauthorized)
@@ -33,7 +33,7 @@ net::HttpResponse error_response(const net::HttpRequest& request, http::status s
   return response;
 }
 
-net::HttpResponse command_error(const net::HttpRequest& request, std::string_view code,
+protocol::HttpResponse command_error(const protocol::HttpRequest& request, std::string_view code,
                                 std::string_view message) {
   http::status status = http::status::internal_server_error;
   if (code == "bad_params" || code == "bad_request")
@@ -53,7 +53,7 @@ net::HttpResponse command_error(const net::HttpRequest& request, std::string_vie
   return response;
 }
 
-net::HttpResponse method_not_allowed(const net::HttpRequest& request, std::string_view allow) {
+protocol::HttpResponse method_not_allowed(const protocol::HttpRequest& request, std::string_view allow) {
   auto response =
       error_response(request, http::status::method_not_allowed, protocol::ErrorCode::kMethodNotAllowed,
                      "allowed here: " + std::string(allow));
@@ -61,7 +61,7 @@ net::HttpResponse method_not_allowed(const net::HttpRequest& request, std::strin
   return response;
 }
 
-bool is_read(const net::HttpRequest& request) {
+bool is_read(const protocol::HttpRequest& request) {
   return request.method() == http::verb::get || request.method() == http::verb::head;
 }
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "server/app/build_info.hpp"
+#include "server/protocol/build_info.hpp"
 #include "server/app/map_command.hpp"
 #include "server/app/plan_command.hpp"
 #include "server/app/register_command.hpp"

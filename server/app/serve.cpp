@@ -23,7 +23,7 @@
 #include "drivers/replay/recorder.hpp"
 #include "drivers/robot_driver.hpp"
 #include "drivers/sim/world/world_file.hpp"
-#include "server/app/build_info.hpp"
+#include "server/protocol/build_info.hpp"
 #include "server/app/drivers.hpp"
 #include "server/auth/host_policy.hpp"
 #include "server/auth/operator_token.hpp"
@@ -33,7 +33,7 @@
 #include "server/pipeline/localizer_worker.hpp"
 #include "server/pipeline/mapping_worker.hpp"
 #include "server/pipeline/navigator.hpp"
-#include "server/pipeline/periodic_broadcast.hpp"
+#include "server/net/periodic_broadcast.hpp"
 #include "server/protocol/client_messages.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/state/map_state.hpp"
@@ -159,16 +159,16 @@ int serve(const ServeOptions& options) {
   mapping.add_listener(navigator.map_listener());
   // The navigator drives the base once an operator sends a goal or teleop; until then the demo route.
   driver->set_command_source(
-      [&robot_state, &navigator](const sim::RobotSample& sample) -> std::optional<sim::VelocityCommand> {
+      [&robot_state, &navigator](const RobotSample& sample) -> std::optional<VelocityCommand> {
         const auto snapshot = robot_state.snapshot();
         const auto command = navigator.drive(snapshot ? snapshot->estimate : sample.odometry, sample.stamp);
         if (!command)
           return std::nullopt;
-        return sim::VelocityCommand{command->v, command->w};
+        return VelocityCommand{command->v, command->w};
       });
   std::size_t scans_taken = 0;  // on the driver's thread only
   RobotDriver::Outputs outputs;
-  outputs.on_sample = [&robot_state, recorder = recorder.get()](const sim::RobotSample& sample) {
+  outputs.on_sample = [&robot_state, recorder = recorder.get()](const RobotSample& sample) {
     robot_state.publish(sample);
     if (recorder != nullptr)
       recorder->record(sample);
@@ -193,7 +193,7 @@ int serve(const ServeOptions& options) {
     operator_token = auth::generate_token();
 
   boost::asio::io_context io(options.io_threads);
-  net::ServerServices services;
+  ServerServices services;
   services.robot = &robot_state;
   services.map = &map_state;
   services.maps = &map_commands;
@@ -219,20 +219,20 @@ int serve(const ServeOptions& options) {
   }
   double last_pose_stamp = -1.0;
   const auto pose_stream_bit = static_cast<std::uint8_t>(protocol::Stream::kPose);
-  std::vector<std::shared_ptr<pipeline::PeriodicBroadcast>> broadcasts;
-  broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
+  std::vector<std::shared_ptr<net::PeriodicBroadcast>> broadcasts;
+  broadcasts.push_back(std::make_shared<net::PeriodicBroadcast>(
       io, context->hub, options.pose_rate,
-      [&robot_state, last_pose_stamp, pose_stream_bit]() mutable -> std::vector<net::OutgoingMessage> {
+      [&robot_state, last_pose_stamp, pose_stream_bit]() mutable -> std::vector<streams::OutgoingMessage> {
         const auto snapshot = robot_state.snapshot();
         if (!snapshot || snapshot->sample.stamp == last_pose_stamp)
           return {};  // nothing new
         last_pose_stamp = snapshot->sample.stamp;
-        return {net::OutgoingMessage::text(protocol::pose_message(*snapshot), "pose", snapshot->sample.stamp,
+        return {streams::OutgoingMessage::text(protocol::pose_message(*snapshot), "pose", snapshot->sample.stamp,
                                            pose_stream_bit)};
       }));
-  broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
-      io, context->hub, 1.0, [status = &context->status]() -> std::vector<net::OutgoingMessage> {
-        return {net::OutgoingMessage::text(status->poll(), "status", std::nullopt,
+  broadcasts.push_back(std::make_shared<net::PeriodicBroadcast>(
+      io, context->hub, 1.0, [status = &context->status]() -> std::vector<streams::OutgoingMessage> {
+        return {streams::OutgoingMessage::text(status->poll(), "status", std::nullopt,
                                            static_cast<std::uint8_t>(protocol::Stream::kStatus))};
       }));
   // The map is pushed, not polled: the mapping thread posts one broadcast of what changed as soon as it
@@ -249,7 +249,7 @@ int serve(const ServeOptions& options) {
     });
   }
   if (context->navigation_stream) {
-    broadcasts.push_back(std::make_shared<pipeline::PeriodicBroadcast>(
+    broadcasts.push_back(std::make_shared<net::PeriodicBroadcast>(
         io, context->hub, 20.0, [stream = context->navigation_stream.get()] { return stream->poll(); }));
   }
 

@@ -12,7 +12,7 @@ namespace {
 
 using io::trimmed;  // header values: blanks around list items and values do not count
 
-namespace http = net::http;
+namespace http = protocol::http;
 
 bool iequals(std::string_view a, std::string_view b) {
   return std::equal(a.begin(), a.end(), b.begin(), b.end(), [](char x, char y) {
@@ -21,7 +21,7 @@ bool iequals(std::string_view a, std::string_view b) {
 }
 
 /// The token in an `Authorization: Bearer <token>` header, if there is such a header.
-std::optional<std::string_view> bearer_token(const net::HttpRequest& request) {
+std::optional<std::string_view> bearer_token(const protocol::HttpRequest& request) {
   const auto found = request.find(http::field::authorization);
   if (found == request.end())
     return std::nullopt;
@@ -32,7 +32,7 @@ std::optional<std::string_view> bearer_token(const net::HttpRequest& request) {
   return trimmed(value.substr(kScheme.size()));
 }
 
-std::optional<std::string_view> subprotocol_token(const net::HttpRequest& request) {
+std::optional<std::string_view> subprotocol_token(const protocol::HttpRequest& request) {
   std::string_view offered = request[http::field::sec_websocket_protocol];
   while (!offered.empty()) {
     const std::size_t comma = offered.find(',');
@@ -46,7 +46,7 @@ std::optional<std::string_view> subprotocol_token(const net::HttpRequest& reques
   return std::nullopt;
 }
 
-std::optional<std::string_view> cookie_token(const net::HttpRequest& request) {
+std::optional<std::string_view> cookie_token(const protocol::HttpRequest& request) {
   for (auto field = request.find(http::field::cookie);
        field != request.end() && field->name() == http::field::cookie; ++field) {
     std::string_view cookies = field->value();
@@ -66,7 +66,7 @@ std::optional<std::string_view> cookie_token(const net::HttpRequest& request) {
 
 }  // namespace
 
-bool is_same_origin(const net::HttpRequest& request) {
+bool is_same_origin(const protocol::HttpRequest& request) {
   const auto origin = request.find(http::field::origin);
   const auto host = request.find(http::field::host);
   if (origin == request.end() || host == request.end())
@@ -91,7 +91,7 @@ std::string_view normalized_origin(std::string_view origin) {
 
 }  // namespace
 
-bool origin_allowed(const net::HttpRequest& request, const std::vector<std::string>& allowed_origins) {
+bool origin_allowed(const protocol::HttpRequest& request, const std::vector<std::string>& allowed_origins) {
   const auto origin = request.find(http::field::origin);
   if (origin == request.end())
     return true;
@@ -121,7 +121,7 @@ bool is_valid_origin_pattern(std::string_view origin) {
   });
 }
 
-AuthOutcome authenticate(const net::HttpRequest& request, std::string_view operator_token) {
+AuthOutcome authenticate(const protocol::HttpRequest& request, std::string_view operator_token) {
   const auto check = [operator_token](std::string_view token) {
     return !operator_token.empty() && constant_time_equal(token, operator_token) ? AuthOutcome::kOperator
                                                                                  : AuthOutcome::kBadToken;

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "server/auth/operator_token.hpp"
-#include "server/net/http_types.hpp"
+#include "server/protocol/http_types.hpp"
 
 namespace strata::auth {
 
@@ -26,10 +26,10 @@ inline constexpr std::string_view kTokenCookie = "strata_token";
 /// subprotocol value; the `strata_token` cookie, but only with an Origin header naming the Host itself, so
 /// a page from another site cannot act with the operator's cookie. Tokens never travel in the URL (URLs end
 /// up in logs and browser history). An empty `operator_token` makes everyone a viewer.
-[[nodiscard]] AuthOutcome authenticate(const net::HttpRequest& request, std::string_view operator_token);
+[[nodiscard]] AuthOutcome authenticate(const protocol::HttpRequest& request, std::string_view operator_token);
 
 /// Whether the request's Origin header names the host in its Host header (scheme ignored).
-[[nodiscard]] bool is_same_origin(const net::HttpRequest& request);
+[[nodiscard]] bool is_same_origin(const protocol::HttpRequest& request);
 
 /// Whether a WebSocket upgrade may proceed as far as its origin goes. Browsers send the page's Origin on
 /// every WebSocket, and a page from anywhere may open one to any address it can reach: without this check
@@ -37,7 +37,7 @@ inline constexpr std::string_view kTokenCookie = "strata_token";
 /// hijacking). Allowed: no Origin header (scripts and tools, which are not browsers), the server's own
 /// origin (the web app it serves: is_same_origin), and the origins listed in `allowed_origins` (a kiosk page
 /// served elsewhere), or any with "*". "null" (sandboxed frames, file:// pages) only if listed.
-[[nodiscard]] bool origin_allowed(const net::HttpRequest& request,
+[[nodiscard]] bool origin_allowed(const protocol::HttpRequest& request,
                                   const std::vector<std::string>& allowed_origins);
 
 /// Whether `origin` can be an entry of allowed-origins: "*", "null", or `http(s)://host[:port]` without

@@ -7,8 +7,9 @@
 #include <memory>
 #include <optional>
 
-#include "server/net/http_types.hpp"
+#include "server/protocol/http_types.hpp"
 #include "server/net/server_context.hpp"
+#include "server/net/transport.hpp"
 
 namespace strata::net {
 
@@ -34,7 +35,7 @@ class DetectSession : public std::enable_shared_from_this<DetectSession> {
   std::shared_ptr<boost::asio::ssl::context> tls_;
   std::shared_ptr<ServerContext> context_;
   std::optional<http::request_parser<http::empty_body>> plain_request_;
-  std::shared_ptr<HttpResponse> refusal_;
+  std::shared_ptr<protocol::HttpResponse> refusal_;
   std::optional<ConnectionLimit::Slot> http_slot_;  // handed on to the HttpSession
 };
 

@@ -79,7 +79,7 @@ void HttpSession<Stream>::on_read(beast::error_code error, std::size_t /*bytes*/
     }
     return;
   }
-  const HttpRequest& request = parser_->get();
+  const protocol::HttpRequest& request = parser_->get();
   context_->metrics.http_requests.fetch_add(1, std::memory_order_relaxed);
   if (!auth::host_allowed(request[http::field::host], context_->services.allowed_hosts))
     return refuse_host();
@@ -90,15 +90,15 @@ void HttpSession<Stream>::on_read(beast::error_code error, std::size_t /*bytes*/
 
 template <class Stream>
 void HttpSession<Stream>::upgrade_to_websocket() {
-  const HttpRequest& request = parser_->get();
+  const protocol::HttpRequest& request = parser_->get();
   const std::string_view target = request.target();
-  HttpResponse refusal;
+  protocol::HttpResponse refusal;
   const auto auth = auth::authenticate(request, context_->services.operator_token);
   if (target.substr(0, target.find('?')) != "/ws") {
-    refusal = HttpResponse{http::status::not_found, request.version()};
+    refusal = protocol::HttpResponse{http::status::not_found, request.version()};
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kNotFound, "WebSocket endpoint is /ws");
   } else if (!accepts_subprotocol(request[http::field::sec_websocket_protocol])) {
-    refusal = HttpResponse{http::status::bad_request, request.version()};
+    refusal = protocol::HttpResponse{http::status::bad_request, request.version()};
     refusal.body() = protocol::rest_error(
         protocol::ErrorCode::kBadRequest,
         "unsupported subprotocol; this server speaks " + std::string(protocol::kSubprotocol));
@@ -107,14 +107,14 @@ void HttpSession<Stream>::upgrade_to_websocket() {
     context_->metrics.ws_refused_origin.fetch_add(1, std::memory_order_relaxed);
     spdlog::info("refused a WebSocket from the browser origin {} (not this server's, not in allowed-origins)",
                  std::string(request[http::field::origin]));
-    refusal = HttpResponse{http::status::forbidden, request.version()};
+    refusal = protocol::HttpResponse{http::status::forbidden, request.version()};
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kForbidden,
                                           "WebSocket connections from this page's origin are not allowed "
                                           "(the server's allowed-origins option)");
   } else if (auth == auth::AuthOutcome::kBadToken) {
     // Refused rather than downgraded to watching: the client meant to operate and should know why it can't.
     context_->metrics.auth_failures.fetch_add(1, std::memory_order_relaxed);
-    refusal = HttpResponse{http::status::unauthorized, request.version()};
+    refusal = protocol::HttpResponse{http::status::unauthorized, request.version()};
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kUnauthorized, "the operator token is wrong");
   } else if (auto slot = context_->websocket_clients.try_acquire()) {
     beast::get_lowest_layer(stream_).expires_never();  // the WebSocket stream has its own timeouts
@@ -126,7 +126,7 @@ void HttpSession<Stream>::upgrade_to_websocket() {
     context_->metrics.ws_refused_full.fetch_add(1, std::memory_order_relaxed);
     spdlog::warn("refused a WebSocket client: {} are connected already, the limit (max-clients)",
                  context_->websocket_clients.max());
-    refusal = HttpResponse{http::status::service_unavailable, request.version()};
+    refusal = protocol::HttpResponse{http::status::service_unavailable, request.version()};
     refusal.set(http::field::retry_after, "10");
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kUnavailable,
                                           "too many WebSocket clients: the server takes at most " +
@@ -139,11 +139,11 @@ void HttpSession<Stream>::upgrade_to_websocket() {
 template <class Stream>
 void HttpSession<Stream>::refuse_host() {
   // Every request, the app's files and the WebSocket upgrade included: a rebound page must get nothing.
-  const HttpRequest& request = parser_->get();
+  const protocol::HttpRequest& request = parser_->get();
   context_->metrics.refused_host.fetch_add(1, std::memory_order_relaxed);
   spdlog::debug("refused a request for the host {} (not this server's, not in allowed-hosts)",
                 std::string(request[http::field::host]));
-  HttpResponse refusal{http::status::forbidden, request.version()};
+  protocol::HttpResponse refusal{http::status::forbidden, request.version()};
   refusal.body() = protocol::rest_error(protocol::ErrorCode::kForbidden,
                                         "this server does not answer to the host name in the request's Host "
                                         "header (the server's allowed-hosts option)");
@@ -151,7 +151,7 @@ void HttpSession<Stream>::refuse_host() {
 }
 
 template <class Stream>
-void HttpSession<Stream>::send_refusal(HttpResponse refusal) {
+void HttpSession<Stream>::send_refusal(protocol::HttpResponse refusal) {
   // A refused request ends the connection: what else the client sent is not read.
   refusal.set(http::field::server, "strata");
   refusal.set(http::field::content_type, "application/json");
@@ -161,8 +161,8 @@ void HttpSession<Stream>::send_refusal(HttpResponse refusal) {
 }
 
 template <class Stream>
-void HttpSession<Stream>::write(HttpResponse response) {
-  response_ = std::make_shared<HttpResponse>(std::move(response));
+void HttpSession<Stream>::write(protocol::HttpResponse response) {
+  response_ = std::make_shared<protocol::HttpResponse>(std::move(response));
   const bool keep_alive = response_->keep_alive();
   http::async_write(stream_, *response_,
                     beast::bind_front_handler(&HttpSession::on_write, this->shared_from_this(), keep_alive));

@@ -6,7 +6,7 @@
 #include <memory>
 #include <optional>
 
-#include "server/net/http_types.hpp"
+#include "server/protocol/http_types.hpp"
 #include "server/net/server_context.hpp"
 #include "server/net/transport.hpp"
 
@@ -32,8 +32,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   void upgrade_to_websocket();
   void refuse_host();
   /// Writes a JSON error response (its status and body set) and closes the connection after it.
-  void send_refusal(HttpResponse refusal);
-  void write(HttpResponse response);
+  void send_refusal(protocol::HttpResponse refusal);
+  void write(protocol::HttpResponse response);
   void on_write(bool keep_alive, boost::beast::error_code error, std::size_t bytes);
   void shutdown();
 
@@ -41,7 +41,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<ServerContext> context_;
   std::optional<http::request_parser<http::string_body>> parser_;
-  std::shared_ptr<HttpResponse> response_;  // kept alive until its async_write completes
+  std::shared_ptr<protocol::HttpResponse> response_;  // kept alive until its async_write completes
   ConnectionLimit::Slot http_slot_;
 };
 

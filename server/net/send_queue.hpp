@@ -8,7 +8,7 @@
 #include <unordered_map>
 #include <utility>
 
-#include "server/net/outgoing_message.hpp"
+#include "server/streams/outgoing_message.hpp"
 
 namespace strata::net {
 
@@ -30,7 +30,7 @@ class SendQueue {
   /// being written (the front, once `writing()`) is never replaced. kStale: a coalescing message with an
   /// order not after the last one queued for its key, dropped. kOverflow: too many messages that cannot
   /// be dropped are waiting; the client is not keeping up.
-  PushResult push(OutgoingMessage message) {
+  PushResult push(streams::OutgoingMessage message) {
     if (message.coalesce_key.empty()) {
       if (plain_ >= capacity_)
         return PushResult::kOverflow;
@@ -54,7 +54,7 @@ class SendQueue {
   }
 
   /// The next message to write, marking it in flight; nullptr when empty or a write is in flight.
-  const OutgoingMessage* start_write() {
+  const streams::OutgoingMessage* start_write() {
     if (writing_ || queue_.empty())
       return nullptr;
     writing_ = true;
@@ -65,7 +65,7 @@ class SendQueue {
     if (!writing_)
       return;
     writing_ = false;
-    OutgoingMessage& front = queue_.front();
+    streams::OutgoingMessage& front = queue_.front();
     if (front.coalesce_key.empty()) {
       --plain_;
     } else if (auto key = keys_.find(front.coalesce_key);
@@ -95,7 +95,7 @@ class SendQueue {
   [[nodiscard]] std::uint64_t first_unsent_position() const { return popped_ + (writing_ ? 1 : 0); }
 
   std::size_t capacity_;
-  std::deque<OutgoingMessage> queue_;
+  std::deque<streams::OutgoingMessage> queue_;
   std::unordered_map<std::string, KeyState> keys_;
   std::uint64_t popped_ = 0;  // messages written and removed so far: absolute position of the front
   std::size_t plain_ = 0;     // queued messages without a coalesce key

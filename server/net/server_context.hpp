@@ -8,11 +8,11 @@
 #include "drivers/sim/world/world.hpp"
 #include "server/api/http_router.hpp"
 #include "server/control/robot_commands.hpp"
-#include "server/net/client_hub.hpp"
+#include "server/streams/client_hub.hpp"
 #include "server/net/connection_limit.hpp"
-#include "server/net/outgoing_message.hpp"
-#include "server/net/server_metrics.hpp"
-#include "server/net/server_services.hpp"
+#include "server/streams/outgoing_message.hpp"
+#include "server/streams/server_metrics.hpp"
+#include "server/control/server_services.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/state/map_state.hpp"
 #include "server/state/robot_state.hpp"
@@ -38,8 +38,8 @@ struct ServerContext {
         router(services, hub, status, metrics) {}
 
   /// The current goal, path, occupancy and tiles: what a late joiner gets after hello, status and pose.
-  [[nodiscard]] std::vector<OutgoingMessage> current_state() const {
-    std::vector<OutgoingMessage> messages;
+  [[nodiscard]] std::vector<streams::OutgoingMessage> current_state() const {
+    std::vector<streams::OutgoingMessage> messages;
     if (navigation_stream)
       messages = navigation_stream->current();
     if (map_stream) {
@@ -52,12 +52,12 @@ struct ServerContext {
 
   ServerServices services;
   std::string sim_world_message;  ///< sent to every client on connect; empty for a real robot
-  ClientHub hub;
+  streams::ClientHub hub;
   ConnectionLimit websocket_clients;  ///< a WebSocket session holds a slot from the upgrade to its end
   /// A connection holds a slot from its accept until it closes or is upgraded to a WebSocket (then it
   /// counts as a WebSocket client only).
   ConnectionLimit http_connections;
-  ServerMetrics metrics;
+  streams::ServerMetrics metrics;
   streams::StatusStream status;
   std::unique_ptr<streams::MapStream> map_stream;
   std::unique_ptr<streams::NavigationStream> navigation_stream;

@@ -1,10 +1,13 @@
 #pragma once
 
 #include <boost/beast/core/tcp_stream.hpp>
+#include <boost/beast/http.hpp>
 #include <boost/beast/ssl/ssl_stream.hpp>
 #include <type_traits>
 
 namespace strata::net {
+
+namespace http = boost::beast::http;
 
 /// The two transports a session runs over: plain TCP, or TLS over TCP (serve --tls-cert/--tls-key).
 /// The HTTP and WebSocket sessions are templates on these, explicitly instantiated for both.

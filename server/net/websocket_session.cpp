@@ -77,7 +77,7 @@ WebSocketSession<Stream>::~WebSocketSession() {
 }
 
 template <class Stream>
-void WebSocketSession<Stream>::run(HttpRequest request) {
+void WebSocketSession<Stream>::run(protocol::HttpRequest request) {
   auto timeouts = websocket::stream_base::timeout::suggested(beast::role_type::server);
   // Pings at half the idle time: a client that stops answering (gone, or not reading) is dropped.
   timeouts.idle_timeout = std::chrono::seconds(20);
@@ -107,15 +107,15 @@ void WebSocketSession<Stream>::on_accept(beast::error_code error) {
   // is dropped as stale by the queue (same order). Nothing is missed between snapshot and joining.
   context_->hub.join(this->shared_from_this());
   enqueue(
-      OutgoingMessage::text(protocol::hello_message(role_ == auth::Role::kOperator ? "operator" : "viewer")));
+      streams::OutgoingMessage::text(protocol::hello_message(role_ == auth::Role::kOperator ? "operator" : "viewer")));
   if (!context_->sim_world_message.empty())
-    enqueue(OutgoingMessage::text(context_->sim_world_message));
+    enqueue(streams::OutgoingMessage::text(context_->sim_world_message));
   nlohmann::json status = context_->status.fields();
   status["op"] = "status";
-  enqueue(OutgoingMessage::text(status.dump(), "status", std::nullopt,
+  enqueue(streams::OutgoingMessage::text(status.dump(), "status", std::nullopt,
                                 static_cast<std::uint8_t>(protocol::Stream::kStatus)));
   if (const auto robot = context_->services.robot->snapshot()) {
-    enqueue(OutgoingMessage::text(protocol::pose_message(*robot), "pose", robot->sample.stamp,
+    enqueue(streams::OutgoingMessage::text(protocol::pose_message(*robot), "pose", robot->sample.stamp,
                                   static_cast<std::uint8_t>(protocol::Stream::kPose)));
   }
   for (auto& message : context_->current_state())
@@ -143,13 +143,13 @@ void WebSocketSession<Stream>::on_read(beast::error_code error, std::size_t /*by
   if (!limiter_.allow(std::chrono::steady_clock::now())) {
     context_->metrics.ws_rate_limited.fetch_add(1, std::memory_order_relaxed);
     context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
-    enqueue(OutgoingMessage::text(protocol::error_message(
+    enqueue(streams::OutgoingMessage::text(protocol::error_message(
         ErrorCode::kRateLimited, "too many messages: at most " +
                                      std::to_string(static_cast<int>(kMessagesPerSecond)) +
                                      " per second on average")));
   } else if (ws_.got_binary()) {
     context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
-    enqueue(OutgoingMessage::text(
+    enqueue(streams::OutgoingMessage::text(
         protocol::error_message(ErrorCode::kBadMessage, "binary frames from clients are not accepted")));
   } else {
     handle_client_message(beast::buffers_to_string(buffer_.data()));
@@ -163,13 +163,13 @@ void WebSocketSession<Stream>::handle_client_message(std::string_view text) {
   const auto parsed = protocol::parse_client_message(text);
   if (!parsed.request) {
     context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
-    enqueue(OutgoingMessage::text(
+    enqueue(streams::OutgoingMessage::text(
         protocol::error_message(parsed.error, parsed.error_message, parsed.op, parsed.id)));
     return;
   }
   if (protocol::needs_operator(*parsed.request) && role_ != auth::Role::kOperator) {
     context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
-    enqueue(OutgoingMessage::text(protocol::error_message(
+    enqueue(streams::OutgoingMessage::text(protocol::error_message(
         ErrorCode::kUnauthorized, parsed.op + " needs the operator token; this connection may only watch",
         parsed.op, parsed.id)));
     return;
@@ -190,7 +190,7 @@ void WebSocketSession<Stream>::handle_request(const protocol::ClientRequest& req
       [&](const auto& r) {
         using T = std::decay_t<decltype(r)>;
         if constexpr (std::is_same_v<T, protocol::PingRequest>) {
-          enqueue(OutgoingMessage::text(protocol::pong_message(id)));
+          enqueue(streams::OutgoingMessage::text(protocol::pong_message(id)));
         } else if constexpr (std::is_same_v<T, protocol::SubscribeRequest>) {
           const protocol::StreamSet added = r.streams & static_cast<protocol::StreamSet>(~streams_);
           streams_ = r.streams;
@@ -236,15 +236,15 @@ template <class Stream>
 void WebSocketSession<Stream>::reply(const CommandResult& result, std::string_view op,
                                      const nlohmann::json& id) {
   if (result.ok) {
-    enqueue(OutgoingMessage::text(protocol::ack_message(op, id)));
+    enqueue(streams::OutgoingMessage::text(protocol::ack_message(op, id)));
     return;
   }
   context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);
-  enqueue(OutgoingMessage::text(protocol::error_message(result.code, result.message, op, id)));
+  enqueue(streams::OutgoingMessage::text(protocol::error_message(result.code, result.message, op, id)));
 }
 
 template <class Stream>
-void WebSocketSession<Stream>::send(OutgoingMessage message) {
+void WebSocketSession<Stream>::send(streams::OutgoingMessage message) {
   boost::asio::post(ws_.get_executor(),
                     [self = this->shared_from_this(), message = std::move(message)]() mutable {
                       self->enqueue(std::move(message));
@@ -252,7 +252,7 @@ void WebSocketSession<Stream>::send(OutgoingMessage message) {
 }
 
 template <class Stream>
-void WebSocketSession<Stream>::enqueue(OutgoingMessage message) {
+void WebSocketSession<Stream>::enqueue(streams::OutgoingMessage message) {
   if (!open_)
     return;
   if (message.stream != 0 && (message.stream & streams_) == 0)
@@ -276,7 +276,7 @@ void WebSocketSession<Stream>::drop_client(std::string_view why) {
 
 template <class Stream>
 void WebSocketSession<Stream>::write_next() {
-  const OutgoingMessage* next = queue_.start_write();
+  const streams::OutgoingMessage* next = queue_.start_write();
   if (next == nullptr)
     return;
   write_started_ = std::chrono::steady_clock::now();

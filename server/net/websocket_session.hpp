@@ -8,9 +8,9 @@
 #include <string_view>
 
 #include "server/auth/operator_token.hpp"
-#include "server/net/client_hub.hpp"
+#include "server/streams/client_hub.hpp"
 #include "server/net/connection_limit.hpp"
-#include "server/net/http_types.hpp"
+#include "server/protocol/http_types.hpp"
 #include "server/net/rate_limiter.hpp"
 #include "server/net/send_queue.hpp"
 #include "server/net/server_context.hpp"
@@ -24,7 +24,7 @@ namespace strata::net {
 /// (viewer or operator) is fixed at the upgrade; its subscriptions filter what it is sent. `Stream` is the
 /// HTTP session's stream it takes over: PlainStream, or TlsStream (wss://, the handshake already done).
 template <class Stream>
-class WebSocketSession : public ClientConnection,
+class WebSocketSession : public streams::ClientConnection,
                          public std::enable_shared_from_this<WebSocketSession<Stream>> {
  public:
   /// `slot`: this client's place under the WebSocket client limit, held until the session ends.
@@ -33,8 +33,8 @@ class WebSocketSession : public ClientConnection,
   ~WebSocketSession() override;
 
   /// Completes the upgrade `request` asked for, then starts streaming.
-  void run(HttpRequest request);
-  void send(OutgoingMessage message) override;
+  void run(protocol::HttpRequest request);
+  void send(streams::OutgoingMessage message) override;
 
  private:
   void on_accept(boost::beast::error_code error);
@@ -43,7 +43,7 @@ class WebSocketSession : public ClientConnection,
   void handle_client_message(std::string_view text);
   void handle_request(const protocol::ClientRequest& request, std::string_view op, const nlohmann::json& id);
   void reply(const CommandResult& result, std::string_view op, const nlohmann::json& id);
-  void enqueue(OutgoingMessage message);
+  void enqueue(streams::OutgoingMessage message);
   void drop_client(std::string_view why);
   void write_next();
   void on_write(boost::beast::error_code error, std::size_t bytes);

@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "server/app/build_info.hpp"
+#include "server/protocol/build_info.hpp"
 #include "server/protocol/protocol.hpp"
 
 namespace strata::protocol {
@@ -46,13 +46,14 @@ std::string_view to_string(ErrorCode code) {
 }
 
 nlohmann::json pose_fields(const RobotSnapshot& robot) {
-  const sim::RobotSample& sample = robot.sample;
+  const RobotSample& sample = robot.sample;
   nlohmann::json fields = pose_json(robot.estimate);
   fields["stamp"] = sample.stamp;
   fields["frame"] = "map";
   fields["source"] = robot.localized ? "registration" : "odometry";
   fields["odometry"] = pose_json(sample.odometry);
-  fields["truth"] = pose_json(sample.truth);
+  if (sample.truth)  // none from a lidar: nothing knows where it truly is
+    fields["truth"] = pose_json(*sample.truth);
   fields["mode"] = !sample.blocked_by.empty() ? "blocked" : sample.scanning ? "scanning" : "driving";
   return fields;
 }

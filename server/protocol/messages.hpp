@@ -4,7 +4,7 @@
 #include <string>
 #include <string_view>
 
-#include "drivers/sim/simulator.hpp"
+#include "drivers/robot_sample.hpp"
 #include "drivers/sim/world/world.hpp"
 #include "server/state/goal_state.hpp"
 #include "server/state/map_state.hpp"

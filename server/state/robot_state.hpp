@@ -7,7 +7,7 @@
 #include <string>
 
 #include "core/geometry/pose.hpp"
-#include "drivers/sim/simulator.hpp"
+#include "drivers/robot_sample.hpp"
 #include "server/state/sensor_watch.hpp"
 
 namespace strata {
@@ -41,7 +41,7 @@ struct DriverStatus {
 
 /// The robot's live state at one instant: the driver's sample and the localized estimate.
 struct RobotSnapshot {
-  sim::RobotSample sample;
+  RobotSample sample;
   Pose3 estimate;          ///< odometry carried into the map by the latest correction
   bool localized = false;  ///< at least one scan registered: the estimate is no longer bare odometry
 };
@@ -50,7 +50,7 @@ struct RobotSnapshot {
 /// Plain mutex-protected copies: the data is small and readers want the newest, never a history.
 class RobotState {
  public:
-  void publish(const sim::RobotSample& sample) {
+  void publish(const RobotSample& sample) {
     const auto now = SensorWatch::Clock::now();
     std::lock_guard lock(mutex_);
     latest_ = sample;
@@ -108,7 +108,7 @@ class RobotState {
 
  private:
   mutable std::mutex mutex_;
-  std::optional<sim::RobotSample> latest_;
+  std::optional<RobotSample> latest_;
   Eigen::Isometry3d map_from_odom_ = Eigen::Isometry3d::Identity();
   bool localized_ = false;
   RegistrationStatus registration_;

@@ -11,10 +11,10 @@ std::string MapStream::tile_key(int tile_x, int tile_y) {
   return "tile:" + std::to_string(tile_x) + "," + std::to_string(tile_y);
 }
 
-std::vector<net::OutgoingMessage> MapStream::poll() {
+std::vector<streams::OutgoingMessage> MapStream::poll() {
   const auto snapshot = map_.snapshot();
   std::lock_guard lock(mutex_);
-  std::vector<net::OutgoingMessage> changed;
+  std::vector<streams::OutgoingMessage> changed;
   if (!snapshot || snapshot.get() == last_)
     return changed;
   const auto tiles_stream = static_cast<std::uint8_t>(protocol::Stream::kTiles);
@@ -27,7 +27,7 @@ std::vector<net::OutgoingMessage> MapStream::poll() {
       next.emplace(key, std::move(known->second));
       continue;
     }
-    auto message = net::OutgoingMessage::binary_frame(
+    auto message = streams::OutgoingMessage::binary_frame(
         protocol::encode_tile_frame(*tile), tile_key(tile->tile_x, tile->tile_y), ++sequence_, tiles_stream);
     changed.push_back(message);
     next.emplace(key, TileFrame{tile, std::move(message)});
@@ -38,14 +38,14 @@ std::vector<net::OutgoingMessage> MapStream::poll() {
     if (next.contains(key))
       continue;
     EncodedTile gone{key.first, key.second, snapshot->version, 0, {}};
-    changed.push_back(net::OutgoingMessage::binary_frame(
+    changed.push_back(streams::OutgoingMessage::binary_frame(
         protocol::encode_tile_frame(gone), tile_key(key.first, key.second), ++sequence_, tiles_stream));
   }
   tiles_ = std::move(next);
 
   if (snapshot->occupancy && snapshot->occupancy.get() != occupancy_identity_) {
     occupancy_identity_ = snapshot->occupancy.get();
-    occupancy_ = net::OutgoingMessage::binary_frame(protocol::encode_occupancy_frame(*snapshot->occupancy),
+    occupancy_ = streams::OutgoingMessage::binary_frame(protocol::encode_occupancy_frame(*snapshot->occupancy),
                                                     "occupancy", ++sequence_,
                                                     static_cast<std::uint8_t>(protocol::Stream::kOccupancy));
     changed.push_back(*occupancy_);
@@ -55,9 +55,9 @@ std::vector<net::OutgoingMessage> MapStream::poll() {
   return changed;
 }
 
-std::vector<net::OutgoingMessage> MapStream::current() const {
+std::vector<streams::OutgoingMessage> MapStream::current() const {
   std::lock_guard lock(mutex_);
-  std::vector<net::OutgoingMessage> frames;
+  std::vector<streams::OutgoingMessage> frames;
   frames.reserve(tiles_.size() + 1);
   // The occupancy first: it is one frame and lets a client show the drivable map at once.
   if (occupancy_)

@@ -8,7 +8,7 @@
 #include <utility>
 #include <vector>
 
-#include "server/net/outgoing_message.hpp"
+#include "server/streams/outgoing_message.hpp"
 #include "server/state/map_state.hpp"
 
 namespace strata::streams {
@@ -22,9 +22,9 @@ class MapStream {
 
   /// Frames for what changed since the last call: tiles whose version moved, tiles that are gone (an
   /// empty frame), the occupancy image if it is new. Called by the broadcast timer.
-  [[nodiscard]] std::vector<net::OutgoingMessage> poll();
+  [[nodiscard]] std::vector<streams::OutgoingMessage> poll();
   /// Every current frame, for a late joiner. Thread-safe.
-  [[nodiscard]] std::vector<net::OutgoingMessage> current() const;
+  [[nodiscard]] std::vector<streams::OutgoingMessage> current() const;
 
   static std::string tile_key(int tile_x, int tile_y);
 
@@ -36,10 +36,10 @@ class MapStream {
   double sequence_ = 0.0;
   struct TileFrame {
     std::shared_ptr<const EncodedTile> tile;  // unchanged tiles keep their pointer across snapshots
-    net::OutgoingMessage message;
+    streams::OutgoingMessage message;
   };
   std::map<std::pair<int, int>, TileFrame> tiles_;
-  std::optional<net::OutgoingMessage> occupancy_;
+  std::optional<streams::OutgoingMessage> occupancy_;
   const EncodedOccupancy* occupancy_identity_ = nullptr;
 };
 

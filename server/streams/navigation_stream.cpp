@@ -12,30 +12,30 @@ bool same_goal(const GoalStatus& a, const GoalStatus& b) {
 
 }  // namespace
 
-std::vector<net::OutgoingMessage> NavigationStream::poll() {
+std::vector<streams::OutgoingMessage> NavigationStream::poll() {
   const GoalStatus goal = motion_.goal_status();
   const auto path = motion_.path();
   std::lock_guard lock(mutex_);
-  std::vector<net::OutgoingMessage> changed;
+  std::vector<streams::OutgoingMessage> changed;
   if (!goal_ || !same_goal(*goal_, goal)) {
     goal_ = goal;
-    goal_message_ = net::OutgoingMessage::text(protocol::goal_message(goal), "goal", ++sequence_,
+    goal_message_ = streams::OutgoingMessage::text(protocol::goal_message(goal), "goal", ++sequence_,
                                                static_cast<std::uint8_t>(protocol::Stream::kGoal));
     changed.push_back(*goal_message_);
   }
   if (!path_sent_ || path != path_) {
     path_ = path;
     path_sent_ = true;
-    path_message_ = net::OutgoingMessage::text(protocol::path_message(path.get()), "path", ++sequence_,
+    path_message_ = streams::OutgoingMessage::text(protocol::path_message(path.get()), "path", ++sequence_,
                                                static_cast<std::uint8_t>(protocol::Stream::kPath));
     changed.push_back(*path_message_);
   }
   return changed;
 }
 
-std::vector<net::OutgoingMessage> NavigationStream::current() const {
+std::vector<streams::OutgoingMessage> NavigationStream::current() const {
   std::lock_guard lock(mutex_);
-  std::vector<net::OutgoingMessage> messages;
+  std::vector<streams::OutgoingMessage> messages;
   if (goal_message_)
     messages.push_back(*goal_message_);
   if (path_message_)

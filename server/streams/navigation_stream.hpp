@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "server/control/robot_commands.hpp"
-#include "server/net/outgoing_message.hpp"
+#include "server/streams/outgoing_message.hpp"
 
 namespace strata::streams {
 
@@ -17,19 +17,19 @@ class NavigationStream {
  public:
   explicit NavigationStream(const MotionCommands& motion) : motion_(motion) {}
 
-  [[nodiscard]] std::vector<net::OutgoingMessage> poll();
+  [[nodiscard]] std::vector<streams::OutgoingMessage> poll();
   /// The current goal and path, for a late joiner. Thread-safe.
-  [[nodiscard]] std::vector<net::OutgoingMessage> current() const;
+  [[nodiscard]] std::vector<streams::OutgoingMessage> current() const;
 
  private:
   const MotionCommands& motion_;
   mutable std::mutex mutex_;
   double sequence_ = 0.0;
   std::optional<GoalStatus> goal_;
-  std::optional<net::OutgoingMessage> goal_message_;
+  std::optional<streams::OutgoingMessage> goal_message_;
   std::shared_ptr<const PlannedPath> path_;
   bool path_sent_ = false;
-  std::optional<net::OutgoingMessage> path_message_;
+  std::optional<streams::OutgoingMessage> path_message_;
 };
 
 }  // namespace strata::streams

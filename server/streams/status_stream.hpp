@@ -6,7 +6,7 @@
 #include <string>
 #include <utility>
 
-#include "server/net/client_hub.hpp"
+#include "server/streams/client_hub.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/state/map_state.hpp"
 #include "server/state/robot_state.hpp"
@@ -17,7 +17,7 @@ namespace strata::streams {
 /// the sensor's scans arrive.
 class StatusStream {
  public:
-  StatusStream(const RobotState& robot, const MapState* map, const net::ClientHub& hub)
+  StatusStream(const RobotState& robot, const MapState* map, const streams::ClientHub& hub)
       : robot_(robot), map_(map), hub_(hub) {}
 
   /// The status now (also GET /api/v1/status). Thread-safe.
@@ -30,7 +30,7 @@ class StatusStream {
 
   const RobotState& robot_;
   const MapState* map_;
-  const net::ClientHub& hub_;
+  const streams::ClientHub& hub_;
   mutable std::mutex mutex_;
   std::deque<std::pair<std::chrono::steady_clock::time_point, std::size_t>> samples_;
   bool sensor_stalled_ = false;  // as last polled, for the log

@@ -127,7 +127,7 @@ int main(int argc, char** argv) {
       ++scans;
     }
   }
-  const Eigen::Vector3d robot = options.map.empty() ? simulator.sample().truth.position : options.at;
+  const Eigen::Vector3d robot = options.map.empty() ? simulator.sample().truth->position : options.at;
 
   PatchGraphConfig graph_config{.clearance_weight = 2.0};  // the navigator's
   graph_config.unseen_gaps.max_gap = options.max_gap;

@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   config.scanner = scanner == "lidar" ? sim::ScannerKind::kLidar : sim::ScannerKind::kTilting;
   sim::Simulator simulator(world, config);
   const Eigen::Isometry3d map_from_odom =
-      simulator.sample().truth.to_isometry() * simulator.sample().odometry.to_isometry().inverse();
+      simulator.sample().truth->to_isometry() * simulator.sample().odometry.to_isometry().inverse();
   LocalizerOptions options;
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
   // STRATA_BENCH_LOCAL_VOXEL=<metres>.
@@ -56,13 +56,13 @@ int main(int argc, char** argv) {
   std::vector<double> times;
   std::vector<double> scan_times;  // the whole add_scan: local map, index, registration
   std::size_t scans = 0, full = 0, partial = 0, none = 0;
-  Eigen::Vector3d last = simulator.sample().truth.position;
+  Eigen::Vector3d last = simulator.sample().truth->position;
   double odometry_error = 0.0, corrected_error = 0.0;
   for (double t = 0.0; t < duration; t += 0.01) {
     simulator.step(0.01);
-    const sim::RobotSample s = simulator.sample();
-    travelled += (s.truth.position - last).norm();
-    last = s.truth.position;
+    const RobotSample s = simulator.sample();
+    travelled += (s.truth->position - last).norm();
+    last = s.truth->position;
     for (const ScanEvent& scan : simulator.take_scans()) {
       const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
       const PointCloud points = pipeline::points_in_base(scan);
@@ -93,8 +93,8 @@ int main(int argc, char** argv) {
     const Eigen::Isometry3d estimate =
         localizer.pose({s.odometry.position.x(), s.odometry.position.y(), s.odometry.yaw});
     const Eigen::Isometry3d raw = map_from_odom * s.odometry.to_isometry();
-    corrected_error = (estimate.translation() - s.truth.position).norm();
-    odometry_error = (raw.translation() - s.truth.position).head<2>().norm();  // odometry has no height
+    corrected_error = (estimate.translation() - s.truth->position).norm();
+    odometry_error = (raw.translation() - s.truth->position).head<2>().norm();  // odometry has no height
     max_corrected_error = std::max(max_corrected_error, corrected_error);
     max_odometry_error = std::max(max_odometry_error, odometry_error);
   }

@@ -25,7 +25,7 @@ std::vector<Eigen::Isometry3d> route_poses(const std::shared_ptr<const sim::Worl
   for (int i = 0; static_cast<int>(poses.size()) < count && i < 200000; ++i) {
     simulator.step(0.01);
     if (i % 1500 == 0)
-      poses.push_back(simulator.sample().truth.to_isometry());
+      poses.push_back(simulator.sample().truth->to_isometry());
   }
   return poses;
 }

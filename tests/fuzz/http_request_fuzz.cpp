@@ -13,7 +13,7 @@
 
 namespace {
 
-namespace http = strata::net::http;
+namespace http = boost::beast::http;
 constexpr const char* kToken = "fuzz-operator-token-0123456789";
 
 class AcceptingMotion : public strata::MotionCommands {
@@ -41,7 +41,7 @@ class AcceptingMaps : public strata::MapCommands {
 
 struct Server {
   Server() {
-    strata::sim::RobotSample sample;
+    strata::RobotSample sample;
     sample.stamp = 1.5;
     sample.odometry.position = {1.0, 2.0, 0.0};
     robot.publish(sample);

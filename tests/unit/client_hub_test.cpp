@@ -1,4 +1,4 @@
-#include "server/net/client_hub.hpp"
+#include "server/streams/client_hub.hpp"
 
 #include <gtest/gtest.h>
 
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-namespace strata::net {
+namespace strata::streams {
 namespace {
 
 // A client that records what it is sent (the hub's contract is only "send must not block").
@@ -68,4 +68,4 @@ TEST(ClientHub, PayloadIsSharedNotCopied) {
 }
 
 }  // namespace
-}  // namespace strata::net
+}  // namespace strata::streams

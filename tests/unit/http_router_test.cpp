@@ -10,10 +10,10 @@
 namespace strata::api {
 namespace {
 
-namespace http = net::http;
+namespace http = protocol::http;
 
-net::HttpRequest request(http::verb method, std::string target) {
-  net::HttpRequest req{method, target, 11};
+protocol::HttpRequest request(http::verb method, std::string target) {
+  protocol::HttpRequest req{method, target, 11};
   req.prepare_payload();
   return req;
 }
@@ -62,9 +62,9 @@ class RecordingMaps : public MapCommands {
   std::vector<std::string> loaded;
 };
 
-net::ServerServices services_for(const RobotState& robot, const MapState& map, MotionCommands& motion,
+ServerServices services_for(const RobotState& robot, const MapState& map, MotionCommands& motion,
                                  MapCommands& maps, const sim::World& world) {
-  net::ServerServices services;
+  ServerServices services;
   services.robot = &robot;
   services.map = &map;
   services.motion = &motion;
@@ -77,7 +77,7 @@ net::ServerServices services_for(const RobotState& robot, const MapState& map, M
 
 class Router : public ::testing::Test {
  protected:
-  net::HttpRequest operator_request(http::verb method, std::string target, std::string body = {}) {
+  protocol::HttpRequest operator_request(http::verb method, std::string target, std::string body = {}) {
     auto req = request(method, std::move(target));
     req.set(http::field::authorization, std::string("Bearer ") + kToken);
     req.body() = std::move(body);
@@ -90,9 +90,9 @@ class Router : public ::testing::Test {
   RecordingMotion motion_;
   RecordingMaps maps_;
   sim::World world_{sim::builtin_world("yard")};
-  net::ServerServices services_ = services_for(robot_, map_, motion_, maps_, world_);
-  net::ClientHub hub_;
-  net::ServerMetrics metrics_;
+  ServerServices services_ = services_for(robot_, map_, motion_, maps_, world_);
+  streams::ClientHub hub_;
+  streams::ServerMetrics metrics_;
   streams::StatusStream status_{robot_, &map_, hub_};
   HttpRouter router_{services_, hub_, status_, metrics_};
 };
@@ -114,7 +114,7 @@ TEST_F(Router, PoseIsUnavailableUntilTheRobotReports) {
   EXPECT_EQ(before.result(), http::status::service_unavailable);
   EXPECT_EQ(nlohmann::json::parse(before.body())["error"]["code"], "unavailable");
 
-  sim::RobotSample sample;
+  RobotSample sample;
   sample.stamp = 1.5;
   sample.odometry.position = {1.0, 2.0, 0.0};
   sample.odometry.yaw = 0.5;

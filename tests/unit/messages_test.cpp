@@ -8,13 +8,14 @@ namespace strata::protocol {
 namespace {
 
 TEST(Messages, PoseCarriesTheEstimateAndTheTruth) {
-  sim::RobotSample sample;
+  RobotSample sample;
   sample.stamp = 3.25;
   sample.odometry.position = {1.0, -2.0, 0.1};
   sample.odometry.roll = 0.01;
   sample.odometry.pitch = -0.02;
   sample.odometry.yaw = 1.5;
-  sample.truth.position = {1.1, -2.1, 0.1};
+  sample.truth = Pose3{};
+  sample.truth->position = {1.1, -2.1, 0.1};
   RobotSnapshot robot{sample, sample.odometry, false};
   robot.estimate.position.x() = 1.0;
   const auto message = nlohmann::json::parse(pose_message(robot));
@@ -30,6 +31,15 @@ TEST(Messages, PoseCarriesTheEstimateAndTheTruth) {
   EXPECT_DOUBLE_EQ(message["odometry"]["y"], -2.0);
   EXPECT_EQ(message["source"], "odometry");
   EXPECT_EQ(message["mode"], "driving");
+}
+
+TEST(Messages, PoseHasNoTruthWhenNothingKnowsIt) {
+  RobotSample sample;  // a lidar's: no simulator, no reference poses
+  sample.odometry.position = {1.0, 2.0, 0.0};
+  const RobotSnapshot robot{sample, sample.odometry, false};
+  const auto message = nlohmann::json::parse(pose_message(robot));
+  EXPECT_FALSE(message.contains("truth"));
+  EXPECT_DOUBLE_EQ(message["odometry"]["y"], 2.0);
 }
 
 TEST(Messages, HelloNamesTheProtocol) {

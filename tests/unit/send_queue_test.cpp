@@ -5,14 +5,14 @@
 namespace strata::net {
 namespace {
 
-std::string body(const OutgoingMessage* message) {
+std::string body(const streams::OutgoingMessage* message) {
   return message ? *message->payload : "<none>";
 }
 
 TEST(SendQueue, WritesInOrderOneAtATime) {
   SendQueue queue(8);
-  queue.push(OutgoingMessage::text("a"));
-  queue.push(OutgoingMessage::text("b"));
+  queue.push(streams::OutgoingMessage::text("a"));
+  queue.push(streams::OutgoingMessage::text("b"));
   EXPECT_EQ(body(queue.start_write()), "a");
   EXPECT_EQ(queue.start_write(), nullptr);  // one write in flight
   queue.finish_write();
@@ -24,13 +24,13 @@ TEST(SendQueue, WritesInOrderOneAtATime) {
 
 TEST(SendQueue, NewestPoseReplacesAnUnsentOne) {
   SendQueue queue(8);
-  queue.push(OutgoingMessage::text("hello"));
-  EXPECT_EQ(queue.push(OutgoingMessage::text("pose1", "pose")), SendQueue::PushResult::kQueued);
-  queue.push(OutgoingMessage::text("status"));
-  EXPECT_EQ(queue.push(OutgoingMessage::text("pose2", "pose")), SendQueue::PushResult::kCoalesced);
+  queue.push(streams::OutgoingMessage::text("hello"));
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose1", "pose")), SendQueue::PushResult::kQueued);
+  queue.push(streams::OutgoingMessage::text("status"));
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose2", "pose")), SendQueue::PushResult::kCoalesced);
   EXPECT_EQ(queue.size(), 3u);
   std::vector<std::string> sent;
-  while (const OutgoingMessage* next = queue.start_write()) {
+  while (const streams::OutgoingMessage* next = queue.start_write()) {
     sent.push_back(*next->payload);
     queue.finish_write();
   }
@@ -39,10 +39,10 @@ TEST(SendQueue, NewestPoseReplacesAnUnsentOne) {
 
 TEST(SendQueue, NeverReplacesTheMessageBeingWritten) {
   SendQueue queue(8);
-  queue.push(OutgoingMessage::text("pose1", "pose"));
-  const OutgoingMessage* writing = queue.start_write();
+  queue.push(streams::OutgoingMessage::text("pose1", "pose"));
+  const streams::OutgoingMessage* writing = queue.start_write();
   ASSERT_NE(writing, nullptr);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("pose2", "pose")), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose2", "pose")), SendQueue::PushResult::kQueued);
   EXPECT_EQ(*writing->payload, "pose1");  // the buffer in flight is untouched
   queue.finish_write();
   EXPECT_EQ(body(queue.start_write()), "pose2");
@@ -50,12 +50,12 @@ TEST(SendQueue, NeverReplacesTheMessageBeingWritten) {
 
 TEST(SendQueue, OverflowsWhenFullOfMessagesThatCannotBeDropped) {
   SendQueue queue(2);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("a")), SendQueue::PushResult::kQueued);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("p", "pose")), SendQueue::PushResult::kQueued);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("b")), SendQueue::PushResult::kQueued);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("c")), SendQueue::PushResult::kOverflow);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("a")), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("p", "pose")), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("b")), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("c")), SendQueue::PushResult::kOverflow);
   // A coalescing message still fits: it replaces its older self.
-  EXPECT_EQ(queue.push(OutgoingMessage::text("p2", "pose")), SendQueue::PushResult::kCoalesced);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("p2", "pose")), SendQueue::PushResult::kCoalesced);
   EXPECT_EQ(queue.size(), 3u);
 }
 
@@ -64,7 +64,7 @@ TEST(SendQueue, CoalescingMessagesAreBoundedByTheirKeysNotTheCapacity) {
   // A late joiner's map: many tiles, more than the capacity, each under its own key.
   for (int round = 1; round <= 3; ++round) {
     for (int tile = 0; tile < 100; ++tile) {
-      const auto result = queue.push(OutgoingMessage::text(
+      const auto result = queue.push(streams::OutgoingMessage::text(
           "t" + std::to_string(tile) + "v" + std::to_string(round), "tile:" + std::to_string(tile), round));
       EXPECT_NE(result, SendQueue::PushResult::kOverflow);
     }
@@ -73,12 +73,12 @@ TEST(SendQueue, CoalescingMessagesAreBoundedByTheirKeysNotTheCapacity) {
   EXPECT_EQ(body(queue.start_write()), "t0v3");
   queue.finish_write();
   // Tile 0 was written; its next version queues at the back, tile 1's replaces in place.
-  EXPECT_EQ(queue.push(OutgoingMessage::text("t0v4", "tile:0", 4)), SendQueue::PushResult::kQueued);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("t1v4", "tile:1", 4)), SendQueue::PushResult::kCoalesced);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("t0v4", "tile:0", 4)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("t1v4", "tile:1", 4)), SendQueue::PushResult::kCoalesced);
   EXPECT_EQ(body(queue.start_write()), "t1v4");
   queue.finish_write();
   std::string last;
-  while (const OutgoingMessage* next = queue.start_write()) {
+  while (const streams::OutgoingMessage* next = queue.start_write()) {
     last = *next->payload;
     queue.finish_write();
   }
@@ -87,20 +87,20 @@ TEST(SendQueue, CoalescingMessagesAreBoundedByTheirKeysNotTheCapacity) {
 
 TEST(SendQueue, AnOlderTileVersionIsDropped) {
   SendQueue queue(4);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("v5", "tile:3,4", 5)), SendQueue::PushResult::kQueued);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("v4", "tile:3,4", 4)), SendQueue::PushResult::kStale);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("v5", "tile:3,4", 5)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("v4", "tile:3,4", 4)), SendQueue::PushResult::kStale);
   EXPECT_EQ(body(queue.start_write()), "v5");
 }
 
 TEST(SendQueue, AStreamNeverGoesBackwardsOrRepeats) {
   SendQueue queue(8);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@2", "pose", 2.0)), SendQueue::PushResult::kQueued);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@2 again", "pose", 2.0)), SendQueue::PushResult::kStale);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@1", "pose", 1.0)), SendQueue::PushResult::kStale);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@2", "pose", 2.0)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@2 again", "pose", 2.0)), SendQueue::PushResult::kStale);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@1", "pose", 1.0)), SendQueue::PushResult::kStale);
   ASSERT_NE(queue.start_write(), nullptr);
   queue.finish_write();
-  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@1.5", "pose", 1.5)), SendQueue::PushResult::kStale);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@3", "pose", 3.0)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@1.5", "pose", 1.5)), SendQueue::PushResult::kStale);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@3", "pose", 3.0)), SendQueue::PushResult::kQueued);
   EXPECT_EQ(body(queue.start_write()), "pose@3");
 }
 
@@ -108,13 +108,13 @@ TEST(SendQueue, AZeroStampIsAnOrderLikeAnyOther) {
   // The simulator's first pose is stamped 0: the late joiner's snapshot and the first broadcast both carry
   // it, and the client must see it once.
   SendQueue queue(8);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@0", "pose", 0.0)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@0", "pose", 0.0)), SendQueue::PushResult::kQueued);
   ASSERT_NE(queue.start_write(), nullptr);
   queue.finish_write();
-  EXPECT_EQ(queue.push(OutgoingMessage::text("pose@0 again", "pose", 0.0)), SendQueue::PushResult::kStale);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@0 again", "pose", 0.0)), SendQueue::PushResult::kStale);
   // Unordered messages (status) always supersede.
-  EXPECT_EQ(queue.push(OutgoingMessage::text("s1", "status")), SendQueue::PushResult::kQueued);
-  EXPECT_EQ(queue.push(OutgoingMessage::text("s2", "status")), SendQueue::PushResult::kCoalesced);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("s1", "status")), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("s2", "status")), SendQueue::PushResult::kCoalesced);
 }
 
 }  // namespace

@@ -1,11 +1,11 @@
-#include "server/net/static_files.hpp"
+#include "server/api/static_files.hpp"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
 #include <fstream>
 
-namespace strata::net {
+namespace strata::api {
 namespace {
 
 class StaticFiles : public ::testing::Test {
@@ -50,4 +50,4 @@ TEST(MimeType, KnowsTheWebAppsFiles) {
 }
 
 }  // namespace
-}  // namespace strata::net
+}  // namespace strata::api

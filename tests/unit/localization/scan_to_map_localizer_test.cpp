@@ -32,7 +32,7 @@ TEST(ScanToMapLocalizer, BeatsOdometryInTheYard) {
   auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
   sim::Simulator simulator(world, {.seed = 4});
   const Eigen::Isometry3d map_from_odom =
-      simulator.sample().truth.to_isometry() * simulator.sample().odometry.to_isometry().inverse();
+      simulator.sample().truth->to_isometry() * simulator.sample().odometry.to_isometry().inverse();
   ScanToMapLocalizer localizer({}, map_from_odom);
   std::size_t scans = 0;
   double highest = 0.0;
@@ -45,10 +45,10 @@ TEST(ScanToMapLocalizer, BeatsOdometryInTheYard) {
       ++scans;
     }
   }
-  const sim::RobotSample s = simulator.sample();
-  const double corrected = (localizer.pose(planar(s.odometry)).translation() - s.truth.position).norm();
+  const RobotSample s = simulator.sample();
+  const double corrected = (localizer.pose(planar(s.odometry)).translation() - s.truth->position).norm();
   const double odometry =
-      ((map_from_odom * s.odometry.to_isometry()).translation() - s.truth.position).head<2>().norm();
+      ((map_from_odom * s.odometry.to_isometry()).translation() - s.truth->position).head<2>().norm();
   EXPECT_LT(corrected, odometry);
   EXPECT_LT(corrected, 0.3);
   EXPECT_GT(highest, 0.25);  // it saw itself go up the ramp onto the 0.4 m platform

@@ -41,7 +41,7 @@ class Trip {
         map_(test::survey_world(*world_, area.x0, area.y0, area.x1, area.y1)),
         simulator_(world_, config(scanner)) {
     const DrivableMap drivable;
-    navigator_.on_map_update({map_, drivable, simulator_.sample().truth.position, map_.version()});
+    navigator_.on_map_update({map_, drivable, simulator_.sample().truth->position, map_.version()});
     step();  // the navigator learns where the robot is
   }
 
@@ -55,14 +55,14 @@ class Trip {
 
   /// One step of 0.1 s: the navigator's command, the simulator, then any pending plan.
   void step() {
-    const sim::RobotSample sample = simulator_.sample();
-    if (const auto command = navigator_.drive(sample.truth, sample.stamp))
+    const RobotSample sample = simulator_.sample();
+    if (const auto command = navigator_.drive(*sample.truth, sample.stamp))
       simulator_.command({command->v, command->w});
     simulator_.step(kStep);
     if (std::getenv("STRATA_TRACE") && ++steps_ % 10 == 0) {
       const auto s = simulator_.sample();
       std::printf("t %.1f pose %.2f %.2f %.2f yaw %.2f v %.2f w %.2f blocked '%s' phase %s %s\n", s.stamp,
-                  s.truth.position.x(), s.truth.position.y(), s.truth.position.z(), s.truth.yaw, s.velocity.v,
+                  s.truth->position.x(), s.truth->position.y(), s.truth->position.z(), s.truth->yaw, s.velocity.v,
                   s.velocity.w, s.blocked_by.c_str(), to_string(navigator_.goal_status().phase),
                   navigator_.goal_status().reason.c_str());
     }
@@ -102,7 +102,7 @@ class Trip {
   [[nodiscard]] int scans_mapped() const { return scans_mapped_; }
   [[nodiscard]] std::uint64_t latest_path_version() const { return latest_path_version_; }
 
-  [[nodiscard]] Pose3 truth() const { return simulator_.sample().truth; }
+  [[nodiscard]] Pose3 truth() const { return *simulator_.sample().truth; }
   [[nodiscard]] double distance_to(double x, double y) const {
     return std::hypot(truth().position.x() - x, truth().position.y() - y);
   }

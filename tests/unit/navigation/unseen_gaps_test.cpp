@@ -174,7 +174,7 @@ TEST(UnseenGaps, AfterOneTiltingScanTheSeenYardIsReachable) {
     ASSERT_LT(simulator.sample().stamp, 30.0) << "no scan";
   }
   const PatchGraph seen = test::graph_of(live, PatchGraphConfig{.clearance_weight = 2.0});
-  const auto goals = test::plan_to_seen_goals(*world, seen, simulator.sample().truth.position);
+  const auto goals = test::plan_to_seen_goals(*world, seen, simulator.sample().truth->position);
   ASSERT_GT(goals.size(), 100U);
   const auto reached =
       std::count_if(goals.begin(), goals.end(), [](const auto& g) { return g.path.found(); });

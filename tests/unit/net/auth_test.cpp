@@ -10,11 +10,11 @@
 namespace strata::auth {
 namespace {
 
-namespace http = net::http;
+namespace http = protocol::http;
 constexpr std::string_view kToken = "Sesame-0123456789_abc";
 
-net::HttpRequest upgrade(std::string protocols = {}) {
-  net::HttpRequest request{http::verb::get, "/ws", 11};
+protocol::HttpRequest upgrade(std::string protocols = {}) {
+  protocol::HttpRequest request{http::verb::get, "/ws", 11};
   request.set(http::field::host, "robot:8080");
   if (!protocols.empty())
     request.set(http::field::sec_websocket_protocol, protocols);

@@ -73,7 +73,7 @@ TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextS
     arrived.notify_all();
   });
   // The estimate for one fixed odometry pose: it moves only when the correction does.
-  sim::RobotSample fixed;
+  RobotSample fixed;
   fixed.odometry = scans.front().odometry;
   state.publish(fixed);
   localizer.start();

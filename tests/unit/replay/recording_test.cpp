@@ -37,8 +37,8 @@ class Recording : public testing::Test {
     p.roll = 1.0 / 3.0;
     return p;
   }
-  static sim::RobotSample sample(double stamp) {
-    sim::RobotSample s;
+  static RobotSample sample(double stamp) {
+    RobotSample s;
     s.stamp = stamp;
     s.odometry = pose(stamp * 0.1, stamp / 7.0, stamp / 11.0);
     s.truth = pose(stamp * 0.1 + 1e-3, stamp / 7.0, stamp / 13.0, 0.2);
@@ -82,7 +82,7 @@ TEST_F(Recording, ReadsBackExactly) {
   ASSERT_EQ(dataset.odometry.size(), 10u);
   EXPECT_EQ(dataset.odometry[9].stamp, sample(0.09).stamp);
   EXPECT_EQ(dataset.odometry[9].odometry.position, sample(0.09).odometry.position);
-  EXPECT_EQ(dataset.odometry[9].reference->yaw, sample(0.09).truth.yaw);
+  EXPECT_EQ(dataset.odometry[9].reference->yaw, sample(0.09).truth->yaw);
   ASSERT_EQ(dataset.scans.size(), 2u);
   const ScanEvent expected = scan(0.07, 7.0f / 3.0f);
   const DatasetScan& got = dataset.scans[1];
@@ -140,7 +140,7 @@ TEST_F(Recording, ReplayAsFastAsPossiblePlaysEverythingInOrder) {
   std::condition_variable done;
   bool finished = false;
   RobotDriver::Outputs outputs;
-  outputs.on_sample = [&](const sim::RobotSample& s) { sample_stamps.push_back(s.stamp); };
+  outputs.on_sample = [&](const RobotSample& s) { sample_stamps.push_back(s.stamp); };
   outputs.on_scan = [&](ScanEvent s) { scans.push_back(std::move(s)); };
   outputs.wait_for_pipeline = [&] {
     ++waits;
@@ -181,7 +181,7 @@ TEST_F(Recording, ReplayAtTheRecordedRatePlaysEverythingAndStops) {
   std::size_t scans = 0;
   bool finished = false;
   RobotDriver::Outputs outputs;
-  outputs.on_sample = [&](const sim::RobotSample&) { ++samples; };
+  outputs.on_sample = [&](const RobotSample&) { ++samples; };
   outputs.on_scan = [&](ScanEvent) { ++scans; };  // no wait_for_pipeline: a paced replay never waits
   outputs.on_finished = [&] {
     std::lock_guard lock(mutex);
@@ -204,7 +204,7 @@ TEST_F(Recording, StoppingAReplayEndsItEarly) {
   options.time_scale = 1e-4;  // 0.09 s of data would take 15 minutes
   ReplayDriver driver(open_dataset(dir_), options);
   RobotDriver::Outputs outputs;
-  outputs.on_sample = [](const sim::RobotSample&) {};
+  outputs.on_sample = [](const RobotSample&) {};
   outputs.on_scan = [](ScanEvent) {};
   driver.start(outputs);
   driver.stop();  // returns at once: the wait for the next event is interrupted

@@ -28,7 +28,7 @@ TEST(Simulator, SameSeedSameRunAndScans) {
       scans_b.push_back(std::move(s));
   }
   EXPECT_EQ(a.sample().odometry.position, b.sample().odometry.position);
-  EXPECT_EQ(a.sample().truth.position, b.sample().truth.position);
+  EXPECT_EQ(a.sample().truth->position, b.sample().truth->position);
   EXPECT_NEAR(a.sample().stamp, 20.0, 1e-9);
   ASSERT_FALSE(scans_a.empty());
   ASSERT_EQ(scans_a.size(), scans_b.size());
@@ -38,16 +38,16 @@ TEST(Simulator, SameSeedSameRunAndScans) {
 
 TEST(Simulator, YardRouteWithoutGettingStuck) {
   Simulator sim(builtin("yard"), {.scanner = ScannerKind::kNone});
-  const Eigen::Vector3d start = sim.sample().truth.position;
+  const Eigen::Vector3d start = sim.sample().truth->position;
   double farthest = 0.0;
   double highest = 0.0;
   for (int i = 0; i < 24000; ++i) {  // four simulated minutes: more than two laps
     sim.step(0.01);
     const RobotSample s = sim.sample();
     ASSERT_TRUE(s.blocked_by.empty())
-        << s.blocked_by << " at t=" << s.stamp << " (" << s.truth.position.transpose() << ")";
-    farthest = std::max(farthest, (s.truth.position - start).norm());
-    highest = std::max(highest, s.truth.position.z());
+        << s.blocked_by << " at t=" << s.stamp << " (" << s.truth->position.transpose() << ")";
+    farthest = std::max(farthest, (s.truth->position - start).norm());
+    highest = std::max(highest, s.truth->position.z());
   }
   EXPECT_GT(farthest, 10.0);
   EXPECT_NEAR(highest, 0.4, 1e-6);  // it drove over the platform
@@ -63,14 +63,14 @@ TEST(Simulator, CampusLapGoesOverAndUnderTheBridge) {
     sim.step(0.01);
     const RobotSample s = sim.sample();
     ASSERT_TRUE(s.blocked_by.empty())
-        << s.blocked_by << " at t=" << s.stamp << " (" << s.truth.position.transpose() << ")";
-    const Eigen::Vector3d& p = s.truth.position;
+        << s.blocked_by << " at t=" << s.stamp << " (" << s.truth->position.transpose() << ")";
+    const Eigen::Vector3d& p = s.truth->position;
     const bool below_bridge = p.x() > 76 && p.x() < 92 && p.y() > -30 && p.y() < -27.5;
     on_deck = on_deck || (below_bridge && p.z() > 2.9);
     under_deck = under_deck || (below_bridge && p.z() < 0.1);
     in_hallway =
         in_hallway || (p.x() > 20 && p.x() < 40 && p.y() > 4 && p.y() < 6.5 && std::abs(p.z() - 0.45) < 1e-6);
-    steepest = std::max(steepest, std::abs(s.truth.pitch));
+    steepest = std::max(steepest, std::abs(s.truth->pitch));
   }
   EXPECT_TRUE(on_deck);
   EXPECT_TRUE(under_deck);
@@ -81,14 +81,14 @@ TEST(Simulator, CampusLapGoesOverAndUnderTheBridge) {
 TEST(Simulator, OdometryDriftsFromTheTruth) {
   Simulator sim(builtin("yard"), {.seed = 3, .scanner = ScannerKind::kNone});
   double travelled = 0.0;
-  Eigen::Vector3d last = sim.sample().truth.position;
+  Eigen::Vector3d last = sim.sample().truth->position;
   for (int i = 0; i < 6000; ++i) {
     sim.step(0.01);
-    travelled += (sim.sample().truth.position - last).norm();
-    last = sim.sample().truth.position;
+    travelled += (sim.sample().truth->position - last).norm();
+    last = sim.sample().truth->position;
   }
   const RobotSample s = sim.sample();
-  const double error = (s.odometry.position.head<2>() - s.truth.position.head<2>()).norm();
+  const double error = (s.odometry.position.head<2>() - s.truth->position.head<2>()).norm();
   EXPECT_GT(travelled, 20.0);
   EXPECT_GT(error, 1e-3);
   EXPECT_LT(error, 0.15 * travelled);       // an uncalibrated wheelchair: percents of the distance
@@ -104,10 +104,10 @@ TEST(Simulator, StopAndGoStandsStillWhileScanning) {
     sim.step(0.01);
     const RobotSample s = sim.sample();
     if (s.scanning && !was_scanning)
-      scan_start_position = s.truth.position;
+      scan_start_position = s.truth->position;
     if (s.scanning) {
       EXPECT_EQ(s.velocity.v, 0.0);
-      EXPECT_EQ(s.truth.position, scan_start_position);
+      EXPECT_EQ(s.truth->position, scan_start_position);
     }
     was_scanning = s.scanning;
     for (auto& scan : sim.take_scans())
@@ -129,10 +129,10 @@ TEST(Simulator, ACommandReplacesTheDemoRouteForGood) {
   EXPECT_TRUE(sim.following_route());
   sim.command({0.0, 0.5});  // turn on the spot
   EXPECT_FALSE(sim.following_route());
-  const Eigen::Vector3d start = sim.sample().truth.position;
+  const Eigen::Vector3d start = sim.sample().truth->position;
   for (int i = 0; i < 200; ++i)
     sim.step(0.01);
-  EXPECT_LT((sim.sample().truth.position - start).norm(), 0.01);
+  EXPECT_LT((sim.sample().truth->position - start).norm(), 0.01);
   EXPECT_NEAR(sim.sample().velocity.w, 0.5, 1e-9);
   sim.command({});
   for (int i = 0; i < 200; ++i)

@@ -12,7 +12,7 @@ std::shared_ptr<const EncodedTile> tile(int x, int y, std::uint64_t version) {
       EncodedTile{x, y, version, 1, {static_cast<std::uint8_t>(version)}});
 }
 
-std::optional<EncodedTile> decode(const net::OutgoingMessage& message) {
+std::optional<EncodedTile> decode(const streams::OutgoingMessage& message) {
   const std::string& frame = *message.payload;
   return protocol::decode_tile_frame({reinterpret_cast<const std::uint8_t*>(frame.data()), frame.size()});
 }

@@ -1,12 +1,12 @@
-#include "server/pipeline/periodic_broadcast.hpp"
+#include "server/net/periodic_broadcast.hpp"
 
 #include <boost/asio/post.hpp>
 #include <stdexcept>
 #include <utility>
 
-namespace strata::pipeline {
+namespace strata::net {
 
-PeriodicBroadcast::PeriodicBroadcast(boost::asio::io_context& io, net::ClientHub& hub, double rate_hz,
+PeriodicBroadcast::PeriodicBroadcast(boost::asio::io_context& io, streams::ClientHub& hub, double rate_hz,
                                      Encoder encoder)
     : timer_(io), hub_(hub), encoder_(std::move(encoder)) {
   if (!(rate_hz > 0.0 && rate_hz <= 1000.0))
@@ -40,4 +40,4 @@ void PeriodicBroadcast::schedule() {
   });
 }
 
-}  // namespace strata::pipeline
+}  // namespace strata::net

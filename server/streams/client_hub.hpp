@@ -6,9 +6,9 @@
 #include <mutex>
 #include <unordered_map>
 
-#include "server/net/outgoing_message.hpp"
+#include "server/streams/outgoing_message.hpp"
 
-namespace strata::net {
+namespace strata::streams {
 
 /// A connected client as the hub sees it: something that takes messages without blocking.
 class ClientConnection {
@@ -32,4 +32,4 @@ class ClientHub {
   std::unordered_map<const ClientConnection*, std::weak_ptr<ClientConnection>> clients_;
 };
 
-}  // namespace strata::net
+}  // namespace strata::streams

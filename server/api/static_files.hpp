@@ -4,7 +4,7 @@
 #include <optional>
 #include <string_view>
 
-namespace strata::net {
+namespace strata::api {
 
 /// Maps a request path ("/", "/assets/index-abc.js") to a file below `root`, or nothing when the path
 /// is not a plain relative path (parent segments, backslashes, NUL, encoded characters) or the file
@@ -15,4 +15,4 @@ namespace strata::net {
 /// Content-Type for a file, by extension; application/octet-stream when unknown.
 [[nodiscard]] std::string_view mime_type(const std::filesystem::path& file);
 
-}  // namespace strata::net
+}  // namespace strata::api

@@ -1,4 +1,4 @@
-#include "server/app/build_info.hpp"
+#include "server/protocol/build_info.hpp"
 
 #include <draco/core/draco_version.h>
 #include <spdlog/version.h>

@@ -5,7 +5,7 @@
 #include <optional>
 #include <string>
 
-namespace strata::net {
+namespace strata::streams {
 
 /// One message on its way to clients. The payload is encoded once and shared by every client's queue.
 struct OutgoingMessage {
@@ -35,4 +35,4 @@ struct OutgoingMessage {
   }
 };
 
-}  // namespace strata::net
+}  // namespace strata::streams

@@ -1,4 +1,4 @@
-#include "server/net/static_files.hpp"
+#include "server/api/static_files.hpp"
 
 #include <algorithm>
 #include <array>
@@ -6,7 +6,7 @@
 #include <system_error>
 #include <utility>
 
-namespace strata::net {
+namespace strata::api {
 
 std::optional<std::filesystem::path> resolve_static_path(const std::filesystem::path& root,
                                                          std::string_view request_path) {
@@ -63,4 +63,4 @@ std::string_view mime_type(const std::filesystem::path& file) {
   return "application/octet-stream";
 }
 
-}  // namespace strata::net
+}  // namespace strata::api

@@ -1,8 +1,8 @@
-#include "server/net/client_hub.hpp"
+#include "server/streams/client_hub.hpp"
 
 #include <vector>
 
-namespace strata::net {
+namespace strata::streams {
 
 void ClientHub::join(const std::shared_ptr<ClientConnection>& client) {
   std::lock_guard lock(mutex_);
@@ -34,4 +34,4 @@ std::size_t ClientHub::size() const {
   return clients_.size();
 }
 
-}  // namespace strata::net
+}  // namespace strata::streams

@@ -3,7 +3,7 @@
 #include <atomic>
 #include <cstdint>
 
-namespace strata::net {
+namespace strata::streams {
 
 /// Counters for GET /metrics (Prometheus text format). Relaxed atomics: counts, not synchronisation.
 struct ServerMetrics {
@@ -21,4 +21,4 @@ struct ServerMetrics {
   std::atomic<std::uint64_t> refused_host{0};       ///< requests naming a Host that is not allowed
 };
 
-}  // namespace strata::net
+}  // namespace strata::streams

@@ -8,9 +8,9 @@
 #include <string>
 #include <vector>
 
-#include "server/net/client_hub.hpp"
+#include "server/streams/client_hub.hpp"
 
-namespace strata::pipeline {
+namespace strata::net {
 
 /// Broadcasts a message to every WebSocket client at a fixed rate, decoupled from the rate at which the
 /// robot's state changes: the pose stream (20-50 Hz), the status stream (1 Hz), the map and navigation
@@ -19,9 +19,9 @@ namespace strata::pipeline {
 class PeriodicBroadcast : public std::enable_shared_from_this<PeriodicBroadcast> {
  public:
   /// Returns the messages to send now (none when nothing is new).
-  using Encoder = std::function<std::vector<net::OutgoingMessage>()>;
+  using Encoder = std::function<std::vector<streams::OutgoingMessage>()>;
 
-  PeriodicBroadcast(boost::asio::io_context& io, net::ClientHub& hub, double rate_hz, Encoder encoder);
+  PeriodicBroadcast(boost::asio::io_context& io, streams::ClientHub& hub, double rate_hz, Encoder encoder);
 
   void start();
   void stop();
@@ -30,10 +30,10 @@ class PeriodicBroadcast : public std::enable_shared_from_this<PeriodicBroadcast>
   void schedule();
 
   boost::asio::steady_timer timer_;
-  net::ClientHub& hub_;
+  streams::ClientHub& hub_;
   std::chrono::steady_clock::duration period_;
   Encoder encoder_;
   bool running_ = false;
 };
 
-}  // namespace strata::pipeline
+}  // namespace strata::net

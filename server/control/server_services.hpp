@@ -10,7 +10,7 @@
 #include "server/state/map_state.hpp"
 #include "server/state/robot_state.hpp"
 
-namespace strata::net {
+namespace strata {
 
 /// The parts of the running robot the network side reaches: state to read and commands to give. Any
 /// pointer may be null (a unit test, a server without a navigator); the features that need it answer
@@ -36,4 +36,4 @@ struct ServerServices {
   std::size_t max_http_connections = 512;
 };
 
-}  // namespace strata::net
+}  // namespace strata
