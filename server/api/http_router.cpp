@@ -95,7 +95,7 @@ std::optional<protocol::HttpResponse> HttpRouter::route_api(const protocol::Http
 }
 
 std::optional<protocol::HttpResponse> HttpRouter::require_operator(const protocol::HttpRequest& request) const {
-  switch (auth::authenticate(request, services_.operator_token)) {
+  switch (auth::authenticate(request, services_.network.operator_token)) {
     case auth::AuthOutcome::kOperator:
       return std::nullopt;
     case auth::AuthOutcome::kBadToken:
@@ -115,7 +115,7 @@ protocol::HttpResponse HttpRouter::serve_static(const protocol::HttpRequest& req
     response.set(http::field::allow, "GET, HEAD");
     return response;
   }
-  const auto file = api::resolve_static_path(services_.web_root, path);
+  const auto file = api::resolve_static_path(services_.network.web_root, path);
   if (!file) {
     return make_response(request, http::status::not_found, "not found\n", "text/plain; charset=utf-8");
   }

@@ -15,23 +15,11 @@
 namespace strata::app {
 namespace {
 
-replay::OdometrySource parse_odometry_source(const std::string& name) {
-  if (name == "auto")
-    return replay::OdometrySource::kAuto;
-  if (name == "dataset")
-    return replay::OdometrySource::kDataset;
-  if (name == "reference")
-    return replay::OdometrySource::kReference;
-  throw std::runtime_error("unknown replay odometry '" + name + "' (auto, dataset, reference)");
-}
-
 std::unique_ptr<RobotDriver> make_replay(const ServeOptions& options) {
   replay::ReplayOptions replay;
-  if (options.replay.rate != "recorded" && options.replay.rate != "max")
-    throw std::runtime_error("unknown replay rate '" + options.replay.rate + "' (recorded, max)");
-  replay.as_fast_as_possible = options.replay.rate == "max";
+  replay.as_fast_as_possible = options.replay.rate == ReplayRate::kMax;
   replay.time_scale = options.time_scale;
-  replay.odometry = parse_odometry_source(options.replay.odometry);
+  replay.odometry = options.replay.odometry;
   replay.noise.translation = options.replay.noise_translation;
   replay.noise.rotation = options.replay.noise_rotation_deg * 3.14159265358979323846 / 180.0;
   replay.seed = options.seed;
@@ -67,10 +55,10 @@ std::unique_ptr<RobotDriver> make_simulator(const ServeOptions& options) {
   auto world = std::make_shared<const sim::World>(load_world(options.world));
   sim::SimulatorConfig config;
   config.seed = options.seed;
-  config.scanner = parse_scanner(options.scanner);
+  config.scanner = options.scanner;
   std::string description =
       fmt::format("world '{}', {} scanner, seed {}, time scale {}", world->description().name,
-                  options.scanner, options.seed, options.time_scale);
+                  name_of(kScannerNames, options.scanner), options.seed, options.time_scale);
   if (!options.sim_sensor_outage.empty()) {
     config.sensor_outage = parse_outage(options.sim_sensor_outage);
     description += fmt::format(", sensor outage drill from t={} s for {} s", config.sensor_outage->start,
@@ -125,12 +113,10 @@ std::unique_ptr<RobotDriver> make_lidar(const ServeOptions& options) {
   driver.setup.keep_partial = lidar.keep_partial;
   driver.sensor_to_base = parse_mount(lidar.mount);
   if (!lidar.pcap.empty()) {
-    if (options.replay.rate != "recorded" && options.replay.rate != "max")
-      throw std::runtime_error("unknown replay rate '" + options.replay.rate + "' (recorded, max)");
     try {
       return std::make_unique<lidar::PcapLidarDriver>(
           lidar.pcap, driver,
-          lidar::PcapLidarDriver::Pacing{options.time_scale, options.replay.rate == "max"});
+          lidar::PcapLidarDriver::Pacing{options.time_scale, options.replay.rate == ReplayRate::kMax});
     } catch (const std::exception& error) {
       throw std::runtime_error(fmt::format("cannot play {}: {}", lidar.pcap.string(), error.what()));
     }

@@ -1,30 +1,50 @@
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <string>
-#include <vector>
 
+#include "drivers/replay/replay_driver.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
+#include "server/control/network_options.hpp"
+#include "server/pipeline/robot_pipeline.hpp"
 
 namespace strata::app {
 
-/// The robot's body and what it can climb: what the drivable map and the planner assume.
-/// Defaults: the thesis's wheelchair.
-struct RobotParameters {
-  double radius = 0.45;         ///< m; the planner keeps the robot's centre this far from edges
-  double height = 1.0;          ///< m; free space needed above a surface to drive there
-  double max_step = 0.08;       ///< m; highest step between neighbouring cells
-  double max_slope_deg = 15.0;  ///< steepest drivable ground
+/// How a dataset or a capture is paced.
+enum class ReplayRate {
+  kRecorded,  ///< at the dataset's clock times --time-scale
+  kMax,       ///< as fast as the pipeline takes the scans, none dropped
 };
+
+/// The names the command line and the config file use for the option values.
+inline const std::map<std::string, sim::ScannerKind> kScannerNames{{"tilting", sim::ScannerKind::kTilting},
+                                                                   {"lidar", sim::ScannerKind::kLidar},
+                                                                   {"none", sim::ScannerKind::kNone}};
+inline const std::map<std::string, ReplayRate> kReplayRateNames{{"recorded", ReplayRate::kRecorded},
+                                                                {"max", ReplayRate::kMax}};
+inline const std::map<std::string, replay::OdometrySource> kOdometrySourceNames{
+    {"auto", replay::OdometrySource::kAuto},
+    {"dataset", replay::OdometrySource::kDataset},
+    {"reference", replay::OdometrySource::kReference}};
+
+/// The name of an option value, for logs and recordings.
+template <class Enum>
+[[nodiscard]] std::string name_of(const std::map<std::string, Enum>& names, Enum value) {
+  for (const auto& [name, known] : names)
+    if (known == value)
+      return name;
+  return "?";
+}
 
 /// Playing a dataset instead of simulating (strata serve --replay DIR).
 struct ReplayParameters {
   std::filesystem::path directory;  ///< empty: the simulator
-  std::string rate =
-      "recorded";  ///< "recorded" (at --time-scale) or "max" (as fast as the pipeline takes it)
-  std::string odometry = "auto";    ///< "auto", "dataset" or "reference" (with the noise below)
+  ReplayRate rate = ReplayRate::kRecorded;
+  replay::OdometrySource odometry = replay::OdometrySource::kAuto;
   double noise_translation = 0.0;   ///< m per m driven, 1-sigma, for odometry made from reference poses
   double noise_rotation_deg = 0.0;  ///< degrees of heading per m driven, 1-sigma
 };
@@ -32,7 +52,7 @@ struct ReplayParameters {
 /// A lidar instead of the simulator: a packet capture played (--pcap FILE --lidar MODEL) or the live sensor
 /// (--lidar MODEL alone). Pacing of a capture: ReplayParameters::rate and ServeOptions::time_scale.
 struct LidarParameters {
-  std::string model;                  ///< vlp16, hdl32e, os1; empty: no lidar
+  std::string model;                  ///< vlp16, hdl32e, os1 (lidar::parse_lidar_model); empty: no lidar
   std::filesystem::path pcap;         ///< empty: live UDP
   std::filesystem::path calibration;  ///< Velodyne YAML (optional), Ouster metadata JSON (required)
   std::uint16_t port = 0;             ///< live UDP port; 0: the model's (2368 Velodyne, 7502 Ouster)
@@ -41,55 +61,34 @@ struct LidarParameters {
   bool keep_partial = false;          ///< also hand on partial revolutions (stream ends, dropped packets)
 };
 
+/// Everything `strata serve` is told (server/app/serve_command.cpp declares the options).
 struct ServeOptions {
-  std::string bind_address = "0.0.0.0";
-  std::uint16_t port = 8080;
-  std::filesystem::path web_root;  ///< empty: the bundle next to the executable
-  double pose_rate = 25.0;         ///< Hz
-  std::uint64_t seed = 1;
+  NetworkOptions network;
+  pipeline::RobotParameters robot;
+  // Where the scans come from: the simulator by default, else a replay or a lidar.
+  std::uint64_t seed = 1;  ///< same seed, same simulated run (and the same replay noise)
   double time_scale = 1.0;
-  std::string world = "campus";     ///< a built-in world's name or a world file's path
-  std::string scanner = "tilting";  ///< tilting (stop-and-go, the thesis robot), lidar, none
-  int io_threads = 2;
-  /// The operator token (goals, teleop, save, load). Empty: a random one is made and printed at start.
-  std::string operator_token;
-  std::filesystem::path maps_dir;  ///< saved maps; empty: default_maps_dir()
-  /// TLS: a PEM certificate (chain) and its unencrypted PEM key, both or neither. With them the port
-  /// serves https:// and wss:// only and refuses plain HTTP.
-  std::filesystem::path tls_certificate;
-  std::filesystem::path tls_key;
-  /// Browser origins besides the server's own that may open the WebSocket ("*": any); pages elsewhere
-  /// are refused with 403, clients without an Origin header (scripts) are not affected.
-  std::vector<std::string> allowed_origins;
-  std::size_t max_clients = 256;  ///< WebSocket clients at once; one more is refused with 503
-  /// Other TCP connections at once (HTTP, idle keep-alive); one more is answered 503 and closed.
-  std::size_t max_http_connections = 512;
-  /// Host names requests may name besides IP literals, localhost and this machine's name ("*": any);
-  /// others are refused with 403 (DNS rebinding).
-  std::vector<std::string> allowed_hosts;
-  RobotParameters robot;
+  std::string world = "campus";  ///< a built-in world's name or a world file's path
+  sim::ScannerKind scanner = sim::ScannerKind::kTilting;
   ReplayParameters replay;
   LidarParameters lidar;
-  std::filesystem::path record;  ///< write the scans and odometry here (replay layout); empty: no recording
-  std::size_t max_scans = 0;     ///< hand at most this many scans to the pipeline; 0: all
-  /// Wall-clock seconds a due scan may be waited for before the status says the sensor stalled; 0: 10 s,
-  /// longer when --time-scale slows the simulator down.
-  double sensor_timeout = 0.0;
   /// A fault drill with the simulator: "START,DURATION", simulated seconds from the start during which
   /// the sensor delivers nothing; empty: none.
   std::string sim_sensor_outage;
+  std::filesystem::path maps_dir;  ///< saved maps; empty: default_maps_dir()
+  std::filesystem::path record;    ///< write the scans and odometry here (replay layout); empty: none
+  std::size_t max_scans = 0;       ///< hand at most this many scans to the pipeline; 0: all
+  /// Wall-clock seconds a due scan may be late before the status says the sensor stalled; 0: 10 s, longer
+  /// when --time-scale slows the simulator down.
+  double sensor_timeout = 0.0;
 };
 
-/// The token in a file, without surrounding whitespace; throws when the file cannot be read.
-[[nodiscard]] std::string read_token_file(const std::filesystem::path& path);
-
-/// Runs the server with the simulated robot or a replay until SIGINT or SIGTERM. Returns the process exit
-/// code.
+/// Runs the server with the simulated robot, a replay or a lidar until SIGINT or SIGTERM. Returns the
+/// process exit code.
 int serve(const ServeOptions& options);
 
 /// A built-in world by name, or a world file by path; throws with the choices when neither exists.
 [[nodiscard]] sim::WorldDescription load_world(const std::string& name_or_path);
-[[nodiscard]] sim::ScannerKind parse_scanner(const std::string& name);
 
 /// Where saved maps live when no --maps-dir is given: $XDG_DATA_HOME/strata/maps, else
 /// ~/.local/share/strata/maps (the XDG default), else ./maps when there is no HOME either.

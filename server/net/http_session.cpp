@@ -81,7 +81,7 @@ void HttpSession<Stream>::on_read(beast::error_code error, std::size_t /*bytes*/
   }
   const protocol::HttpRequest& request = parser_->get();
   context_->metrics.http_requests.fetch_add(1, std::memory_order_relaxed);
-  if (!auth::host_allowed(request[http::field::host], context_->services.allowed_hosts))
+  if (!auth::host_allowed(request[http::field::host], context_->services.network.allowed_hosts))
     return refuse_host();
   if (beast::websocket::is_upgrade(request))
     return upgrade_to_websocket();
@@ -93,7 +93,7 @@ void HttpSession<Stream>::upgrade_to_websocket() {
   const protocol::HttpRequest& request = parser_->get();
   const std::string_view target = request.target();
   protocol::HttpResponse refusal;
-  const auto auth = auth::authenticate(request, context_->services.operator_token);
+  const auto auth = auth::authenticate(request, context_->services.network.operator_token);
   if (target.substr(0, target.find('?')) != "/ws") {
     refusal = protocol::HttpResponse{http::status::not_found, request.version()};
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kNotFound, "WebSocket endpoint is /ws");
@@ -102,7 +102,7 @@ void HttpSession<Stream>::upgrade_to_websocket() {
     refusal.body() = protocol::rest_error(
         protocol::ErrorCode::kBadRequest,
         "unsupported subprotocol; this server speaks " + std::string(protocol::kSubprotocol));
-  } else if (!auth::origin_allowed(request, context_->services.allowed_origins)) {
+  } else if (!auth::origin_allowed(request, context_->services.network.allowed_origins)) {
     // Before the token: a page from another site gets nothing, not even the answer whether a token is right.
     context_->metrics.ws_refused_origin.fetch_add(1, std::memory_order_relaxed);
     spdlog::info("refused a WebSocket from the browser origin {} (not this server's, not in allowed-origins)",

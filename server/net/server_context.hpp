@@ -29,8 +29,8 @@ struct ServerContext {
       : services(std::move(services_in)),
         sim_world_message(services.sim_world ? protocol::sim_world_message(*services.sim_world)
                                              : std::string()),
-        websocket_clients(services.max_websocket_clients),
-        http_connections(services.max_http_connections),
+        websocket_clients(services.network.max_clients),
+        http_connections(services.network.max_http_connections),
         status(*services.robot, services.map, hub),
         map_stream(services.map ? std::make_unique<streams::MapStream>(*services.map) : nullptr),
         navigation_stream(services.motion ? std::make_unique<streams::NavigationStream>(*services.motion)

@@ -50,8 +50,8 @@ struct Server {
     services.motion = &motion;
     services.maps = &maps;
     services.sim_world = &world;
-    services.operator_token = kToken;
-    services.web_root = "/nonexistent-strata-fuzz-web-root";
+    services.network.operator_token = kToken;
+    services.network.web_root = "/nonexistent-strata-fuzz-web-root";
   }
   strata::RobotState robot;
   strata::MapState map;

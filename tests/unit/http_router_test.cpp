@@ -70,8 +70,8 @@ ServerServices services_for(const RobotState& robot, const MapState& map, Motion
   services.motion = &motion;
   services.maps = &maps;
   services.sim_world = &world;
-  services.operator_token = kToken;
-  services.web_root = "/nonexistent-web-root";
+  services.network.operator_token = kToken;
+  services.network.web_root = "/nonexistent-web-root";
   return services;
 }
 

@@ -1,0 +1,130 @@
+#include "server/pipeline/robot_pipeline.hpp"
+
+#include <numbers>
+#include <utility>
+
+namespace strata::pipeline {
+namespace {
+
+TraversabilityConfig traversability_for(const RobotParameters& robot) {
+  TraversabilityConfig traversability;
+  traversability.max_step = robot.max_step;
+  traversability.max_slope = robot.max_slope_deg * std::numbers::pi / 180.0;
+  traversability.robot_height = robot.height;
+  return traversability;
+}
+
+NavigatorConfig navigation_for(const RobotParameters& robot) {
+  NavigatorConfig navigation;
+  navigation.graph.traversability = traversability_for(robot);
+  navigation.graph.robot_radius = robot.radius;
+  return navigation;
+}
+
+MappingOptions mapping_for(const RobotParameters& robot) {
+  MappingOptions mapping;
+  mapping.map.traversability = traversability_for(robot);
+  return mapping;
+}
+
+}  // namespace
+
+RobotPipeline::RobotPipeline(std::unique_ptr<RobotDriver> driver, std::unique_ptr<replay::Recorder> recorder,
+                             const PipelineOptions& options)
+    : driver_(std::move(driver)),
+      recorder_(std::move(recorder)),
+      navigator_(navigation_for(options.robot)),
+      mapping_(map_state_, options.maps_dir, mapping_for(options.robot)),
+      localizer_(robot_state_, LocalizerOptions{}, driver_->initial_map_from_odom()),
+      max_scans_(options.max_scans) {
+  robot_state_.set_driver(DriverStatus{driver_->kind(), false});
+  robot_state_.set_sensor_timeout(options.sensor_timeout);
+  take_scans_from_the_driver();
+  map_the_registered_scans();
+  plan_on_the_live_map();
+  drive_the_base_from_the_navigator();
+}
+
+RobotPipeline::~RobotPipeline() {
+  stop();
+}
+
+void RobotPipeline::take_scans_from_the_driver() {
+  outputs_.on_sample = [this](const RobotSample& sample) {
+    robot_state_.publish(sample);
+    if (recorder_)
+      recorder_->record(sample);
+  };
+  outputs_.on_scan = [this](ScanEvent scan) {
+    robot_state_.scan_delivered();  // the sensor works, whether or not the pipeline takes the scan
+    if (max_scans_ != 0 && scans_taken_ >= max_scans_)
+      return;  // --max-scans: a run of a fixed length; the map stays as it is
+    ++scans_taken_;
+    if (recorder_)
+      recorder_->record(scan);
+    localizer_.submit(std::move(scan));
+  };
+  // A replay as fast as possible waits for the pipeline instead of dropping scans.
+  outputs_.wait_for_pipeline = [this] { return localizer_.flush() && mapping_.flush(); };
+  outputs_.on_finished = [this] { robot_state_.set_driver(DriverStatus{driver_->kind(), true}); };
+}
+
+void RobotPipeline::map_the_registered_scans() {
+  localizer_.set_registered_scan_sink([this](ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
+    mapping_.submit(std::move(scan), map_from_sensor);
+  });
+}
+
+void RobotPipeline::plan_on_the_live_map() {
+  // The navigator copies the map's surfaces after every change.
+  mapping_.add_listener(navigator_.map_listener());
+}
+
+void RobotPipeline::drive_the_base_from_the_navigator() {
+  // Until an operator sends a goal or teleop the navigator has nothing to say and the simulator drives
+  // its demo route. It steers by the localized pose once there is one.
+  driver_->set_command_source([this](const RobotSample& sample) -> std::optional<VelocityCommand> {
+    const auto snapshot = robot_state_.snapshot();
+    const auto command = navigator_.drive(snapshot ? snapshot->estimate : sample.odometry, sample.stamp);
+    if (!command)
+      return std::nullopt;
+    return VelocityCommand{command->v, command->w};
+  });
+}
+
+void RobotPipeline::on_map_published(std::function<void()> callback) {
+  mapping_.on_published(std::move(callback));
+}
+
+void RobotPipeline::start() {
+  if (started_)
+    return;
+  started_ = true;
+  mapping_.start();
+  localizer_.start();
+  navigator_.start();
+  driver_->start(std::move(outputs_));
+}
+
+void RobotPipeline::stop() {
+  if (stopped_)
+    return;
+  stopped_ = true;
+  driver_->stop();    // first: its thread calls into everything below
+  recorder_.reset();  // writes what is queued, completes recording.json
+  navigator_.stop();
+  localizer_.stop();
+  mapping_.stop();
+}
+
+ServerServices RobotPipeline::services() {
+  ServerServices services;
+  services.robot = &robot_state_;
+  services.map = &map_state_;
+  services.motion = &navigator_;
+  services.maps = &mapping_;
+  services.sim_world = driver_->world();  // null for a replay or a lidar: no simulated world to draw
+  return services;
+}
+
+}  // namespace strata::pipeline

@@ -1,0 +1,85 @@
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <functional>
+#include <memory>
+
+#include "drivers/replay/recorder.hpp"
+#include "drivers/robot_driver.hpp"
+#include "server/control/server_services.hpp"
+#include "server/pipeline/localizer_worker.hpp"
+#include "server/pipeline/mapping_worker.hpp"
+#include "server/pipeline/navigator.hpp"
+#include "server/state/map_state.hpp"
+#include "server/state/robot_state.hpp"
+
+namespace strata::pipeline {
+
+/// The robot's body and what it can climb: what the drivable map and the planner assume.
+/// Defaults: the thesis's wheelchair.
+struct RobotParameters {
+  double radius = 0.45;         ///< m; the planner keeps the robot's centre this far from edges
+  double height = 1.0;          ///< m; free space needed above a surface to drive there
+  double max_step = 0.08;       ///< m; highest step between neighbouring cells
+  double max_slope_deg = 15.0;  ///< steepest drivable ground
+};
+
+struct PipelineOptions {
+  RobotParameters robot;
+  std::filesystem::path maps_dir;  ///< saved maps
+  /// Wall-clock seconds a due scan may be late before the status says the sensor stalled.
+  double sensor_timeout = 10.0;
+  std::size_t max_scans = 0;  ///< hand at most this many scans on, then keep the map as it is; 0: all
+};
+
+/// One running robot: the driver and everything a scan passes through on its way into the map, and the
+/// navigator that drives the base (docs/architecture.md 3). Owns them as members in the order they must
+/// live (the state the others write is made first and goes last) and wires them in named steps, one per
+/// arrow of the data flow. The network side reads and commands it through services().
+class RobotPipeline {
+ public:
+  /// `recorder` may be null (no --record).
+  RobotPipeline(std::unique_ptr<RobotDriver> driver, std::unique_ptr<replay::Recorder> recorder,
+                const PipelineOptions& options);
+  /// Stops everything first (stop()).
+  ~RobotPipeline();
+  RobotPipeline(const RobotPipeline&) = delete;
+  RobotPipeline& operator=(const RobotPipeline&) = delete;
+
+  /// Before start(): called on the mapping thread each time a new map snapshot is published (the network
+  /// pushes what changed). Whatever it reaches must outlive stop().
+  void on_map_published(std::function<void()> callback);
+
+  /// Starts the workers, then the driver's thread.
+  void start();
+  /// Stops the driver first (nothing new comes in), then the recorder (flushes), the navigator, the
+  /// localizer and the mapping worker. Idempotent.
+  void stop();
+
+  /// The state and commands the network side serves; NetworkOptions left at their defaults.
+  [[nodiscard]] ServerServices services();
+  [[nodiscard]] const RobotDriver& driver() const { return *driver_; }
+
+ private:
+  // The steps of docs/architecture.md 3, each wiring one arrow.
+  void take_scans_from_the_driver();         // driver thread -> state, recorder, localizer (steps 1-2)
+  void map_the_registered_scans();           // localizer -> mapping worker (steps 3-6)
+  void plan_on_the_live_map();               // mapping worker -> navigator (step 7)
+  void drive_the_base_from_the_navigator();  // navigator -> driver (goals, teleop)
+
+  RobotState robot_state_;
+  std::unique_ptr<RobotDriver> driver_;
+  std::unique_ptr<replay::Recorder> recorder_;
+  Navigator navigator_;
+  MapState map_state_;
+  MappingWorker mapping_;
+  LocalizerWorker localizer_;
+  RobotDriver::Outputs outputs_;  // handed to the driver at start()
+  std::size_t max_scans_ = 0;
+  std::size_t scans_taken_ = 0;  // on the driver's thread only
+  bool started_ = false;
+  bool stopped_ = false;
+};
+
+}  // namespace strata::pipeline
