@@ -14,6 +14,35 @@
 #include "server/app/serve_command.hpp"
 #include "server/protocol/build_info.hpp"
 
+namespace {
+
+// Every serve option can also come from a config file: `strata serve --config strata.ini`, with the options
+// by their long names under a [serve] section (deploy/strata.example.ini). The command line wins.
+void allow_config_file(CLI::App& app) {
+  app.set_config("--config", "", "Read options from this file (INI/TOML; see deploy/strata.example.ini)");
+  // A key no option has is refused at start, not ignored: a misspelt `max-client` would otherwise leave the
+  // robot on the default without a word.
+  app.allow_config_extras(CLI::config_extras_mode::error);
+}
+
+int parse_failed(const CLI::App& app, const CLI::ParseError& error) {
+  if (dynamic_cast<const CLI::ConfigError*>(&error) == nullptr)
+    return app.exit(error);
+  // CLI11 says "INI was not able to parse serve.max-client"; say what that means and where to look.
+  std::cerr << "strata: config file: " << error.what()
+            << " (no option of that name; the keys are the long options of `strata serve --help`, under "
+               "[serve])\n";
+  return error.get_exit_code();
+}
+
+int print_version() {
+  std::printf("strata %s\n%s\n", strata::build_info::version().c_str(),
+              strata::build_info::libraries().dump(2).c_str());
+  return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   CLI::App app{
       "Strata: a map server for mobile robots on uneven, multi-level ground.\n"
@@ -29,12 +58,7 @@ int main(int argc, char** argv) {
 
   strata::app::ServeOptions serve_options;
   auto* serve_cmd = strata::app::add_serve_command(app, serve_options);
-  // Every serve option can also come from a config file: `strata serve --config strata.ini`, with the options
-  // by their long names under a [serve] section (deploy/strata.example.ini). The command line wins.
-  app.set_config("--config", "", "Read options from this file (INI/TOML; see deploy/strata.example.ini)");
-  // A key no option has is refused at start, not ignored: a misspelt `max-client` would otherwise leave the
-  // robot on the default without a word.
-  app.allow_config_extras(CLI::config_extras_mode::error);
+  allow_config_file(app);
 
   strata::app::RegisterOptions register_options;
   auto* register_cmd = strata::app::add_register_command(app, register_options);
@@ -50,14 +74,8 @@ int main(int argc, char** argv) {
 
   try {
     app.parse(argc, argv);
-  } catch (const CLI::ConfigError& e) {
-    // CLI11 says "INI was not able to parse serve.max-client"; say what that means and where to look.
-    std::cerr << "strata: config file: " << e.what()
-              << " (no option of that name; the keys are the long options of `strata serve --help`, under "
-                 "[serve])\n";
-    return e.get_exit_code();
-  } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+  } catch (const CLI::ParseError& error) {
+    return parse_failed(app, error);
   }
   // Logs go to stderr; stdout carries only what scripts read (the "serving on" line, command output).
   spdlog::set_default_logger(spdlog::stderr_color_mt("strata"));
@@ -74,11 +92,8 @@ int main(int argc, char** argv) {
       return strata::app::run_map_export(map_export);
     if (*plan_cmd)
       return strata::app::run_plan(plan_options);
-    if (*version_cmd) {
-      std::printf("strata %s\n%s\n", strata::build_info::version().c_str(),
-                  strata::build_info::libraries().dump(2).c_str());
-      return 0;
-    }
+    if (*version_cmd)
+      return print_version();
   } catch (const std::exception& error) {
     spdlog::error("{}", error.what());
     return 1;
