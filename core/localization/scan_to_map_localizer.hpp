@@ -17,11 +17,9 @@ struct LocalizerOptions {
   RegistrationOptions registration = default_registration();
   std::size_t local_map_scans = 10;  ///< the model set: what this many recent registered scans reached
   double local_map_voxel = 0.1;      ///< metres; the model set keeps one point per voxel of this size
-  /// Below this normal-matrix eigenvalue the paired surfaces barely constrain that eigenvector's direction
-  /// (a corridor's axis; both ways along an open plane): the translation along it is taken from odometry
-  /// and the rest from ICP. Above the
-  /// fault check's hard limit too, because ICP already slides along a corridor well before it is rejected
-  /// (real, well-constrained scans measure 0.08-0.17; see tests/bench/registration_bench.cpp).
+  /// Below this normal-matrix eigenvalue a direction (a corridor's axis) is taken from odometry and the rest
+  /// from ICP; above the fault check's hard limit, as ICP slides along a corridor well before it is
+  /// rejected (well-constrained real scans: docs/benchmarks.md, ICP).
   double weak_direction_guard = 0.05;
   /// Likewise for rotation (normalised eigenvalues): about an axis no surface resists (the vertical, over
   /// open ground), the turn is taken from odometry.
@@ -30,8 +28,7 @@ struct LocalizerOptions {
   /// Scan-to-map registration: the target is already in the map frame, so nothing may be cropped around
   /// its origin (the caller crops each scan around its own sensor). Point-to-plane: against a local map the
   /// normals are good, and over the simulated runs it drifts far less than point-to-point, which slides on
-  /// ground seen from two places (tests/bench/localization_bench.cpp: yard 300 s, 0.09 m vs 1.49 m final
-  /// error; campus two laps, 8.1 m vs 16.9 m).
+  /// ground seen from two places (docs/benchmarks.md, localization).
   static RegistrationOptions default_registration() {
     RegistrationOptions options;
     options.min_range = 0.0;

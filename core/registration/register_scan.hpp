@@ -16,9 +16,8 @@ namespace strata {
 /// guess that is off by more than the final (thesis) 0.25 m still finds its surfaces.
 struct RegistrationStage {
   double max_correspondence_distance = 0.25;  ///< metres
-  /// The source is thinned to one point per voxel of this size (metres) for this stage. The coarse stage
-  /// only has to bring the guess within the fine bound, and half as many points per axis do that as well:
-  /// it was 55 % of a pcl_room registration with the fine stage's points.
+  /// metres; the source is thinned to one point per voxel for this stage: the coarse stage only has to
+  /// bring the guess within the fine bound, which fewer points do as well (docs/benchmarks.md, ICP).
   double source_voxel_size = 0.3;
   double mse_change_threshold = 0.0;  ///< m^2; 0: not on the MSE (IcpOptions)
   double min_step_translation = 0.0;  ///< metres; with min_step_rotation, 0: not on the step (IcpOptions)
@@ -41,16 +40,15 @@ struct RegistrationOptions {
        .min_step_translation = 3e-4,
        .min_step_rotation = 0.003 * 3.14159265358979323846 / 180.0},
   };
-  /// metres. 10 cm rather than 5: the errors against the real pairs' references moved by at most 0.33 cm and
-  /// 0.03 degrees, and pcl_room went from 24 to 18 ms (half the target's points to index and search).
+  /// metres; 10 cm rather than 5 costs no accuracy on the real pairs and halves the target to index
+  /// (docs/benchmarks.md, ICP).
   double target_voxel_size = 0.1;
   double min_range = 0.3;  ///< drop returns closer than this to the sensor (the robot itself)
   /// What the stages share (metric, rotation solver, kernel, minimum pairs); each stage sets the bound
   /// and the stop.
   IcpOptions icp;
-  /// The degeneracy check estimates a normal at each paired target point: at most this many pairs, spread
-  /// evenly over the pairing (0: all). Its eigenvalues are means over the pairs, and on the real pairs a
-  /// sample of 512 changed them by at most 0.015 while it cut the check from 6 ms to 1.4 ms (pcl_room).
+  /// The degeneracy check's normals: at most this many pairs, spread evenly over the pairing (0: all); its
+  /// eigenvalues are means, which a sample estimates as well at a quarter of the cost (docs/benchmarks.md).
   std::size_t max_constraint_pairs = 512;
   FaultLimits limits;
 };
