@@ -7,7 +7,8 @@
 # Absolute destinations: these files belong where systemd and the admin look for them, whatever the prefix.
 install(FILES ${PROJECT_SOURCE_DIR}/deploy/strata.service DESTINATION /lib/systemd/system)
 install(FILES ${PROJECT_SOURCE_DIR}/deploy/strata.ini DESTINATION /etc/strata)
-install(FILES ${PROJECT_SOURCE_DIR}/README.md ${PROJECT_SOURCE_DIR}/deploy/strata.example.ini
+file(GLOB STRATA_DOCS ${PROJECT_SOURCE_DIR}/docs/*.md)
+install(FILES ${PROJECT_SOURCE_DIR}/README.md ${STRATA_DOCS} ${PROJECT_SOURCE_DIR}/deploy/strata.example.ini
         DESTINATION share/doc/strata)
 
 set(CPACK_GENERATOR DEB)
