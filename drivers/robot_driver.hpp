@@ -5,8 +5,8 @@
 #include <optional>
 #include <string>
 
-#include "drivers/scan_event.hpp"
 #include "drivers/robot_sample.hpp"
+#include "drivers/scan_event.hpp"
 
 namespace strata {
 
@@ -16,7 +16,7 @@ class World;
 
 /// Where the pipeline's data comes from (the simulator, a dataset replay, later a live sensor or a packet
 /// capture): a source of odometry samples and 3D scans, which may also take velocity commands and may
-/// have a simulated world to show. The server runs any of them the same way (ARCHITECTURE.md 3).
+/// have a simulated world to show. The server runs any of them the same way (docs/architecture.md 3).
 class RobotDriver {
  public:
   /// Called on the driver's thread for every odometry sample (newest state of the base).

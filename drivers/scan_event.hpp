@@ -10,7 +10,7 @@
 
 namespace strata {
 
-/// One full 3D scan as a driver hands it to the pipeline (ARCHITECTURE.md section 3).
+/// One full 3D scan as a driver hands it to the pipeline (docs/architecture.md 3).
 struct ScanEvent {
   double stamp = 0.0;                   ///< seconds; when the scan completed
   double duration = 0.0;                ///< seconds the scan took to take

@@ -25,7 +25,7 @@ ScanToMapLocalizer::ScanToMapLocalizer(LocalizerOptions options,
 }
 
 LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const Pose2& odometry) {
-  // Guess: the last correction carried forward by the odometry since (ARCHITECTURE.md 3, step 2).
+  // Guess: the last correction carried forward by the odometry since (docs/architecture.md 3, step 2).
   const Eigen::Isometry3d guess = global_.pose_isometry(odometry);
   LocalizationUpdate update;
   update.pose = guess;

@@ -14,7 +14,7 @@ struct DrivableMap {
   std::size_t free_cells = 0;
 };
 
-/// The occupancy at the robot's level (ARCHITECTURE.md 4.3): a flood fill from the patch under
+/// The occupancy at the robot's level (docs/architecture.md 4.3): a flood fill from the patch under
 /// `robot_ground` (the map-frame point the robot stands on) across links between traversable patches of
 /// 4-neighbouring cells whose heights differ by at most max_step, within `region`. Reached -> free; a cell
 /// with patches that the fill does not reach (a wall, a step, the deck above when the robot is on the road)

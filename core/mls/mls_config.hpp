@@ -2,7 +2,7 @@
 
 namespace strata {
 
-/// How an MLS map turns points into patches (Triebel, Pfaff, Burgard 2006; ARCHITECTURE.md 4.2).
+/// How an MLS map turns points into patches (Triebel, Pfaff, Burgard 2006; docs/architecture.md 4.2).
 struct MlsConfig {
   double resolution = 0.1;  ///< cell edge, metres
   /// gamma: a point whose vertical gap to every patch of its cell is at least this starts a new patch.

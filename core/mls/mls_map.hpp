@@ -38,7 +38,7 @@ struct MlsInsertStats {
 
 /// Multi-Level Surface map (Triebel, Pfaff, Burgard 2006): an unbounded 2D grid of cells in tiles kept in
 /// a hash map, each cell a short height-sorted list of horizontal and vertical patches. See
-/// ARCHITECTURE.md 4.2 for the rules; MlsConfig for the parameters.
+/// docs/architecture.md 4.2 for the rules; MlsConfig for the parameters.
 class MlsMap {
  public:
   explicit MlsMap(MlsConfig config = {});

@@ -9,7 +9,7 @@
 
 namespace strata {
 
-/// What the robot can drive on (ARCHITECTURE.md 4.3). Defaults: the thesis's wheelchair.
+/// What the robot can drive on (docs/architecture.md 4.3). Defaults: the thesis's wheelchair.
 struct TraversabilityConfig {
   double max_step = 0.08;     ///< highest step between neighbouring cells, metres
   double max_slope = 0.2618;  ///< steepest ground, radians (15 degrees)

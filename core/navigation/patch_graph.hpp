@@ -29,7 +29,7 @@ struct PatchGraphConfig {
   double comfortable_clearance = 1.0;
 };
 
-/// The drivable surfaces of an MLS map as a graph (ARCHITECTURE.md 4.3, across levels): one node per
+/// The drivable surfaces of an MLS map as a graph (docs/architecture.md 4.4, across levels): one node per
 /// traversable horizontal patch, an edge to the patch of each of the 8 neighbouring cells that it meets
 /// within max_step (diagonals only when both cells beside the diagonal meet it too: no corner cutting).
 /// Because nodes are patches, not cells, the deck of a bridge and the road under it are different nodes of

@@ -14,7 +14,7 @@ struct UnseenGapConfig {
   double max_grade = 0.1;
 };
 
-/// Inferred drivable surfaces where a scanner left gaps (ARCHITECTURE.md 4.4): along each of the four
+/// Inferred drivable surfaces where a scanner left gaps (docs/architecture.md 4.4): along each of the four
 /// grid lines through a measured drivable surface, an unseen stretch of up to max_gap that ends on another
 /// drivable surface at a compatible height gets surfaces at the interpolated heights. Why that is sound
 /// for open ground: the ray that found the far surface passed low over the stretch (its height above the

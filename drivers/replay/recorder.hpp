@@ -12,8 +12,8 @@
 #include <utility>
 #include <variant>
 
-#include "drivers/scan_event.hpp"
 #include "drivers/robot_sample.hpp"
+#include "drivers/scan_event.hpp"
 
 namespace strata::replay {
 

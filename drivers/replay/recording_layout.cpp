@@ -49,7 +49,8 @@ std::string odometry_csv_header() {
 }
 
 std::string odometry_csv_row(const RobotSample& sample) {
-  return fmt::format("{},{},{}\n", number(sample.stamp), pose(sample.odometry), sample.truth ? pose(*sample.truth) : std::string(",,,,,"));
+  return fmt::format("{},{},{}\n", number(sample.stamp), pose(sample.odometry),
+                     sample.truth ? pose(*sample.truth) : std::string(",,,,,"));
 }
 
 std::string scan_file_name(std::size_t index) {

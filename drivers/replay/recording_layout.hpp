@@ -3,8 +3,8 @@
 #include <string>
 #include <string_view>
 
-#include "drivers/scan_event.hpp"
 #include "drivers/robot_sample.hpp"
+#include "drivers/scan_event.hpp"
 
 namespace strata::replay {
 

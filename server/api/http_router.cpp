@@ -8,8 +8,8 @@
 #include <utility>
 
 #include "server/api/responses.hpp"
-#include "server/auth/request_auth.hpp"
 #include "server/api/static_files.hpp"
+#include "server/auth/request_auth.hpp"
 #include "server/protocol/messages.hpp"
 
 namespace strata::api {
@@ -49,8 +49,9 @@ protocol::HttpResponse HttpRouter::handle(const protocol::HttpRequest& request) 
   }
 }
 
-std::optional<protocol::HttpResponse> HttpRouter::route_api(const protocol::HttpRequest& request, std::string_view path,
-                                                       std::string_view query) const {
+std::optional<protocol::HttpResponse> HttpRouter::route_api(const protocol::HttpRequest& request,
+                                                            std::string_view path,
+                                                            std::string_view query) const {
   // Read-only endpoints first: one Allow list for all of them.
   const auto read_only = [&](auto&& answer) -> protocol::HttpResponse {
     if (!is_read(request))
@@ -94,7 +95,8 @@ std::optional<protocol::HttpResponse> HttpRouter::route_api(const protocol::Http
   return std::nullopt;
 }
 
-std::optional<protocol::HttpResponse> HttpRouter::require_operator(const protocol::HttpRequest& request) const {
+std::optional<protocol::HttpResponse> HttpRouter::require_operator(
+    const protocol::HttpRequest& request) const {
   switch (auth::authenticate(request, services_.network.operator_token)) {
     case auth::AuthOutcome::kOperator:
       return std::nullopt;
@@ -108,7 +110,8 @@ std::optional<protocol::HttpResponse> HttpRouter::require_operator(const protoco
                         "this needs the operator token (Authorization: Bearer <token>)");
 }
 
-protocol::HttpResponse HttpRouter::serve_static(const protocol::HttpRequest& request, std::string_view path) const {
+protocol::HttpResponse HttpRouter::serve_static(const protocol::HttpRequest& request,
+                                                std::string_view path) const {
   if (!is_read(request)) {
     auto response = make_response(request, http::status::method_not_allowed, "method not allowed\n",
                                   "text/plain; charset=utf-8");

@@ -4,10 +4,10 @@
 #include <string>
 #include <string_view>
 
-#include "server/streams/client_hub.hpp"
-#include "server/protocol/http_types.hpp"
-#include "server/streams/server_metrics.hpp"
 #include "server/control/server_services.hpp"
+#include "server/protocol/http_types.hpp"
+#include "server/streams/client_hub.hpp"
+#include "server/streams/server_metrics.hpp"
 #include "server/streams/status_stream.hpp"
 
 namespace strata::api {
@@ -23,21 +23,26 @@ class HttpRouter {
 
  private:
   [[nodiscard]] std::optional<protocol::HttpResponse> route_api(const protocol::HttpRequest& request,
-                                                           std::string_view path,
-                                                           std::string_view query) const;
-  [[nodiscard]] protocol::HttpResponse serve_static(const protocol::HttpRequest& request, std::string_view path) const;
+                                                                std::string_view path,
+                                                                std::string_view query) const;
+  [[nodiscard]] protocol::HttpResponse serve_static(const protocol::HttpRequest& request,
+                                                    std::string_view path) const;
   /// nullopt when the request carries the operator token; else the 401 to answer with.
-  [[nodiscard]] std::optional<protocol::HttpResponse> require_operator(const protocol::HttpRequest& request) const;
+  [[nodiscard]] std::optional<protocol::HttpResponse> require_operator(
+      const protocol::HttpRequest& request) const;
 
   // api/goal_endpoints.cpp
   [[nodiscard]] protocol::HttpResponse goal(const protocol::HttpRequest& request) const;
   [[nodiscard]] protocol::HttpResponse path(const protocol::HttpRequest& request) const;
   // api/map_endpoints.cpp
-  [[nodiscard]] protocol::HttpResponse map_download(const protocol::HttpRequest& request, std::string_view query) const;
+  [[nodiscard]] protocol::HttpResponse map_download(const protocol::HttpRequest& request,
+                                                    std::string_view query) const;
   [[nodiscard]] protocol::HttpResponse occupancy(const protocol::HttpRequest& request) const;
   [[nodiscard]] protocol::HttpResponse tile_index(const protocol::HttpRequest& request) const;
-  [[nodiscard]] protocol::HttpResponse tile(const protocol::HttpRequest& request, std::string_view coordinates) const;
-  [[nodiscard]] protocol::HttpResponse maps(const protocol::HttpRequest& request, std::string_view rest) const;
+  [[nodiscard]] protocol::HttpResponse tile(const protocol::HttpRequest& request,
+                                            std::string_view coordinates) const;
+  [[nodiscard]] protocol::HttpResponse maps(const protocol::HttpRequest& request,
+                                            std::string_view rest) const;
   // api/metrics_endpoint.cpp
   [[nodiscard]] protocol::HttpResponse metrics(const protocol::HttpRequest& request) const;
 

@@ -46,8 +46,8 @@ std::string_view query_value(std::string_view query, std::string_view name) {
 }
 
 /// A response that can be answered 304 when the client has it already.
-protocol::HttpResponse cacheable(const protocol::HttpRequest& request, std::string body, std::string_view content_type,
-                            const std::string& etag) {
+protocol::HttpResponse cacheable(const protocol::HttpRequest& request, std::string body,
+                                 std::string_view content_type, const std::string& etag) {
   if (etag_matches(request[http::field::if_none_match], etag)) {
     protocol::HttpResponse response{http::status::not_modified, request.version()};
     response.set(http::field::server, "strata");
@@ -64,7 +64,8 @@ protocol::HttpResponse cacheable(const protocol::HttpRequest& request, std::stri
 
 }  // namespace
 
-protocol::HttpResponse HttpRouter::map_download(const protocol::HttpRequest& request, std::string_view query) const {
+protocol::HttpResponse HttpRouter::map_download(const protocol::HttpRequest& request,
+                                                std::string_view query) const {
   if (services_.maps == nullptr) {
     return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
                           "maps are not available on this server");
@@ -133,7 +134,8 @@ protocol::HttpResponse HttpRouter::tile_index(const protocol::HttpRequest& reque
       nlohmann::json{{"version", snapshot ? snapshot->version : 0}, {"tiles", std::move(tiles)}}.dump());
 }
 
-protocol::HttpResponse HttpRouter::tile(const protocol::HttpRequest& request, std::string_view coordinates) const {
+protocol::HttpResponse HttpRouter::tile(const protocol::HttpRequest& request,
+                                        std::string_view coordinates) const {
   // "{x}/{y}", integers.
   const std::size_t slash = coordinates.find('/');
   int x = 0;

@@ -72,7 +72,8 @@ protocol::HttpResponse HttpRouter::metrics(const protocol::HttpRequest& request)
   metric(out, "strata_map_patches", "gauge", "MLS map patches", map["patches"].get<double>());
   metric(out, "strata_map_bytes", "gauge", "MLS map memory, bytes", map["bytes"].get<double>());
 
-  auto response = make_response(request, protocol::http::status::ok, std::move(out), "text/plain; version=0.0.4");
+  auto response =
+      make_response(request, protocol::http::status::ok, std::move(out), "text/plain; version=0.0.4");
   response.set(protocol::http::field::cache_control, "no-store");
   return response;
 }

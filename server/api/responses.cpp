@@ -6,8 +6,8 @@ namespace strata::api {
 
 namespace http = protocol::http;
 
-protocol::HttpResponse make_response(const protocol::HttpRequest& request, http::status status, std::string body,
-                                std::string_view content_type) {
+protocol::HttpResponse make_response(const protocol::HttpRequest& request, http::status status,
+                                     std::string body, std::string_view content_type) {
   protocol::HttpResponse response{status, request.version()};
   response.set(http::field::server, "strata");
   response.set(http::field::content_type, content_type);
@@ -19,14 +19,15 @@ protocol::HttpResponse make_response(const protocol::HttpRequest& request, http:
   return response;
 }
 
-protocol::HttpResponse json_response(const protocol::HttpRequest& request, http::status status, std::string body) {
+protocol::HttpResponse json_response(const protocol::HttpRequest& request, http::status status,
+                                     std::string body) {
   auto response = make_response(request, status, std::move(body), "application/json");
   response.set(http::field::cache_control, "no-store");
   return response;
 }
 
 protocol::HttpResponse error_response(const protocol::HttpRequest& request, http::status status,
-                                 protocol::ErrorCode code, std::string_view message) {
+                                      protocol::ErrorCode code, std::string_view message) {
   auto response = json_response(request, status, protocol::rest_error(code, message));
   if (status == http::status::unauthorized)
     response.set(http::field::www_authenticate, "Bearer realm=\"strata\"");
@@ -34,7 +35,7 @@ protocol::HttpResponse error_response(const protocol::HttpRequest& request, http
 }
 
 protocol::HttpResponse command_error(const protocol::HttpRequest& request, std::string_view code,
-                                std::string_view message) {
+                                     std::string_view message) {
   http::status status = http::status::internal_server_error;
   if (code == "bad_params" || code == "bad_request")
     status = http::status::bad_request;

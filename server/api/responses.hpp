@@ -9,17 +9,20 @@
 namespace strata::api {
 
 /// Building REST responses: one place for the headers every answer carries.
-[[nodiscard]] protocol::HttpResponse make_response(const protocol::HttpRequest& request, protocol::http::status status,
-                                              std::string body, std::string_view content_type);
-[[nodiscard]] protocol::HttpResponse json_response(const protocol::HttpRequest& request, protocol::http::status status,
-                                              std::string body);
-[[nodiscard]] protocol::HttpResponse error_response(const protocol::HttpRequest& request, protocol::http::status status,
-                                               protocol::ErrorCode code, std::string_view message);
+[[nodiscard]] protocol::HttpResponse make_response(const protocol::HttpRequest& request,
+                                                   protocol::http::status status, std::string body,
+                                                   std::string_view content_type);
+[[nodiscard]] protocol::HttpResponse json_response(const protocol::HttpRequest& request,
+                                                   protocol::http::status status, std::string body);
+[[nodiscard]] protocol::HttpResponse error_response(const protocol::HttpRequest& request,
+                                                    protocol::http::status status, protocol::ErrorCode code,
+                                                    std::string_view message);
 /// An error whose code came as text from a command (CommandResult); the HTTP status follows the code.
-[[nodiscard]] protocol::HttpResponse command_error(const protocol::HttpRequest& request, std::string_view code,
-                                              std::string_view message);
+[[nodiscard]] protocol::HttpResponse command_error(const protocol::HttpRequest& request,
+                                                   std::string_view code, std::string_view message);
 /// 405 with the Allow header.
-[[nodiscard]] protocol::HttpResponse method_not_allowed(const protocol::HttpRequest& request, std::string_view allow);
+[[nodiscard]] protocol::HttpResponse method_not_allowed(const protocol::HttpRequest& request,
+                                                        std::string_view allow);
 
 [[nodiscard]] bool is_read(const protocol::HttpRequest& request);
 

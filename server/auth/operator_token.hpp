@@ -6,7 +6,7 @@
 namespace strata::auth {
 
 /// Who a request or a connection speaks for. Anyone allowed to connect may watch; moving the robot and
-/// saving or loading the map need the operator token (ARCHITECTURE.md 6).
+/// saving or loading the map need the operator token (docs/architecture.md 6).
 enum class Role { kViewer, kOperator };
 
 /// Equality whose running time depends only on the length of `expected`, not on where the strings differ:

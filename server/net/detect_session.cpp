@@ -55,7 +55,8 @@ void DetectSession::on_plain_header(beast::error_code error, std::size_t /*bytes
   if (error)
     return;  // not HTTP either: close
   spdlog::debug("refused a plain HTTP request: this server speaks HTTPS only");
-  refusal_ = std::make_shared<protocol::HttpResponse>(http::status::bad_request, plain_request_->get().version());
+  refusal_ =
+      std::make_shared<protocol::HttpResponse>(http::status::bad_request, plain_request_->get().version());
   refusal_->set(http::field::server, "strata");
   refusal_->set(http::field::content_type, "application/json");
   refusal_->body() = protocol::rest_error(

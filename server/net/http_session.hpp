@@ -6,9 +6,9 @@
 #include <memory>
 #include <optional>
 
-#include "server/protocol/http_types.hpp"
 #include "server/net/server_context.hpp"
 #include "server/net/transport.hpp"
+#include "server/protocol/http_types.hpp"
 
 namespace strata::net {
 

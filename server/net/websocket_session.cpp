@@ -60,8 +60,8 @@ WebSocketSession<Stream>::WebSocketSession(Stream&& stream, std::shared_ptr<Serv
 
 template <class Stream>
 WebSocketSession<Stream>::~WebSocketSession() {
-  // A dropped connection stops the robot it was driving by hand (ARCHITECTURE.md 6), and cancels the goal
-  // it set if that goal is still the one being driven: an operator who is gone cannot watch or stop the
+  // A dropped connection stops the robot it was driving by hand (docs/architecture.md 6), and cancels the
+  // goal it set if that goal is still the one being driven: an operator who is gone cannot watch or stop the
   // robot any more. (A goal set over REST has no connection and runs on.)
   if (teleoperating_ && context_->services.motion != nullptr)
     context_->services.motion->stop_teleop();
@@ -106,17 +106,17 @@ void WebSocketSession<Stream>::on_accept(beast::error_code error) {
   // broadcasts reach us as posted handlers, so they queue after the state, and a frame that is in both
   // is dropped as stale by the queue (same order). Nothing is missed between snapshot and joining.
   context_->hub.join(this->shared_from_this());
-  enqueue(
-      streams::OutgoingMessage::text(protocol::hello_message(role_ == auth::Role::kOperator ? "operator" : "viewer")));
+  enqueue(streams::OutgoingMessage::text(
+      protocol::hello_message(role_ == auth::Role::kOperator ? "operator" : "viewer")));
   if (!context_->sim_world_message.empty())
     enqueue(streams::OutgoingMessage::text(context_->sim_world_message));
   nlohmann::json status = context_->status.fields();
   status["op"] = "status";
   enqueue(streams::OutgoingMessage::text(status.dump(), "status", std::nullopt,
-                                static_cast<std::uint8_t>(protocol::Stream::kStatus)));
+                                         static_cast<std::uint8_t>(protocol::Stream::kStatus)));
   if (const auto robot = context_->services.robot->snapshot()) {
     enqueue(streams::OutgoingMessage::text(protocol::pose_message(*robot), "pose", robot->sample.stamp,
-                                  static_cast<std::uint8_t>(protocol::Stream::kPose)));
+                                           static_cast<std::uint8_t>(protocol::Stream::kPose)));
   }
   for (auto& message : context_->current_state())
     enqueue(std::move(message));

@@ -8,14 +8,14 @@
 #include <string_view>
 
 #include "server/auth/operator_token.hpp"
-#include "server/streams/client_hub.hpp"
 #include "server/net/connection_limit.hpp"
-#include "server/protocol/http_types.hpp"
 #include "server/net/rate_limiter.hpp"
 #include "server/net/send_queue.hpp"
 #include "server/net/server_context.hpp"
 #include "server/net/transport.hpp"
 #include "server/protocol/client_messages.hpp"
+#include "server/protocol/http_types.hpp"
+#include "server/streams/client_hub.hpp"
 
 namespace strata::net {
 

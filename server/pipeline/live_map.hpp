@@ -21,7 +21,7 @@ struct LiveMapOptions {
   encoding::TileCodecOptions codec;
 };
 
-/// Where one scan's mapping time went (ARCHITECTURE.md 3, steps 6-8), milliseconds.
+/// Where one scan's mapping time went (docs/architecture.md 3, steps 6-8), milliseconds.
 struct MappingTimes {
   double insert_ms = 0.0;    ///< step 6: points into the MLS map
   double drivable_ms = 0.0;  ///< step 7: classification and flood fill over the changed region

@@ -16,7 +16,7 @@ namespace strata::pipeline {
 /// The pipeline worker for localization: takes scans from the driver thread without blocking it, registers
 /// each on its own thread, and publishes the corrected pose and the registration status. When scans come
 /// faster than registration (a 10 Hz lidar), the newest waiting scan replaces an older one: the pose
-/// stays current and the driver never waits (ARCHITECTURE.md 3).
+/// stays current and the driver never waits (docs/architecture.md 3).
 class LocalizerWorker {
  public:
   LocalizerWorker(RobotState& state, LocalizerOptions options,

@@ -35,7 +35,7 @@ struct MappingStatus {
   MappingTimes last;
 };
 
-/// The pipeline worker for the map (ARCHITECTURE.md 3, steps 6-8) on its own thread: inserts each
+/// The pipeline worker for the map (docs/architecture.md 3, steps 6-8) on its own thread: inserts each
 /// registered scan at full resolution into the live map, recomputes the drivable map at the robot's level
 /// for the changed region, re-encodes the changed tiles and the occupancy image, publishes the snapshot
 /// into MapState, then tells the listeners. Map commands (save, load, list, download) run on the same

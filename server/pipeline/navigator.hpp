@@ -30,7 +30,7 @@ struct NavigatorConfig {
   double stuck_after = 20.0;
 };
 
-/// Drives the robot to operators' goals (ARCHITECTURE.md 4.4): plans across levels on the patch graph of
+/// Drives the robot to operators' goals (docs/architecture.md 4.4): plans across levels on the patch graph of
 /// the latest map, follows the path with pure pursuit on the localized pose, replans on every new map (a
 /// path a new scan blocks is left, a shorter one that a scan reveals is taken), and passes teleoperation
 /// through. Thread-safe: operators call MotionCommands from the network threads, the mapping worker calls

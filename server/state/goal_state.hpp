@@ -8,7 +8,7 @@
 
 namespace strata {
 
-/// A goal's life (ARCHITECTURE.md 4.4): accepted -> planning -> driving -> reached | failed | cancelled.
+/// A goal's life (docs/architecture.md 4.4): accepted -> planning -> driving -> reached | failed | cancelled.
 enum class GoalPhase { kAccepted, kPlanning, kDriving, kReached, kFailed, kCancelled };
 
 [[nodiscard]] inline const char* to_string(GoalPhase phase) {

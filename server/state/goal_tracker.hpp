@@ -7,7 +7,7 @@
 
 namespace strata {
 
-/// One goal's life (ARCHITECTURE.md 4.4): accepted -> planning -> driving -> reached | failed(reason) |
+/// One goal's life (docs/architecture.md 4.4): accepted -> planning -> driving -> reached | failed(reason) |
 /// cancelled, with one active goal at a time: a new goal replaces the old one. Transitions that do not
 /// follow the arrows are refused (return false) and change nothing, so a late planner result cannot
 /// revive a goal that was cancelled or replaced meanwhile. Not thread-safe: its owner locks.

@@ -45,9 +45,9 @@ std::vector<streams::OutgoingMessage> MapStream::poll() {
 
   if (snapshot->occupancy && snapshot->occupancy.get() != occupancy_identity_) {
     occupancy_identity_ = snapshot->occupancy.get();
-    occupancy_ = streams::OutgoingMessage::binary_frame(protocol::encode_occupancy_frame(*snapshot->occupancy),
-                                                    "occupancy", ++sequence_,
-                                                    static_cast<std::uint8_t>(protocol::Stream::kOccupancy));
+    occupancy_ = streams::OutgoingMessage::binary_frame(
+        protocol::encode_occupancy_frame(*snapshot->occupancy), "occupancy", ++sequence_,
+        static_cast<std::uint8_t>(protocol::Stream::kOccupancy));
     changed.push_back(*occupancy_);
   }
   last_ = snapshot.get();

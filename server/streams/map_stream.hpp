@@ -8,8 +8,8 @@
 #include <utility>
 #include <vector>
 
-#include "server/streams/outgoing_message.hpp"
 #include "server/state/map_state.hpp"
+#include "server/streams/outgoing_message.hpp"
 
 namespace strata::streams {
 

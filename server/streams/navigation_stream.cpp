@@ -20,14 +20,14 @@ std::vector<streams::OutgoingMessage> NavigationStream::poll() {
   if (!goal_ || !same_goal(*goal_, goal)) {
     goal_ = goal;
     goal_message_ = streams::OutgoingMessage::text(protocol::goal_message(goal), "goal", ++sequence_,
-                                               static_cast<std::uint8_t>(protocol::Stream::kGoal));
+                                                   static_cast<std::uint8_t>(protocol::Stream::kGoal));
     changed.push_back(*goal_message_);
   }
   if (!path_sent_ || path != path_) {
     path_ = path;
     path_sent_ = true;
     path_message_ = streams::OutgoingMessage::text(protocol::path_message(path.get()), "path", ++sequence_,
-                                               static_cast<std::uint8_t>(protocol::Stream::kPath));
+                                                   static_cast<std::uint8_t>(protocol::Stream::kPath));
     changed.push_back(*path_message_);
   }
   return changed;

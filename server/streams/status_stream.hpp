@@ -6,10 +6,10 @@
 #include <string>
 #include <utility>
 
-#include "server/streams/client_hub.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/state/map_state.hpp"
 #include "server/state/robot_state.hpp"
+#include "server/streams/client_hub.hpp"
 
 namespace strata::streams {
 

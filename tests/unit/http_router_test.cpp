@@ -63,7 +63,7 @@ class RecordingMaps : public MapCommands {
 };
 
 ServerServices services_for(const RobotState& robot, const MapState& map, MotionCommands& motion,
-                                 MapCommands& maps, const sim::World& world) {
+                            MapCommands& maps, const sim::World& world) {
   ServerServices services;
   services.robot = &robot;
   services.map = &map;

@@ -74,7 +74,8 @@ TEST(SendQueue, CoalescingMessagesAreBoundedByTheirKeysNotTheCapacity) {
   queue.finish_write();
   // Tile 0 was written; its next version queues at the back, tile 1's replaces in place.
   EXPECT_EQ(queue.push(streams::OutgoingMessage::text("t0v4", "tile:0", 4)), SendQueue::PushResult::kQueued);
-  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("t1v4", "tile:1", 4)), SendQueue::PushResult::kCoalesced);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("t1v4", "tile:1", 4)),
+            SendQueue::PushResult::kCoalesced);
   EXPECT_EQ(body(queue.start_write()), "t1v4");
   queue.finish_write();
   std::string last;
@@ -94,13 +95,17 @@ TEST(SendQueue, AnOlderTileVersionIsDropped) {
 
 TEST(SendQueue, AStreamNeverGoesBackwardsOrRepeats) {
   SendQueue queue(8);
-  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@2", "pose", 2.0)), SendQueue::PushResult::kQueued);
-  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@2 again", "pose", 2.0)), SendQueue::PushResult::kStale);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@2", "pose", 2.0)),
+            SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@2 again", "pose", 2.0)),
+            SendQueue::PushResult::kStale);
   EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@1", "pose", 1.0)), SendQueue::PushResult::kStale);
   ASSERT_NE(queue.start_write(), nullptr);
   queue.finish_write();
-  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@1.5", "pose", 1.5)), SendQueue::PushResult::kStale);
-  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@3", "pose", 3.0)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@1.5", "pose", 1.5)),
+            SendQueue::PushResult::kStale);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@3", "pose", 3.0)),
+            SendQueue::PushResult::kQueued);
   EXPECT_EQ(body(queue.start_write()), "pose@3");
 }
 
@@ -108,10 +113,12 @@ TEST(SendQueue, AZeroStampIsAnOrderLikeAnyOther) {
   // The simulator's first pose is stamped 0: the late joiner's snapshot and the first broadcast both carry
   // it, and the client must see it once.
   SendQueue queue(8);
-  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@0", "pose", 0.0)), SendQueue::PushResult::kQueued);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@0", "pose", 0.0)),
+            SendQueue::PushResult::kQueued);
   ASSERT_NE(queue.start_write(), nullptr);
   queue.finish_write();
-  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@0 again", "pose", 0.0)), SendQueue::PushResult::kStale);
+  EXPECT_EQ(queue.push(streams::OutgoingMessage::text("pose@0 again", "pose", 0.0)),
+            SendQueue::PushResult::kStale);
   // Unordered messages (status) always supersede.
   EXPECT_EQ(queue.push(streams::OutgoingMessage::text("s1", "status")), SendQueue::PushResult::kQueued);
   EXPECT_EQ(queue.push(streams::OutgoingMessage::text("s2", "status")), SendQueue::PushResult::kCoalesced);

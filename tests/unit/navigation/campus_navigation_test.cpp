@@ -62,8 +62,8 @@ class Trip {
     if (std::getenv("STRATA_TRACE") && ++steps_ % 10 == 0) {
       const auto s = simulator_.sample();
       std::printf("t %.1f pose %.2f %.2f %.2f yaw %.2f v %.2f w %.2f blocked '%s' phase %s %s\n", s.stamp,
-                  s.truth->position.x(), s.truth->position.y(), s.truth->position.z(), s.truth->yaw, s.velocity.v,
-                  s.velocity.w, s.blocked_by.c_str(), to_string(navigator_.goal_status().phase),
+                  s.truth->position.x(), s.truth->position.y(), s.truth->position.z(), s.truth->yaw,
+                  s.velocity.v, s.velocity.w, s.blocked_by.c_str(), to_string(navigator_.goal_status().phase),
                   navigator_.goal_status().reason.c_str());
     }
     scanned_ = scanned_ || simulator_.sample().scanning;
