@@ -2,7 +2,7 @@
 // robot drives its world's demo route for a while and its scans are mapped at their true poses, as the
 // live server maps them (0.1 m MLS). Then every place that a survey of the world says the robot can
 // reach with room to spare, and that the live map has measured at that height, is tried as a goal from
-// where the robot stands (tests/unit/navigation/seen_goals.hpp). Not a test: it prints one line per
+// where the robot stands (tests/support/seen_goals.hpp). Not a test: it prints one line per
 // measurement, "key=value" separated by spaces.
 //
 //   strata_live_navigation_bench [--world yard|campus] [--scanner tilting|lidar] [--seconds S]
@@ -31,7 +31,7 @@
 #include "core/mls/mls_file.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
-#include "tests/unit/navigation/seen_goals.hpp"
+#include "tests/support/seen_goals.hpp"
 
 namespace {
 

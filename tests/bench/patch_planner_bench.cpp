@@ -4,7 +4,7 @@
 //
 //   strata_patch_planner_bench [--resolution METRES] [--repeats N]
 //
-//   map      the surveyed campus (tests/unit/navigation/world_survey.hpp): cells, patches, ms to build
+//   map      the surveyed campus (tests/support/world_survey.hpp): cells, patches, ms to build
 //   prepare  ms to flatten the map (SurfaceGrid, on the mapping thread), to build the patch graph, and to
 //            compute the drivable map and the occupancy planner (inflation, regions)
 //   query    per goal: ms per query (median of --repeats) of the patch-graph A* and, for goals on the
@@ -23,7 +23,7 @@
 #include "core/navigation/patch_graph_planner.hpp"
 #include "core/planning/grid_planner.hpp"
 #include "drivers/sim/world/world_file.hpp"
-#include "tests/unit/navigation/world_survey.hpp"
+#include "tests/support/world_survey.hpp"
 
 namespace {
 

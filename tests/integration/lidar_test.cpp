@@ -13,7 +13,7 @@
 
 #include "integration/clients.hpp"
 #include "integration/server_process.hpp"
-#include "tests/unit/lidar/lidar_loopback.hpp"
+#include "tests/unit/drivers/lidar/lidar_loopback.hpp"
 
 namespace strata::testing {
 namespace {

@@ -1,6 +1,7 @@
-// The include order that docs/architecture.md section 2 documents: core <- drivers <- server, and inside
-// server/ the folder order on the doc's "server:" line. A folder includes only itself and the folders before
-// it, so there is no include cycle between folders; this test fails on the first include that breaks it.
+// The layout that docs/architecture.md section 2 documents. The include order: core <- drivers <- server, and
+// inside server/ the folder order on the doc's "server:" line. A folder includes only itself and the folders
+// before it, so there is no include cycle between folders; this test fails on the first include that breaks
+// it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -118,6 +119,18 @@ TEST(Layering, OnlyTheAppKnowsTheSimulator) {
     if (include.target == "drivers/sim/simulator.hpp") {
       EXPECT_EQ(component(include.file.generic_string(), 1), "app") << include.file.generic_string();
     }
+  }
+}
+
+TEST(Layering, UnitTestsMirrorTheSourceTree) {
+  // tests/unit/core/mls/mls_map_test.cpp tests core/mls/: a newcomer finds a folder's tests by its path.
+  const auto unit = kSourceDir / "tests" / "unit";
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(unit)) {
+    if (!entry.is_regular_file() || entry.path().parent_path() == unit)
+      continue;  // tests of the whole tree (this one) sit at the top
+    const auto folder = std::filesystem::relative(entry.path().parent_path(), unit);
+    EXPECT_TRUE(std::filesystem::is_directory(kSourceDir / folder))
+        << "tests/unit/" << folder.generic_string() << " has no source folder " << folder.generic_string();
   }
 }
 

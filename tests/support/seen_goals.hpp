@@ -1,0 +1,73 @@
+#pragma once
+
+#include <Eigen/Core>
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "core/navigation/patch_graph_planner.hpp"
+#include "drivers/scan_event.hpp"
+#include "drivers/sim/world/world.hpp"
+#include "tests/support/world_survey.hpp"
+
+namespace strata::test {
+
+/// Maps a simulated scan at its true pose, as the mapping worker maps a registered one.
+inline void map_at_truth(MlsMap& map, const ScanEvent& scan, double min_range = 0.3) {
+  const Eigen::Isometry3d map_from_sensor = scan.truth->to_isometry() * scan.sensor_to_base;
+  PointCloud points;
+  for (const Eigen::Vector3f& p : scan.points) {
+    const double range = p.cast<double>().norm();
+    if (range > min_range && (scan.max_range <= 0.0 || range < scan.max_range - 1e-3))
+      points.push_back(map_from_sensor * p.cast<double>());
+  }
+  map.insert_scan(points, map_from_sensor.translation());
+}
+
+/// One goal an operator could pick on the live map, and what the planner made of it.
+struct SeenGoal {
+  Eigen::Vector3d position;
+  double distance = 0.0;  ///< from the robot, in the plane
+  PatchPath path;
+  double plan_ms = 0.0;
+};
+
+/// Every place (on a grid of `spacing`) that a survey of the world says the robot can reach with room to
+/// spare (0.2 m beyond its radius: a wall scanned from afar is a cell thicker than surveyed), and that the
+/// live map has measured at that height, planned to from `robot` on the live graph `seen`.
+inline std::vector<SeenGoal> plan_to_seen_goals(const sim::World& world, const PatchGraph& seen,
+                                                const Eigen::Vector3d& robot, double spacing = 0.5) {
+  const auto bounds = world.bounds();
+  const MlsMap surveyed =
+      survey_world(world, bounds.min.x(), bounds.min.y(), bounds.max.x(), bounds.max.y(), seen.resolution());
+  const PatchGraph truth(
+      std::make_shared<const SurfaceGrid>(surveyed, CellRegion::of_tiles(surveyed.tile_indices()),
+                                          seen.config().traversability),
+      seen.resolution(), seen.config());
+  const auto robot_node = truth.locate(robot.x(), robot.y(), robot.z(), 0.5, 1.0);
+  const std::uint32_t robot_component = robot_node ? truth.component(*robot_node) : PatchGraph::kNone;
+  const int step = std::max(1, static_cast<int>(std::lround(spacing / seen.resolution())));
+  std::vector<SeenGoal> goals;
+  for (PatchGraph::Node node = 0; node < truth.node_count(); ++node) {
+    const auto [col, row] = truth.cell(node);
+    if (col % step != 0 || row % step != 0 || !truth.passable(node) ||
+        truth.component(node) != robot_component ||
+        static_cast<double>(truth.clearance(node)) < seen.config().robot_radius + 0.2)
+      continue;
+    const Eigen::Vector3d goal = truth.position(node);
+    const auto measured = seen.locate(goal.x(), goal.y(), goal.z(), 0.2);
+    if (!measured || seen.inferred(*measured))
+      continue;
+    const auto start = std::chrono::steady_clock::now();
+    PatchPath path = plan_on_patches(seen, robot, {.x = goal.x(), .y = goal.y(), .z = goal.z()});
+    const double ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    goals.push_back({goal, std::hypot(goal.x() - robot.x(), goal.y() - robot.y()), std::move(path), ms});
+  }
+  return goals;
+}
+
+}  // namespace strata::test

@@ -1,0 +1,80 @@
+#include "core/localization/local_map.hpp"
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "core/points/voxel_downsample.hpp"
+#include "core/points/voxel_key.hpp"
+#include "tests/support/synthetic_scenes.hpp"
+
+namespace strata {
+namespace {
+
+std::set<VoxelKey> voxels_of(const PointCloud& points, double voxel) {
+  std::set<VoxelKey> keys;
+  for (const Eigen::Vector3d& p : points)
+    keys.insert(voxel_key(voxel_cell(p, 1.0 / voxel)));
+  return keys;
+}
+
+PointCloud shifted(PointCloud points, double dx) {
+  for (Eigen::Vector3d& p : points)
+    p.x() += dx;
+  return points;
+}
+
+// The map holds what thinning the concatenation of the last N scans holds: the same voxels, one point each.
+TEST(LocalMap, HoldsTheVoxelsOfTheLastScans) {
+  const double voxel = 0.1;
+  const std::size_t keep = 3;
+  LocalMap map(voxel, keep);
+  std::vector<PointCloud> scans;
+  for (int i = 0; i < 6; ++i) {
+    scans.push_back(shifted(test::room_scene(0.05, 0.0, static_cast<unsigned>(i)), 0.7 * i));
+    map.add(scans.back());
+    PointCloud recent;
+    for (std::size_t k = scans.size() > keep ? scans.size() - keep : 0; k < scans.size(); ++k)
+      recent.insert(recent.end(), scans[k].begin(), scans[k].end());
+    EXPECT_EQ(voxels_of(map.points(), voxel), voxels_of(voxel_downsample(recent, voxel), voxel))
+        << "scan " << i;
+    EXPECT_EQ(map.size(), voxels_of(map.points(), voxel).size()) << "one point per voxel";
+  }
+}
+
+// A voxel a newer scan reached again stays, with its first point; one no recent scan reached expires.
+TEST(LocalMap, RevisitedVoxelsStayAndKeepTheirFirstPoint) {
+  LocalMap map(1.0, 2);
+  map.add({{0.1, 0.1, 0.1}, {5.1, 0.1, 0.1}});
+  map.add({{0.9, 0.9, 0.9}});
+  map.add({{0.5, 0.5, 0.5}});  // (5, 0, 0) was last reached two scans ago: expired
+  ASSERT_EQ(map.size(), 1U);
+  EXPECT_EQ(map.points().front(), Eigen::Vector3d(0.1, 0.1, 0.1));
+  map.add({{7.5, 0.5, 0.5}});
+  map.add({{7.5, 0.5, 0.5}});  // (0, 0, 0) last reached three scans ago
+  ASSERT_EQ(map.size(), 1U);
+  EXPECT_EQ(map.points().front(), Eigen::Vector3d(7.5, 0.5, 0.5));
+}
+
+// Normals estimated against the map travel with their points through growth and expiry; ones that do not
+// match the map are dropped.
+TEST(LocalMap, CarriesNormalsWithTheirPoints) {
+  LocalMap map(1.0, 2);
+  map.add({{0.5, 0.5, 0.5}, {1.5, 0.5, 0.5}});
+  LazyNormals::Estimates estimates;
+  estimates.normals = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()};
+  estimates.states = {LazyNormals::State::kValid, LazyNormals::State::kInvalid};
+  map.keep_normals(estimates);
+  map.add({{1.5, 0.6, 0.5}, {2.5, 0.5, 0.5}});  // refreshes the second voxel, adds a third
+  map.add({{2.5, 0.6, 0.5}});                   // the first voxel expires
+  LazyNormals::Estimates carried = map.take_normals();
+  ASSERT_EQ(map.size(), 2U);
+  ASSERT_EQ(carried.states.size(), 2U);
+  EXPECT_EQ(carried.states[0], LazyNormals::State::kInvalid);                    // (1.5, 0.5, 0.5)'s
+  EXPECT_EQ(carried.states[1], LazyNormals::State::kUnknown);                    // new since
+  map.keep_normals({{Eigen::Vector3d::UnitZ()}, {LazyNormals::State::kValid}});  // one for two points
+  EXPECT_TRUE(map.take_normals().states.empty());
+}
+
+}  // namespace
+}  // namespace strata

@@ -1,0 +1,77 @@
+#include <gtest/gtest.h>
+
+#include <limits>
+#include <set>
+#include <tuple>
+
+#include "core/points/crop.hpp"
+#include "core/points/voxel_downsample.hpp"
+#include "core/points/voxel_key.hpp"
+#include "core/points/voxel_key_map.hpp"
+#include "tests/support/synthetic_scenes.hpp"
+
+namespace strata {
+namespace {
+
+TEST(VoxelDownsample, KeepsOneMeasuredPointPerVoxel) {
+  const PointCloud cloud = test::room_scene(0.02);
+  const double voxel = 0.2;
+  const PointCloud kept = voxel_downsample(cloud, voxel);
+  ASSERT_LT(kept.size(), cloud.size() / 10);
+  std::set<VoxelKey> cells;
+  for (const Eigen::Vector3d& p : kept)
+    EXPECT_TRUE(cells.insert(voxel_key(voxel_cell(p, 1.0 / voxel))).second) << "two points in one voxel";
+  // Every input voxel is still represented.
+  for (const Eigen::Vector3d& p : cloud)
+    EXPECT_TRUE(cells.contains(voxel_key(voxel_cell(p, 1.0 / voxel))));
+  // The kept points are input points, not averages.
+  EXPECT_EQ(kept.front(), cloud.front());
+}
+
+TEST(VoxelDownsample, NegativeCoordinatesFallIntoTheirOwnVoxel) {
+  // floor(), not truncation: -0.05 and +0.05 are in different 0.1 m voxels.
+  const PointCloud kept = voxel_downsample({{-0.05, 0, 0}, {0.05, 0, 0}, {0.07, 0, 0}}, 0.1);
+  EXPECT_EQ(kept.size(), 2U);
+}
+
+TEST(VoxelDownsample, NonPositiveVoxelKeepsEverything) {
+  const PointCloud cloud{{0, 0, 0}, {0, 0, 0}};
+  EXPECT_EQ(voxel_downsample(cloud, 0.0).size(), 2U);
+}
+
+TEST(VoxelDownsample, WithAMinimumRangeIsCropThenThin) {
+  const PointCloud cloud = test::room_scene(0.02);
+  for (const double min_range : {0.0, 0.5, 2.0}) {
+    const PointCloud cropped = crop_range(cloud, min_range, std::numeric_limits<double>::infinity());
+    EXPECT_EQ(voxel_downsample(cloud, 0.2, min_range), voxel_downsample(cropped, 0.2)) << min_range;
+  }
+}
+
+TEST(VoxelKeyMap, FindsWhatWasStoredThroughGrowth) {
+  VoxelKeyMap map(2);  // small: grows many times
+  for (std::uint32_t i = 0; i < 5000; ++i) {
+    const auto [value, added] =
+        map.try_emplace(voxel_key({static_cast<int>(i % 71), -static_cast<int>(i), 3}), i);
+    EXPECT_TRUE(added);
+    EXPECT_EQ(value, i);
+  }
+  EXPECT_EQ(map.size(), 5000U);
+  const auto [value, added] = map.try_emplace(voxel_key({5, -5, 3}), 99);
+  EXPECT_FALSE(added);
+  EXPECT_EQ(value, 5U);
+  ASSERT_NE(map.find(voxel_key({4999 % 71, -4999, 3})), nullptr);
+  EXPECT_EQ(*map.find(voxel_key({4999 % 71, -4999, 3})), 4999U);
+  EXPECT_EQ(map.find(voxel_key({0, 1, 3})), nullptr);
+  map.clear();
+  EXPECT_EQ(map.size(), 0U);
+  EXPECT_EQ(map.find(voxel_key({5, -5, 3})), nullptr);
+}
+
+TEST(CropRange, DropsTheRobotAndFarReturns) {
+  const PointCloud kept = crop_range({{0.1, 0, 0}, {1, 0, 0}, {0, 50, 0}}, 0.3, 30.0);
+  ASSERT_EQ(kept.size(), 1U);
+  EXPECT_EQ(kept[0], Eigen::Vector3d(1, 0, 0));
+}
+
+}  // namespace
+}  // namespace strata

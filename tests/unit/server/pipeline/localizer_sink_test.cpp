@@ -1,0 +1,120 @@
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <numbers>
+#include <vector>
+
+#include "server/pipeline/localizer_worker.hpp"
+#include "tests/support/campus_scans.hpp"
+
+namespace strata::pipeline {
+namespace {
+
+// The localizer hands each registered scan on with its sensor's corrected map-frame pose: the mapping
+// worker's input. Scans go in one at a time (each waits for the previous to come out), so none is
+// replaced while waiting; the wait is for an event, with a generous limit only against a hang.
+TEST(LocalizerWorkerSink, HandsOnRegisteredScansWithTheirSensorPose) {
+  const std::vector<ScanEvent>& scans = testing::campus_scans();
+  ASSERT_GE(scans.size(), 2U);
+  // The robot is told where it starts, as serve does: the map frame is the world's.
+  const Eigen::Isometry3d map_from_odom =
+      scans.front().truth->to_isometry() * scans.front().odometry.to_isometry().inverse();
+  RobotState state;
+  LocalizerWorker localizer(state, LocalizerOptions{}, map_from_odom);
+
+  std::mutex mutex;
+  std::condition_variable arrived;
+  std::vector<std::pair<ScanEvent, Eigen::Isometry3d>> received;
+  localizer.set_registered_scan_sink([&](ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
+    std::lock_guard lock(mutex);
+    received.emplace_back(std::move(scan), map_from_sensor);
+    arrived.notify_all();
+  });
+  localizer.start();
+
+  for (std::size_t i = 0; i < 2; ++i) {
+    localizer.submit(scans[i]);
+    std::unique_lock lock(mutex);
+    ASSERT_TRUE(arrived.wait_for(lock, std::chrono::seconds(120), [&] { return received.size() == i + 1; }))
+        << "scan " << i << " was not handed on";
+  }
+  localizer.stop();
+  ASSERT_EQ(received.size(), 2U);  // the first, with nothing to register against, and a registered one
+  for (const auto& [scan, map_from_sensor] : received) {
+    EXPECT_FALSE(scan.points.empty()) << "full resolution, as the driver took it";
+    const Eigen::Isometry3d truth = scan.truth->to_isometry() * scan.sensor_to_base;
+    EXPECT_LT((map_from_sensor.translation() - truth.translation()).norm(), 0.3);
+  }
+}
+
+// A registration that diverges (issue #10): one scan arrives with an odometry guess 3 m and 60 degrees off
+// (a wheel slipping on a ramp, a robot carried away). Whatever ICP makes of it, fault control must reject
+// it: the scan is not handed on to the map, the map <- odometry correction stays as it was (the odometry
+// guess is kept), and the next scan, with its odometry right again, registers and is mapped.
+TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextScanRecovers) {
+  const std::vector<ScanEvent>& scans = testing::campus_scans();
+  ASSERT_GE(scans.size(), 3U);
+  const Eigen::Isometry3d map_from_odom =
+      scans.front().truth->to_isometry() * scans.front().odometry.to_isometry().inverse();
+  RobotState state;
+  LocalizerWorker localizer(state, LocalizerOptions{}, map_from_odom);
+  std::mutex mutex;
+  std::condition_variable arrived;
+  std::vector<ScanEvent> mapped;
+  localizer.set_registered_scan_sink([&](ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
+    const Eigen::Isometry3d truth = scan.truth->to_isometry() * scan.sensor_to_base;
+    EXPECT_LT((map_from_sensor.translation() - truth.translation()).norm(), 0.3) << "at t=" << scan.stamp;
+    std::lock_guard lock(mutex);
+    mapped.push_back(std::move(scan));
+    arrived.notify_all();
+  });
+  // The estimate for one fixed odometry pose: it moves only when the correction does.
+  RobotSample fixed;
+  fixed.odometry = scans.front().odometry;
+  state.publish(fixed);
+  localizer.start();
+  // One scan at a time; flush() returns once it is registered and handed on or rejected.
+  const auto register_one = [&](ScanEvent scan) {
+    localizer.submit(std::move(scan));
+    ASSERT_TRUE(localizer.flush());
+  };
+
+  register_one(scans[0]);
+  const Pose3 estimate_before = state.snapshot()->estimate;
+
+  ScanEvent diverged = scans[1];
+  const double yaw = diverged.odometry.yaw;
+  diverged.odometry.position += Eigen::Vector3d(3.0 * std::cos(yaw + 1.0), 3.0 * std::sin(yaw + 1.0), 0.0);
+  diverged.odometry.yaw = std::remainder(yaw + std::numbers::pi / 3.0, 2.0 * std::numbers::pi);
+  register_one(diverged);
+  const RegistrationStatus after_diverged = state.registration();
+  ASSERT_TRUE(after_diverged.last.has_value());
+  EXPECT_EQ(after_diverged.last->verdict, "rejected") << after_diverged.last->message;
+  EXPECT_EQ(after_diverged.last->correction, "none");
+  EXPECT_EQ(after_diverged.rejected, 1U);
+  {
+    std::lock_guard lock(mutex);
+    EXPECT_EQ(mapped.size(), 1U) << "the rejected scan was handed on to the map";
+  }
+  const Pose3 estimate_after = state.snapshot()->estimate;
+  EXPECT_LT((estimate_after.position - estimate_before.position).norm(), 1e-9) << "the correction moved";
+  EXPECT_NEAR(estimate_after.yaw, estimate_before.yaw, 1e-9);
+
+  register_one(scans[2]);
+  localizer.stop();
+  const RegistrationStatus after_good = state.registration();
+  EXPECT_EQ(after_good.last->verdict, "accepted") << after_good.last->message;
+  EXPECT_NE(after_good.last->correction, "none");
+  EXPECT_EQ(after_good.rejected, 1U);
+  std::lock_guard lock(mutex);
+  ASSERT_EQ(mapped.size(), 2U);
+  EXPECT_EQ(mapped[0].stamp, scans[0].stamp);
+  EXPECT_EQ(mapped[1].stamp, scans[2].stamp);  // the good one after the diverged one
+}
+
+}  // namespace
+}  // namespace strata::pipeline

@@ -1,0 +1,284 @@
+#include "server/pipeline/mapping_worker.hpp"
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "server/encoding/occupancy_png.hpp"
+#include "server/encoding/tile_codec.hpp"
+#include "tests/support/campus_scans.hpp"
+
+namespace strata::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+using testing::campus_scans;
+
+/// Where the sensor was, from the true pose (as a perfect localizer would place the scan).
+Eigen::Isometry3d map_from_sensor(const ScanEvent& scan) {
+  return scan.truth->to_isometry() * scan.sensor_to_base;
+}
+
+class ScratchMapsDir {
+ public:
+  ScratchMapsDir() {
+    static std::atomic<int> counter{0};
+    path_ =
+        fs::temp_directory_path() /
+        ("strata-mapping-test-" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "-" +
+         std::to_string(counter++) + "-" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(path_);
+  }
+  ~ScratchMapsDir() { fs::remove_all(path_); }
+  ScratchMapsDir(const ScratchMapsDir&) = delete;
+  ScratchMapsDir& operator=(const ScratchMapsDir&) = delete;
+  [[nodiscard]] const fs::path& path() const { return path_; }
+
+ private:
+  fs::path path_;
+};
+
+std::string text_of(const std::vector<std::uint8_t>& bytes) {
+  return {bytes.begin(), bytes.end()};
+}
+
+TEST(MappingWorker, SimulatedScansBuildTilesAndAnOccupancyAroundTheRobot) {
+  ASSERT_GE(campus_scans().size(), 2U);
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path());
+  EXPECT_TRUE(fs::is_directory(dir.path())) << "the maps directory is created";
+  std::vector<std::uint64_t> heard;
+  std::vector<bool> started;
+  worker.add_listener([&](const MapUpdate& update) {
+    heard.push_back(update.version);
+    started.push_back(update.drivable.start_found);
+    EXPECT_EQ(update.version, update.map.version());
+  });
+  // The push to the map stream: told after every scan, with the new snapshot already in MapState.
+  std::vector<std::uint64_t> published;
+  worker.on_published([&] { published.push_back(state.snapshot() ? state.snapshot()->version : 0); });
+  worker.start();
+  EXPECT_EQ(state.snapshot(), nullptr) << "nothing before the first scan";
+
+  std::shared_ptr<const MapSnapshot> previous;
+  for (const ScanEvent& scan : campus_scans()) {
+    worker.submit(scan, map_from_sensor(scan));
+    worker.flush();
+    const auto snapshot = state.snapshot();
+    ASSERT_NE(snapshot, nullptr);
+    if (previous) {
+      EXPECT_GT(snapshot->version, previous->version);
+      // Tiles the scan did not change keep their encoding: the same object.
+      for (const auto& tile : snapshot->tiles)
+        for (const auto& old : previous->tiles)
+          if (old->tile_x == tile->tile_x && old->tile_y == tile->tile_y && old->version == tile->version) {
+            EXPECT_EQ(old.get(), tile.get());
+          }
+    }
+    previous = snapshot;
+  }
+  const MapSnapshot& snapshot = *state.snapshot();
+  EXPECT_EQ(snapshot.version, campus_scans().size());
+  EXPECT_EQ(worker.status().scans, campus_scans().size());
+  ASSERT_FALSE(snapshot.tiles.empty());
+  std::size_t patches = 0;
+  for (std::size_t i = 0; i < snapshot.tiles.size(); ++i) {
+    const EncodedTile& tile = *snapshot.tiles[i];
+    if (i > 0) {
+      const EncodedTile& before = *snapshot.tiles[i - 1];
+      EXPECT_TRUE(before.tile_x < tile.tile_x ||
+                  (before.tile_x == tile.tile_x && before.tile_y < tile.tile_y));
+    }
+    patches += tile.patches;
+    if (!tile.draco.empty()) {
+      EXPECT_EQ(encoding::decode_tile(tile.draco).size(), tile.patches);
+    }
+  }
+  EXPECT_EQ(patches, snapshot.patches);
+  EXPECT_GT(snapshot.cells, 1000U);
+
+  ASSERT_NE(snapshot.occupancy, nullptr);
+  EXPECT_EQ(snapshot.occupancy->version, snapshot.version);
+  const LevelGrid occupancy = encoding::decode_occupancy_png(*snapshot.occupancy);
+  const Eigen::Vector3d robot = campus_scans().back().truth->position;
+  std::size_t free_near_robot = 0;
+  for (int dy = -10; dy <= 10; ++dy)
+    for (int dx = -10; dx <= 10; ++dx)
+      if (occupancy.at_position(robot.x() + 0.1 * dx, robot.y() + 0.1 * dy) == Occupancy::free)
+        ++free_near_robot;
+  EXPECT_GT(free_near_robot, 100U) << "free ground within a metre of the robot";
+  EXPECT_NEAR(snapshot.occupancy->level_z, robot.z(), 0.2);
+
+  ASSERT_EQ(heard.size(), campus_scans().size());
+  ASSERT_EQ(published.size(), campus_scans().size());
+  for (std::size_t i = 0; i < heard.size(); ++i) {
+    EXPECT_EQ(heard[i], i + 1);
+    EXPECT_EQ(published[i], i + 1);
+    EXPECT_TRUE(started[i]);
+  }
+}
+
+TEST(MappingWorker, SavesListsLoadsAndDownloads) {
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path());
+  worker.start();
+  const ScanEvent& scan = campus_scans().front();
+  worker.submit(scan, map_from_sensor(scan));
+  worker.flush();
+  const auto mapped = state.snapshot();
+  ASSERT_NE(mapped, nullptr);
+
+  ASSERT_TRUE(worker.save_map("campus.smls").ok);
+  EXPECT_TRUE(fs::exists(dir.path() / "campus.smls"));
+  const std::vector<MapFileInfo> maps = worker.list_maps();
+  ASSERT_EQ(maps.size(), 1U);
+  EXPECT_EQ(maps[0].name, "campus.smls");
+  EXPECT_EQ(maps[0].bytes, fs::file_size(dir.path() / "campus.smls"));
+  EXPECT_GT(maps[0].modified, 1.6e9);
+
+  EXPECT_EQ(text_of(worker.download("strata")).substr(0, 8), "STRATMLS");
+  EXPECT_EQ(text_of(worker.download("ply")).substr(0, 3), "ply");
+  EXPECT_EQ(text_of(worker.download("pgm")).substr(0, 2), "P5");
+  EXPECT_NE(text_of(worker.download("yaml")).find("resolution"), std::string::npos);
+  EXPECT_TRUE(worker.download("zip").empty());
+
+  // Another scan, then back to the saved map: its patches again, under a newer version.
+  const ScanEvent& second = campus_scans()[1];
+  worker.submit(second, map_from_sensor(second));
+  worker.flush();
+  const auto grown = state.snapshot();
+  EXPECT_GT(grown->patches, mapped->patches);
+  const CommandResult loaded = worker.load_map("campus.smls");
+  ASSERT_TRUE(loaded.ok) << loaded.message;
+  const auto reloaded = state.snapshot();
+  EXPECT_GT(reloaded->version, grown->version);
+  EXPECT_EQ(reloaded->patches, mapped->patches);
+  EXPECT_EQ(reloaded->tiles.size(), mapped->tiles.size());
+  for (const auto& tile : reloaded->tiles)
+    EXPECT_EQ(tile->version, reloaded->version) << "every tile is new to clients";
+}
+
+TEST(MappingWorker, RefusesBadNamesAndCorruptFilesWithoutTouchingTheMap) {
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path());
+  worker.start();
+  const ScanEvent& scan = campus_scans().front();
+  worker.submit(scan, map_from_sensor(scan));
+  worker.flush();
+  const auto before = state.snapshot();
+
+  for (const std::string name : {"", ".", "..", "../escape", "a/b", "/etc/passwd", ".hidden", "tab\there"}) {
+    const CommandResult saved = worker.save_map(name);
+    EXPECT_FALSE(saved.ok) << name;
+    EXPECT_EQ(saved.code, "bad_params") << name;
+    EXPECT_EQ(worker.load_map(name).code, "bad_params") << name;
+  }
+  EXPECT_EQ(worker.load_map("missing.smls").code, "not_found");
+
+  ASSERT_TRUE(worker.save_map("good.smls").ok);
+  std::string bytes;
+  {
+    std::ifstream in(dir.path() / "good.smls", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  {
+    std::string corrupt = bytes;
+    corrupt[corrupt.size() / 2] ^= 0x10;
+    std::ofstream(dir.path() / "flipped.smls", std::ios::binary) << corrupt;
+    std::ofstream(dir.path() / "truncated.smls", std::ios::binary) << bytes.substr(0, bytes.size() / 3);
+    std::ofstream(dir.path() / "foreign.smls", std::ios::binary) << "not a map at all";
+  }
+  for (const char* name : {"flipped.smls", "truncated.smls", "foreign.smls"}) {
+    const CommandResult result = worker.load_map(name);
+    EXPECT_FALSE(result.ok) << name;
+    EXPECT_EQ(result.code, "corrupt_file") << name;
+    EXPECT_FALSE(result.message.empty());
+    EXPECT_EQ(state.snapshot(), before) << name << ": the map is untouched";
+  }
+  EXPECT_EQ(worker.list_maps().size(), 4U);
+}
+
+TEST(MappingWorker, FullQueueDropsTheOldestScanAndStoppedWorkerRefusesCommands) {
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path(), {.queue_capacity = 2});
+  EXPECT_EQ(worker.save_map("x.smls").code, "unavailable") << "not started";
+  EXPECT_TRUE(worker.download("strata").empty());
+  for (int i = 0; i < 3; ++i) {
+    const ScanEvent& scan = campus_scans()[static_cast<std::size_t>(i)];
+    worker.submit(scan, map_from_sensor(scan));
+  }
+  EXPECT_EQ(worker.status().dropped, 1U);
+  worker.start();
+  worker.flush();
+  EXPECT_EQ(worker.status().scans, 2U);
+  worker.stop();
+  EXPECT_EQ(worker.load_map("x.smls").code, "not_found");
+  EXPECT_EQ(worker.save_map("x.smls").code, "unavailable");
+}
+
+// Faults from a sensor or a localizer gone wrong: an empty scan, a scan of NaN, infinite and absurdly far
+// points, a scan at a NaN pose. None may add a patch, stop the worker or spoil the map: it maps the next
+// good scan exactly as a worker that never saw them, and saves and loads it.
+TEST(MappingWorker, EmptyNonFiniteAndAbsurdScansChangeNothing) {
+  const ScanEvent& good = campus_scans()[0];
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path());
+  worker.start();
+
+  ScanEvent empty = good;
+  empty.points.clear();
+  worker.submit(empty, map_from_sensor(good));
+  ScanEvent garbage = good;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  garbage.points = {{nan, 0, 0},           {0, nan, 1},    {inf, 0, 0},    {0, -inf, 0},
+                    {1e30F, 1e30F, 1e30F}, {-3e38F, 2, 0}, {2, 3e38F, -1}, {0, 0, 0}};
+  worker.submit(garbage, map_from_sensor(good));
+  Eigen::Isometry3d nan_pose = map_from_sensor(good);
+  nan_pose.translation().x() = std::numeric_limits<double>::quiet_NaN();
+  worker.submit(good, nan_pose);
+  worker.flush();
+  const auto after_faults = state.snapshot();
+  EXPECT_TRUE(after_faults == nullptr || after_faults->patches == 0) << "garbage became map";
+
+  worker.submit(good, map_from_sensor(good));
+  worker.flush();
+  MapState reference_state;
+  MappingWorker reference(reference_state, dir.path() / "reference");
+  reference.start();
+  reference.submit(good, map_from_sensor(good));
+  reference.flush();
+  ASSERT_NE(state.snapshot(), nullptr);
+  ASSERT_NE(reference_state.snapshot(), nullptr);
+  EXPECT_GT(state.snapshot()->patches, 0U);
+  EXPECT_EQ(state.snapshot()->patches, reference_state.snapshot()->patches);
+  EXPECT_EQ(state.snapshot()->cells, reference_state.snapshot()->cells);
+  EXPECT_EQ(worker.save_map("after-faults.smls").ok, true);
+  EXPECT_EQ(worker.load_map("after-faults.smls").ok, true);
+  EXPECT_EQ(state.snapshot()->patches, reference_state.snapshot()->patches);
+}
+
+TEST(MappingWorkerNames, OnlyPlainFileNames) {
+  EXPECT_TRUE(valid_map_name("site-2024_01.smls"));
+  EXPECT_TRUE(valid_map_name("a..b"));
+  EXPECT_FALSE(valid_map_name(""));
+  EXPECT_FALSE(valid_map_name(".."));
+  EXPECT_FALSE(valid_map_name("a/b"));
+  EXPECT_FALSE(valid_map_name(".x"));
+  EXPECT_FALSE(valid_map_name(std::string(256, 'a')));
+}
+
+}  // namespace
+}  // namespace strata::pipeline
