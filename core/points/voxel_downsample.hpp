@@ -9,8 +9,8 @@ namespace strata {
 /// a voxel; order is preserved. Non-positive `voxel_size` returns the cloud unchanged.
 [[nodiscard]] PointCloud voxel_downsample(const PointCloud& points, double voxel_size);
 
-/// The same over the points at least `min_range` from the origin (the sensor): crop_range's lower bound
-/// and the thinning in one pass over the scan.
+/// The same over the points at least `min_range` from the origin (the sensor): the robot's own
+/// returns dropped and the rest thinned in one pass over the scan.
 [[nodiscard]] PointCloud voxel_downsample(const PointCloud& points, double voxel_size, double min_range);
 
 }  // namespace strata

@@ -52,15 +52,4 @@ void PartnerSearch::pair(const PointCloud& moved, std::vector<Correspondence>& p
   }
 }
 
-std::vector<Correspondence> find_correspondences(const PointCloud& source, const Eigen::Isometry3d& transform,
-                                                 const KdTree& target, double max_distance) {
-  std::vector<Correspondence> pairs;
-  pairs.reserve(source.size());
-  for (std::size_t i = 0; i < source.size(); ++i) {
-    if (const std::optional<Neighbor> found = target.nearest(transform * source[i], max_distance))
-      pairs.push_back({i, found->index});
-  }
-  return pairs;
-}
-
 }  // namespace strata

@@ -50,9 +50,4 @@ class PartnerSearch {
   std::size_t searches_ = 0;
 };
 
-/// Pairs each source point, moved by `transform`, with its closest target point within `max_distance`.
-[[nodiscard]] std::vector<Correspondence> find_correspondences(const PointCloud& source,
-                                                               const Eigen::Isometry3d& transform,
-                                                               const KdTree& target, double max_distance);
-
 }  // namespace strata

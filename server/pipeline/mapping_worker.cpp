@@ -16,6 +16,7 @@
 #include "core/mls/map_export.hpp"
 #include "core/mls/mls_file.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
+#include "server/protocol/client_messages.hpp"
 
 namespace strata::pipeline {
 namespace {
@@ -47,15 +48,6 @@ class ScratchDirectory {
 };
 
 }  // namespace
-
-bool valid_map_name(const std::string& name) {
-  if (name.empty() || name.size() > 255 || name.front() == '.')
-    return false;  // also "." and ".."
-  for (const char c : name)
-    if (c == '/' || c == '\\' || static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
-      return false;
-  return true;
-}
 
 MappingWorker::MappingWorker(MapState& state, std::filesystem::path maps_dir, MappingOptions options)
     : state_(state), maps_dir_(std::move(maps_dir)), options_(std::move(options)), live_(options_.map) {
@@ -223,8 +215,10 @@ bool MappingWorker::run_on_mapping_thread(Task task) const {
 }
 
 CommandResult MappingWorker::save_map(const std::string& name) {
-  if (!valid_map_name(name))
-    return CommandResult::failure("bad_params", "'" + name + "' is not a plain file name");
+  if (!protocol::is_valid_map_name(name))
+    return CommandResult::failure(
+        "bad_params",
+        "'" + name + "' is not a map name (1-64 characters of A-Z a-z 0-9 . _ -, not starting with a dot)");
   if (temporary_file_owner(name)) {
     // Such a file is not listed, and the next start may remove it as a save's leftover.
     return CommandResult::failure("bad_params",
@@ -244,8 +238,10 @@ CommandResult MappingWorker::save_map(const std::string& name) {
 }
 
 CommandResult MappingWorker::load_map(const std::string& name) {
-  if (!valid_map_name(name))
-    return CommandResult::failure("bad_params", "'" + name + "' is not a plain file name");
+  if (!protocol::is_valid_map_name(name))
+    return CommandResult::failure(
+        "bad_params",
+        "'" + name + "' is not a map name (1-64 characters of A-Z a-z 0-9 . _ -, not starting with a dot)");
   const std::filesystem::path path = maps_dir_ / name;
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
@@ -278,7 +274,7 @@ std::vector<MapFileInfo> MappingWorker::list_maps() const {
   for (const auto& entry : std::filesystem::directory_iterator(maps_dir_, error)) {
     const std::string name = entry.path().filename().string();
     // Hidden files and save_mls_map's temporaries (name.tmp.PID) are not maps.
-    if (!valid_map_name(name) || temporary_file_owner(name) || !entry.is_regular_file(error))
+    if (!protocol::is_valid_map_name(name) || temporary_file_owner(name) || !entry.is_regular_file(error))
       continue;
     MapFileInfo info;
     info.name = name;

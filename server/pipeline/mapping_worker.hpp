@@ -104,8 +104,4 @@ class MappingWorker final : public MapCommands {
   std::thread thread_;
 };
 
-/// Whether `name` may name a map file: a plain file name (no '/', not '.' or '..', not hidden, not empty,
-/// at most 255 bytes, no control characters).
-[[nodiscard]] bool valid_map_name(const std::string& name);
-
 }  // namespace strata::pipeline

@@ -58,9 +58,9 @@ struct Server {
   AcceptingMotion motion;
   AcceptingMaps maps;
   strata::sim::World world{strata::sim::builtin_world("yard")};
-  strata::net::ServerServices services;
-  strata::net::ClientHub hub;
-  strata::net::ServerMetrics metrics;
+  strata::ServerServices services;
+  strata::streams::ClientHub hub;
+  strata::streams::ServerMetrics metrics;
   strata::streams::StatusStream status{robot, &map, hub};
   strata::api::HttpRouter router{services, hub, status, metrics};
 };
@@ -82,13 +82,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string_view body =
       newline == std::string_view::npos ? std::string_view() : rest.substr(newline + 1);
 
-  strata::net::HttpRequest request{kMethods[data[0] % std::size(kMethods)], target, 11};
+  strata::protocol::HttpRequest request{kMethods[data[0] % std::size(kMethods)], target, 11};
   if ((data[0] & 0x80U) != 0)
     request.set(http::field::authorization, std::string("Bearer ") + kToken);
   request.body() = std::string(body);
   request.prepare_payload();
   try {
-    const strata::net::HttpResponse response = server->router.handle(request);
+    const strata::protocol::HttpResponse response = server->router.handle(request);
     // The stubs never fail, so a 500 is the router's safety net catching an exception: a bug.
     if (response.result_int() < 100 || response.result() == http::status::internal_server_error)
       __builtin_trap();

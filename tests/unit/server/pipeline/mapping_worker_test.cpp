@@ -270,14 +270,29 @@ TEST(MappingWorker, EmptyNonFiniteAndAbsurdScansChangeNothing) {
   EXPECT_EQ(state.snapshot()->patches, reference_state.snapshot()->patches);
 }
 
-TEST(MappingWorkerNames, OnlyPlainFileNames) {
-  EXPECT_TRUE(valid_map_name("site-2024_01.smls"));
-  EXPECT_TRUE(valid_map_name("a..b"));
-  EXPECT_FALSE(valid_map_name(""));
-  EXPECT_FALSE(valid_map_name(".."));
-  EXPECT_FALSE(valid_map_name("a/b"));
-  EXPECT_FALSE(valid_map_name(".x"));
-  EXPECT_FALSE(valid_map_name(std::string(256, 'a')));
+TEST(MappingWorkerNames, TheProtocolsRuleForEveryCommand) {
+  // One rule (protocol::is_valid_map_name) for the WebSocket, REST and the worker: a name the worker
+  // lists can be loaded, and one it refuses is refused the same way everywhere.
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path());
+  worker.start();
+  const ScanEvent& scan = campus_scans().front();
+  worker.submit(scan, map_from_sensor(scan));
+  worker.flush();
+  ASSERT_TRUE(worker.save_map("site-2024_01.smls").ok);
+  EXPECT_EQ(worker.save_map(std::string(65, 'a')).code, "bad_params");  // 255 was allowed here before
+  EXPECT_EQ(worker.save_map("a/b").code, "bad_params");
+  EXPECT_EQ(worker.save_map(".x").code, "bad_params");
+  EXPECT_EQ(worker.load_map("my map.smls").code, "bad_params");
+  // A file put there by hand under a name no command accepts is not listed: it could not be loaded.
+  std::filesystem::copy_file(dir.path() / "site-2024_01.smls", dir.path() / "my map.smls");
+  std::filesystem::copy_file(dir.path() / "site-2024_01.smls", dir.path() / std::string(100, 'b'));
+  const auto maps = worker.list_maps();
+  ASSERT_EQ(maps.size(), 1U);
+  EXPECT_EQ(maps[0].name, "site-2024_01.smls");
+  for (const auto& map : maps)
+    EXPECT_TRUE(worker.load_map(map.name).ok) << map.name;
 }
 
 }  // namespace
