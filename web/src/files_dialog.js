@@ -1,0 +1,64 @@
+// Save, Load and Download: one dialog in three modes for the map files.
+import { defaultMapName, downloadUrl, listMaps, NAME_PATTERN } from './map_files.js';
+
+const $ = (id) => document.getElementById(id);
+
+/** `command(message)` sends an operator command; `notices` says what went wrong. */
+export function setUpFilesDialog({ command, notices }) {
+  const dialog = $('files-dialog');
+  let mode = null;
+
+  function open(newMode, title) {
+    mode = newMode;
+    $('files-title').textContent = title;
+    $('files-save').hidden = mode !== 'save';
+    $('files-load').hidden = mode !== 'load';
+    $('files-download').hidden = mode !== 'download';
+    dialog.showModal();
+  }
+
+  $('map-save').addEventListener('click', () => {
+    $('save-name').value = defaultMapName();
+    open('save', 'Save the map');
+  });
+  $('map-load').addEventListener('click', async () => {
+    let maps;
+    try {
+      maps = await listMaps();
+    } catch (error) {
+      notices.serverError({ ...error, request: 'load_map' });
+      return;
+    }
+    const select = $('load-name');
+    select.replaceChildren(
+      ...maps.map((map) => {
+        const option = new Option(`${map.name} · ${(map.bytes / 1024).toFixed(0)} KiB · ${new Date(map.modified * 1000).toLocaleString()}`, map.name);
+        return option;
+      }),
+    );
+    if (maps.length) select.selectedIndex = 0;
+    else notices.show('No saved maps yet', 'info', 4);
+    open('load', 'Load a saved map');
+  });
+  $('map-download').addEventListener('click', () => open('download', 'Download the map'));
+
+  dialog.addEventListener('close', () => {
+    if (dialog.returnValue !== 'ok') return;
+    if (mode === 'save') {
+      const name = $('save-name').value.trim();
+      if (!NAME_PATTERN.test(name)) {
+        notices.show('A map name is a plain file name: letters, digits, . - _ (up to 64)', 'error');
+        return;
+      }
+      command({ op: 'save_map', name });
+    } else if (mode === 'load') {
+      const name = $('load-name').value;
+      if (name) command({ op: 'load_map', name });
+    } else if (mode === 'download') {
+      const link = document.createElement('a');
+      link.href = downloadUrl($('download-format').value);
+      link.download = '';
+      link.click();
+    }
+  });
+}

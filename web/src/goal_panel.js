@@ -1,0 +1,55 @@
+// The Goal panel: the goal's state in words, and the Set goal / Stop buttons with the tap-to-pick tool.
+import { GoalTool } from './goal_tool.js';
+
+const $ = (id) => document.getElementById(id);
+
+const phaseText = {
+  none: 'no goal',
+  accepted: 'goal accepted',
+  planning: 'planning a path…',
+  driving: 'driving to the goal',
+  reached: 'goal reached',
+  failed: 'no way to the goal',
+  cancelled: 'goal cancelled',
+};
+
+const round = (value) => Math.round(value * 1000) / 1000;
+
+export class GoalPanel {
+  /** `command(message)` sends an operator command; `notices` says what went wrong. */
+  constructor(view, { command, notices }) {
+    this.view = view;
+    this.lastGoal = { phase: 'none', id: 0 };
+    this.lastGoalSent = null;
+    this.tool = new GoalTool(view, {
+      onPick: (point) => {
+        this.lastGoalSent = point;
+        command({ op: 'set_goal', x: round(point.x), y: round(point.y), z: round(point.z) });
+      },
+      onMiss: () => notices.show('Tap a floor or ground surface of the map to set the goal there', 'info', 4),
+      onArmed: (armed) => {
+        $('goal-arm').setAttribute('aria-pressed', String(armed));
+        $('goal-arm').textContent = armed ? 'Tap the map…' : 'Set goal';
+        $('view').classList.toggle('picking', armed);
+      },
+    });
+    $('goal-arm').addEventListener('click', () => this.tool.setArmed(!this.tool.armed));
+    $('goal-cancel').addEventListener('click', () => {
+      this.tool.setArmed(false);
+      command({ op: 'cancel_goal' });
+    });
+  }
+
+  /** A goal message from the server. */
+  show(goal) {
+    this.lastGoal = goal;
+    const element = $('goal-state');
+    element.dataset.phase = goal.phase;
+    let text = phaseText[goal.phase] ?? goal.phase;
+    if ((goal.phase === 'failed' || goal.phase === 'cancelled') && goal.reason) text += ` (${goal.reason.replaceAll('_', ' ')})`;
+    if (goal.x !== undefined && goal.phase !== 'none') text += ` · ${goal.x.toFixed(1)}, ${goal.y.toFixed(1)}`;
+    element.textContent = text;
+    this.view.paths.showGoal(goal);
+    this.view.requestRender();
+  }
+}

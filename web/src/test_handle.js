@@ -1,0 +1,60 @@
+// window.strata: a read-only handle for the browser tests and benchmarks, and for poking around in the
+// console. Its names are what tests/browser/ reads: keep them.
+import * as THREE from 'three';
+import { CLASS_TRAVERSABLE, CLASS_VERTICAL } from './tile_decoder.js';
+
+/** The nearest drawn, traversable, horizontal patch to (x, y) within `radius` m (and within 0.5 m of
+ * height `level`, when given), or null. */
+function findSurface(view, { x, y, radius = 3, minDistance = 0, level = null }) {
+  let best = null;
+  for (const tile of view.tiles.tiles.values()) {
+    const { position, classBits } = tile.patches;
+    for (const i of tile.meshes.flatMap((mesh) => [...mesh.userData.shown])) {
+      if (classBits[i] & CLASS_VERTICAL || !(classBits[i] & CLASS_TRAVERSABLE)) continue;
+      if (level !== null && Math.abs(position[3 * i + 2] - level) > 0.5) continue;
+      const d = Math.hypot(position[3 * i] - x, position[3 * i + 1] - y);
+      if (d > radius || d < minDistance) continue;
+      if (!best || d < best.d) best = { x: position[3 * i], y: position[3 * i + 1], z: position[3 * i + 2], d };
+    }
+  }
+  return best;
+}
+
+/** Where a map-frame point appears on the page, in client pixels. */
+function screenPoint(view, [x, y, z]) {
+  const p = new THREE.Vector3(x, y, z).project(view.camera);
+  const rect = view.renderer.domElement.getBoundingClientRect();
+  return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height, visible: Math.abs(p.z) <= 1 };
+}
+
+/** `state()` gives the page's own state: { connection, role }. */
+export function installTestHandle({ view, goals, joystick, notices, perf, state }) {
+  window.strata = {
+    robotPosition: () => view.robot.position.toArray(),
+    robotVisible: () => view.robot.visible,
+    worldShapes: () => view.worldShapes?.children.length ?? 0,
+    worldShown: () => view.worldShown,
+    connection: () => state().connection,
+    role: () => state().role,
+    tileCount: () => view.tiles.tileCount,
+    patchCount: () => view.tiles.patchCount,
+    drawnPatches: () => view.tiles.drawnCount,
+    view: () => view.view,
+    colorMode: () => view.tiles.colorMode,
+    follow: () => view.follow,
+    cameraDistance: () => view.controls.getDistance(),
+    cameraAzimuth: () => view.controls.getAzimuthalAngle(),
+    frames: () => view.frames,
+    occupancy: () => (view.occupancy.frames ? { frames: view.occupancy.frames, visible: view.occupancy.plane.visible, ...view.occupancy.census() } : null),
+    goal: () => ({ ...goals.lastGoal }),
+    goalSent: () => goals.lastGoalSent && { ...goals.lastGoalSent },
+    goalArmed: () => goals.tool.armed,
+    pathPoints: () => view.paths.pointCount,
+    joystick: () => joystick.state,
+    notice: () => (document.getElementById('notice').hidden ? null : notices.last),
+    perf: () => structuredClone(perf),
+    findSurface: (query) => findSurface(view, query),
+    screenPoint: (point) => screenPoint(view, point),
+    surfaceAt: (clientX, clientY) => goals.tool.surfaceAt(clientX, clientY), // what a tap there would pick
+  };
+}
