@@ -34,23 +34,22 @@ protocol::HttpResponse error_response(const protocol::HttpRequest& request, http
   return response;
 }
 
-protocol::HttpResponse command_error(const protocol::HttpRequest& request, std::string_view code,
+protocol::HttpResponse command_error(const protocol::HttpRequest& request, ErrorCode code,
                                      std::string_view message) {
-  http::status status = http::status::internal_server_error;
-  if (code == "bad_params" || code == "bad_request")
+  http::status status = http::status::internal_server_error;  // io_error, internal
+  if (code == ErrorCode::kBadParams || code == ErrorCode::kBadRequest)
     status = http::status::bad_request;
-  else if (code == "not_found")
+  else if (code == ErrorCode::kNotFound)
     status = http::status::not_found;
-  else if (code == "unavailable")
+  else if (code == ErrorCode::kUnavailable)
     status = http::status::service_unavailable;
-  else if (code == "conflict")
-    status = http::status::conflict;
-  else if (code == "corrupt_file")
+  else if (code == ErrorCode::kCorruptFile)
     status = http::status::unprocessable_entity;
   // The message may name a file (not necessarily UTF-8): invalid bytes become U+FFFD, dump() never throws.
-  auto response = json_response(request, status,
-                                nlohmann::json{{"error", {{"code", code}, {"message", message}}}}.dump(
-                                    -1, ' ', false, nlohmann::json::error_handler_t::replace));
+  auto response =
+      json_response(request, status,
+                    nlohmann::json{{"error", {{"code", to_string(code)}, {"message", message}}}}.dump(
+                        -1, ' ', false, nlohmann::json::error_handler_t::replace));
   return response;
 }
 

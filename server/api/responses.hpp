@@ -17,9 +17,9 @@ namespace strata::api {
 [[nodiscard]] protocol::HttpResponse error_response(const protocol::HttpRequest& request,
                                                     protocol::http::status status, protocol::ErrorCode code,
                                                     std::string_view message);
-/// An error whose code came as text from a command (CommandResult); the HTTP status follows the code.
-[[nodiscard]] protocol::HttpResponse command_error(const protocol::HttpRequest& request,
-                                                   std::string_view code, std::string_view message);
+/// A command's refusal (CommandResult); the HTTP status follows the code.
+[[nodiscard]] protocol::HttpResponse command_error(const protocol::HttpRequest& request, ErrorCode code,
+                                                   std::string_view message);
 /// 405 with the Allow header.
 [[nodiscard]] protocol::HttpResponse method_not_allowed(const protocol::HttpRequest& request,
                                                         std::string_view allow);

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "server/control/error_code.hpp"
 #include "server/state/goal_state.hpp"
 
 namespace strata {
@@ -12,12 +13,12 @@ namespace strata {
 /// The answer to an operator command: ok, or a protocol error code (proto/PROTOCOL.md) and a message.
 struct CommandResult {
   bool ok = true;
-  std::string code;
+  ErrorCode code = ErrorCode::kInternal;  ///< when not ok
   std::string message;
   std::uint64_t goal_id = 0;  ///< set_goal: the id of the goal it accepted
   static CommandResult success() { return {}; }
-  static CommandResult failure(std::string code, std::string message) {
-    return {false, std::move(code), std::move(message)};
+  static CommandResult failure(ErrorCode code, std::string message) {
+    return {false, code, std::move(message)};
   }
 };
 

@@ -183,8 +183,9 @@ void WebSocketSession<Stream>::handle_request(const protocol::ClientRequest& req
   MotionCommands* motion = context_->services.motion;
   MapCommands* maps = context_->services.maps;
   const auto unavailable = [&](std::string_view what) {
-    reply(CommandResult::failure("unavailable", std::string(what) + " is not available on this server"), op,
-          id);
+    reply(CommandResult::failure(ErrorCode::kUnavailable,
+                                 std::string(what) + " is not available on this server"),
+          op, id);
   };
   std::visit(
       [&](const auto& r) {

@@ -217,21 +217,21 @@ bool MappingWorker::run_on_mapping_thread(Task task) const {
 CommandResult MappingWorker::save_map(const std::string& name) {
   if (!protocol::is_valid_map_name(name))
     return CommandResult::failure(
-        "bad_params",
+        ErrorCode::kBadParams,
         "'" + name + "' is not a map name (1-64 characters of A-Z a-z 0-9 . _ -, not starting with a dot)");
   if (temporary_file_owner(name)) {
     // Such a file is not listed, and the next start may remove it as a save's leftover.
-    return CommandResult::failure("bad_params",
+    return CommandResult::failure(ErrorCode::kBadParams,
                                   "'" + name + "' is named like a temporary file (NAME.tmp.NUMBER)");
   }
-  CommandResult result = CommandResult::failure("unavailable", "the mapping worker is not running");
+  CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
     try {
       save_mls_map(live_.map(), maps_dir_ / name);  // atomic: temporary file, fsync, rename
       result = CommandResult::success();
       spdlog::info("map saved to {}", (maps_dir_ / name).string());
     } catch (const std::exception& error) {
-      result = CommandResult::failure("io_error", error.what());
+      result = CommandResult::failure(ErrorCode::kIoError, error.what());
     }
   });
   return result;
@@ -240,25 +240,25 @@ CommandResult MappingWorker::save_map(const std::string& name) {
 CommandResult MappingWorker::load_map(const std::string& name) {
   if (!protocol::is_valid_map_name(name))
     return CommandResult::failure(
-        "bad_params",
+        ErrorCode::kBadParams,
         "'" + name + "' is not a map name (1-64 characters of A-Z a-z 0-9 . _ -, not starting with a dot)");
   const std::filesystem::path path = maps_dir_ / name;
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
-    return CommandResult::failure("not_found", "no map named '" + name + "'");
-  CommandResult result = CommandResult::failure("unavailable", "the mapping worker is not running");
+    return CommandResult::failure(ErrorCode::kNotFound, "no map named '" + name + "'");
+  CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
     MlsMap loaded;
     try {
       loaded = load_mls_map(path);  // the whole file is checked before anything changes
     } catch (const std::exception& failure) {
-      result = CommandResult::failure("corrupt_file", failure.what());
+      result = CommandResult::failure(ErrorCode::kCorruptFile, failure.what());
       return;
     }
     try {
       live_.replace(std::move(loaded));
     } catch (const std::exception& failure) {
-      result = CommandResult::failure("io_error", failure.what());
+      result = CommandResult::failure(ErrorCode::kIoError, failure.what());
       return;
     }
     result = CommandResult::success();

@@ -68,7 +68,7 @@ void Navigator::stop() {
 
 CommandResult Navigator::set_goal(const GoalRequest& goal) {
   if (!std::isfinite(goal.x) || !std::isfinite(goal.y) || (goal.z && !std::isfinite(*goal.z)))
-    return CommandResult::failure("bad_params", "goal coordinates must be finite numbers");
+    return CommandResult::failure(ErrorCode::kBadParams, "goal coordinates must be finite numbers");
   CommandResult result = CommandResult::success();
   {
     std::lock_guard lock(mutex_);
@@ -104,7 +104,7 @@ bool Navigator::cancel_goal_if_active(std::uint64_t goal_id, const std::string& 
 
 CommandResult Navigator::teleop(double v, double w) {
   if (!std::isfinite(v) || !std::isfinite(w))
-    return CommandResult::failure("bad_params", "teleop v and w must be finite numbers");
+    return CommandResult::failure(ErrorCode::kBadParams, "teleop v and w must be finite numbers");
   std::lock_guard lock(mutex_);
   commanded_ = true;
   tracker_.cancel(stamp_);  // the operator drives now

@@ -15,36 +15,6 @@ nlohmann::json pose_json(const Pose3& pose) {
 
 }  // namespace
 
-std::string_view to_string(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::kBadJson:
-      return "bad_json";
-    case ErrorCode::kBadMessage:
-      return "bad_message";
-    case ErrorCode::kUnknownOp:
-      return "unknown_op";
-    case ErrorCode::kNotFound:
-      return "not_found";
-    case ErrorCode::kMethodNotAllowed:
-      return "method_not_allowed";
-    case ErrorCode::kBadRequest:
-      return "bad_request";
-    case ErrorCode::kUnavailable:
-      return "unavailable";
-    case ErrorCode::kBadParams:
-      return "bad_params";
-    case ErrorCode::kUnauthorized:
-      return "unauthorized";
-    case ErrorCode::kRateLimited:
-      return "rate_limited";
-    case ErrorCode::kForbidden:
-      return "forbidden";
-    case ErrorCode::kInternal:
-      return "internal";
-  }
-  return "internal";
-}
-
 nlohmann::json pose_fields(const RobotSnapshot& robot) {
   const RobotSample& sample = robot.sample;
   nlohmann::json fields = pose_json(robot.estimate);

@@ -6,6 +6,7 @@
 
 #include "drivers/robot_sample.hpp"
 #include "drivers/sim/world/world.hpp"
+#include "server/control/error_code.hpp"
 #include "server/state/goal_state.hpp"
 #include "server/state/map_state.hpp"
 #include "server/state/robot_state.hpp"
@@ -13,21 +14,7 @@
 namespace strata::protocol {
 
 /// Error codes carried by `error` messages and REST error bodies (proto/PROTOCOL.md, "Errors").
-enum class ErrorCode {
-  kBadJson,
-  kBadMessage,
-  kUnknownOp,
-  kNotFound,
-  kMethodNotAllowed,
-  kBadRequest,
-  kUnavailable,
-  kBadParams,     ///< a known op (or REST body) with missing, mistyped or out-of-range fields
-  kUnauthorized,  ///< needs the operator token, or the token offered is wrong
-  kRateLimited,   ///< the client sends faster than the limit
-  kForbidden,     ///< refused whatever the token: a WebSocket from a browser origin that is not allowed
-  kInternal,
-};
-[[nodiscard]] std::string_view to_string(ErrorCode code);
+using strata::ErrorCode;  // the codes live below the protocol: commands answer with them too
 
 /// The pose fields shared by the `pose` WebSocket message and GET /api/v1/pose.
 [[nodiscard]] nlohmann::json pose_fields(const RobotSnapshot& robot);

@@ -51,7 +51,7 @@ class RecordingMaps : public MapCommands {
   CommandResult load_map(const std::string& name) override {
     loaded.push_back(name);
     if (name != "known")
-      return CommandResult::failure("not_found", "no map named " + name);
+      return CommandResult::failure(ErrorCode::kNotFound, "no map named " + name);
     return CommandResult::success();
   }
   [[nodiscard]] std::vector<MapFileInfo> list_maps() const override { return {{"known", 10, 1.0}}; }

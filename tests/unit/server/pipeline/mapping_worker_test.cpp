@@ -180,10 +180,10 @@ TEST(MappingWorker, RefusesBadNamesAndCorruptFilesWithoutTouchingTheMap) {
   for (const std::string name : {"", ".", "..", "../escape", "a/b", "/etc/passwd", ".hidden", "tab\there"}) {
     const CommandResult saved = worker.save_map(name);
     EXPECT_FALSE(saved.ok) << name;
-    EXPECT_EQ(saved.code, "bad_params") << name;
-    EXPECT_EQ(worker.load_map(name).code, "bad_params") << name;
+    EXPECT_EQ(saved.code, ErrorCode::kBadParams) << name;
+    EXPECT_EQ(worker.load_map(name).code, ErrorCode::kBadParams) << name;
   }
-  EXPECT_EQ(worker.load_map("missing.smls").code, "not_found");
+  EXPECT_EQ(worker.load_map("missing.smls").code, ErrorCode::kNotFound);
 
   ASSERT_TRUE(worker.save_map("good.smls").ok);
   std::string bytes;
@@ -201,7 +201,7 @@ TEST(MappingWorker, RefusesBadNamesAndCorruptFilesWithoutTouchingTheMap) {
   for (const char* name : {"flipped.smls", "truncated.smls", "foreign.smls"}) {
     const CommandResult result = worker.load_map(name);
     EXPECT_FALSE(result.ok) << name;
-    EXPECT_EQ(result.code, "corrupt_file") << name;
+    EXPECT_EQ(result.code, ErrorCode::kCorruptFile) << name;
     EXPECT_FALSE(result.message.empty());
     EXPECT_EQ(state.snapshot(), before) << name << ": the map is untouched";
   }
@@ -212,7 +212,7 @@ TEST(MappingWorker, FullQueueDropsTheOldestScanAndStoppedWorkerRefusesCommands) 
   ScratchMapsDir dir;
   MapState state;
   MappingWorker worker(state, dir.path(), {.queue_capacity = 2});
-  EXPECT_EQ(worker.save_map("x.smls").code, "unavailable") << "not started";
+  EXPECT_EQ(worker.save_map("x.smls").code, ErrorCode::kUnavailable) << "not started";
   EXPECT_TRUE(worker.download("strata").empty());
   for (int i = 0; i < 3; ++i) {
     const ScanEvent& scan = campus_scans()[static_cast<std::size_t>(i)];
@@ -223,8 +223,8 @@ TEST(MappingWorker, FullQueueDropsTheOldestScanAndStoppedWorkerRefusesCommands) 
   worker.flush();
   EXPECT_EQ(worker.status().scans, 2U);
   worker.stop();
-  EXPECT_EQ(worker.load_map("x.smls").code, "not_found");
-  EXPECT_EQ(worker.save_map("x.smls").code, "unavailable");
+  EXPECT_EQ(worker.load_map("x.smls").code, ErrorCode::kNotFound);
+  EXPECT_EQ(worker.save_map("x.smls").code, ErrorCode::kUnavailable);
 }
 
 // Faults from a sensor or a localizer gone wrong: an empty scan, a scan of NaN, infinite and absurdly far
@@ -281,10 +281,11 @@ TEST(MappingWorkerNames, TheProtocolsRuleForEveryCommand) {
   worker.submit(scan, map_from_sensor(scan));
   worker.flush();
   ASSERT_TRUE(worker.save_map("site-2024_01.smls").ok);
-  EXPECT_EQ(worker.save_map(std::string(65, 'a')).code, "bad_params");  // 255 was allowed here before
-  EXPECT_EQ(worker.save_map("a/b").code, "bad_params");
-  EXPECT_EQ(worker.save_map(".x").code, "bad_params");
-  EXPECT_EQ(worker.load_map("my map.smls").code, "bad_params");
+  EXPECT_EQ(worker.save_map(std::string(65, 'a')).code,
+            ErrorCode::kBadParams);  // 255 was allowed here before
+  EXPECT_EQ(worker.save_map("a/b").code, ErrorCode::kBadParams);
+  EXPECT_EQ(worker.save_map(".x").code, ErrorCode::kBadParams);
+  EXPECT_EQ(worker.load_map("my map.smls").code, ErrorCode::kBadParams);
   // A file put there by hand under a name no command accepts is not listed: it could not be loaded.
   std::filesystem::copy_file(dir.path() / "site-2024_01.smls", dir.path() / "my map.smls");
   std::filesystem::copy_file(dir.path() / "site-2024_01.smls", dir.path() / std::string(100, 'b'));

@@ -56,7 +56,7 @@ TEST(Navigator, BadInputIsRefusedAndChangesNothing) {
   Navigator navigator;
   const CommandResult goal = navigator.set_goal({std::nan(""), 2.0, {}});
   EXPECT_FALSE(goal.ok);
-  EXPECT_EQ(goal.code, "bad_params");
+  EXPECT_EQ(goal.code, ErrorCode::kBadParams);
   EXPECT_FALSE(navigator.teleop(std::numeric_limits<double>::infinity(), 0.0).ok);
   EXPECT_EQ(navigator.goal_status().id, 0U);
   EXPECT_FALSE(navigator.drive(at(0, 0, 0), 0.0).has_value());
