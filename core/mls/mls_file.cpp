@@ -1,12 +1,8 @@
 #include "core/mls/mls_file.hpp"
 
-#include <fcntl.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <array>
 #include <bit>
-#include <cerrno>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -15,7 +11,7 @@
 #include <string>
 #include <tuple>
 
-#include "core/files/temporary_files.hpp"
+#include "core/files/atomic_file.hpp"
 
 namespace strata {
 namespace {
@@ -215,19 +211,6 @@ MlsMap decode(std::string_view data, const std::string& name) {
   return map;
 }
 
-void write_all(int fd, const std::string& data, const std::string& name) {
-  std::size_t written = 0;
-  while (written < data.size()) {
-    const ssize_t n = ::write(fd, data.data() + written, data.size() - written);
-    if (n < 0) {
-      if (errno == EINTR)
-        continue;
-      throw MlsFileError("cannot write " + name + ": " + std::strerror(errno));
-    }
-    written += static_cast<std::size_t>(n);
-  }
-}
-
 }  // namespace
 
 std::string serialize_mls_map(const MlsMap& map) {
@@ -239,35 +222,10 @@ MlsMap deserialize_mls_map(std::string_view data, const std::string& source) {
 }
 
 void save_mls_map(const MlsMap& map, const std::filesystem::path& path) {
-  const std::string data = encode(map);
-  const std::filesystem::path temporary = temporary_path_for(path);
-  const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
-  if (fd < 0)
-    throw MlsFileError("cannot create " + temporary.string() + ": " + std::strerror(errno));
   try {
-    write_all(fd, data, temporary.string());
-    if (::fsync(fd) != 0)
-      throw MlsFileError("cannot fsync " + temporary.string() + ": " + std::strerror(errno));
-  } catch (...) {
-    ::close(fd);
-    ::unlink(temporary.c_str());
-    throw;
-  }
-  ::close(fd);
-  if (::rename(temporary.c_str(), path.c_str()) != 0) {
-    const int error = errno;
-    ::unlink(temporary.c_str());
-    throw MlsFileError("cannot rename " + temporary.string() + " to " + path.string() + ": " +
-                       std::strerror(error));
-  }
-  // The rename itself is durable only once the directory is on disk.
-  std::filesystem::path directory = path.parent_path();
-  if (directory.empty())
-    directory = ".";
-  const int dir_fd = ::open(directory.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
-  if (dir_fd >= 0) {
-    ::fsync(dir_fd);
-    ::close(dir_fd);
+    write_file_atomically(path, encode(map), Durability::kOnDisk);
+  } catch (const FileWriteError& error) {
+    throw MlsFileError(error.what());
   }
 }
 

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "drivers/io/atomic_file.hpp"
+#include "core/files/atomic_file.hpp"
 #include "drivers/io/pcd_writer.hpp"
 #include "drivers/replay/recording_layout.hpp"
 
@@ -156,7 +156,7 @@ void Recorder::write(const Item& item) {
     // Numbered by attempt, so a failed write never makes a later scan reuse (or fight over) its name.
     const std::string file = scan_file_name(next_scan_file_++);
     // The scan file first, then its row: every listed scan exists.
-    io::write_file_atomically(directory_ / file, io::encode_binary_pcd(scan.points));
+    write_file_atomically(directory_ / file, io::encode_binary_pcd(scan.points), Durability::kOrdered);
     scans_csv_ << scans_csv_row(scan, file);
     scans_csv_.flush();
     if (!scans_csv_)
@@ -182,7 +182,7 @@ void Recorder::write_metadata(bool finished) {
   metadata["samples"] = s.samples;
   metadata["dropped"] = s.dropped;
   metadata["errors"] = s.errors;
-  io::write_file_atomically(directory_ / kRecordingFile, metadata.dump(2) + "\n");
+  write_file_atomically(directory_ / kRecordingFile, metadata.dump(2) + "\n", Durability::kOrdered);
 }
 
 }  // namespace strata::replay
