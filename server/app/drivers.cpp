@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/geometry/pose_text.hpp"
 #include "drivers/lidar/lidar_drivers.hpp"
 #include "drivers/replay/replay_driver.hpp"
 #include "drivers/sim/simulator_driver.hpp"
@@ -71,33 +72,11 @@ std::unique_ptr<RobotDriver> make_simulator(const ServeOptions& options) {
 
 /// --lidar-mount "x,y,z[,roll,pitch,yaw]" (m, degrees): the sensor's pose on the base.
 Eigen::Isometry3d parse_mount(const std::string& text) {
-  std::vector<double> values;
-  std::stringstream stream(text);
-  std::string item;
-  while (std::getline(stream, item, ',')) {
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(value))
-      throw std::runtime_error("--lidar-mount '" + text + "': '" + item + "' is not a number");
-    values.push_back(value);
+  try {
+    return parse_pose_text(text).to_isometry();
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error("--lidar-mount '" + text + "': " + error.what());
   }
-  if (values.size() != 3 && values.size() != 6)
-    throw std::runtime_error("--lidar-mount '" + text +
-                             "': expected x,y,z or x,y,z,roll,pitch,yaw (m, degrees)");
-  values.resize(6, 0.0);
-  const double to_radians = 3.14159265358979323846 / 180.0;
-  Eigen::Isometry3d mount = Eigen::Isometry3d::Identity();
-  mount.translation() = Eigen::Vector3d(values[0], values[1], values[2]);
-  mount.linear() = (Eigen::AngleAxisd(values[5] * to_radians, Eigen::Vector3d::UnitZ()) *
-                    Eigen::AngleAxisd(values[4] * to_radians, Eigen::Vector3d::UnitY()) *
-                    Eigen::AngleAxisd(values[3] * to_radians, Eigen::Vector3d::UnitX()))
-                       .toRotationMatrix();
-  return mount;
 }
 
 std::unique_ptr<RobotDriver> make_lidar(const ServeOptions& options) {

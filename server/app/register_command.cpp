@@ -1,29 +1,52 @@
 #include "server/app/register_command.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <cstdio>
 #include <nlohmann/json.hpp>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 
 #include "core/geometry/pose.hpp"
+#include "core/geometry/pose_text.hpp"
 #include "core/registration/register_scan.hpp"
 #include "drivers/io/point_cloud_file.hpp"
 
 namespace strata::app {
 namespace {
 
+constexpr const char* kGuessSyntax =
+    "--guess needs x,y,z or x,y,z,roll,pitch,yaw (metres, degrees), or the old six numbers "
+    "\"x y z roll pitch yaw\" (metres, radians)";
+
+/// The old form, before the command line had one pose syntax: six numbers, spaces, radians.
+Pose3 parse_old_guess(const std::string& text) {
+  std::istringstream in(text);
+  Pose3 pose;
+  std::string extra;
+  if (!(in >> pose.position.x() >> pose.position.y() >> pose.position.z() >> pose.roll >> pose.pitch >>
+        pose.yaw) ||
+      (in >> extra))
+    throw std::invalid_argument(kGuessSyntax);
+  constexpr double kDegrees = 180.0 / std::numbers::pi;
+  spdlog::warn(
+      "--guess \"{}\" is the old form (spaces, radians); write --guess {},{},{},{},{},{} (metres, degrees)",
+      text, pose.position.x(), pose.position.y(), pose.position.z(), pose.roll * kDegrees,
+      pose.pitch * kDegrees, pose.yaw * kDegrees);
+  return pose;
+}
+
 Eigen::Isometry3d parse_guess(const std::string& text) {
   if (text.empty())
     return Eigen::Isometry3d::Identity();
-  std::istringstream in(text);
-  Pose3 pose;
-  if (!(in >> pose.position.x() >> pose.position.y() >> pose.position.z() >> pose.roll >> pose.pitch >>
-        pose.yaw))
-    throw std::invalid_argument("--guess needs six numbers: \"x y z roll pitch yaw\" (metres, radians)");
-  std::string extra;
-  if (in >> extra)
-    throw std::invalid_argument("--guess has more than six numbers");
-  return pose.to_isometry();
+  if (text.find(',') == std::string::npos)
+    return parse_old_guess(text).to_isometry();
+  try {
+    return parse_pose_text(text).to_isometry();
+  } catch (const std::invalid_argument& error) {
+    throw std::invalid_argument(std::string(kGuessSyntax) + ": " + error.what());
+  }
 }
 
 }  // namespace
@@ -38,7 +61,8 @@ CLI::App* add_register_command(CLI::App& app, RegisterOptions& options) {
   command->add_option("target", options.target, "Scan to move it onto")->required()->check(CLI::ExistingFile);
   command->add_option(
       "--guess", options.guess,
-      "Initial source-to-target pose \"x y z roll pitch yaw\" (metres, radians; default identity)");
+      "Initial source-to-target pose x,y,z[,roll,pitch,yaw] in metres and degrees, like --lidar-mount "
+      "(default identity; the old \"x y z roll pitch yaw\" in radians still works, with a warning)");
   command->add_flag("--json", options.json, "Print one JSON object instead of text");
   return command;
 }

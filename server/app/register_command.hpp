@@ -8,7 +8,7 @@ namespace strata::app {
 struct RegisterOptions {
   std::string source;
   std::string target;
-  std::string guess;  ///< "x y z roll pitch yaw" (metres, radians); empty = identity
+  std::string guess;  ///< x,y,z[,roll,pitch,yaw] (metres, degrees); empty: identity
   bool json = false;
 };
 

@@ -1,0 +1,14 @@
+#pragma once
+
+#include <string_view>
+
+#include "core/geometry/pose.hpp"
+
+namespace strata {
+
+/// The command line's one pose syntax: "x,y,z" or "x,y,z,roll,pitch,yaw", metres and degrees (what a person
+/// measures with a tape and reads off a protractor). Throws std::invalid_argument saying what is wrong: a
+/// value that is not a finite number, or not 3 or 6 of them.
+[[nodiscard]] Pose3 parse_pose_text(std::string_view text);
+
+}  // namespace strata
