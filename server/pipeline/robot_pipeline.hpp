@@ -63,9 +63,9 @@ class RobotPipeline {
 
  private:
   // The steps of docs/architecture.md 3, each wiring one arrow.
-  void take_scans_from_the_driver();         // driver thread -> state, recorder, localizer (steps 1-2)
-  void map_the_registered_scans();           // localizer -> mapping worker (steps 3-6)
-  void plan_on_the_live_map();               // mapping worker -> navigator (step 7)
+  void take_scans_from_the_driver();         // driver thread -> state, recorder, localizer
+  void map_the_registered_scans();           // localizer (steps 1-5) -> mapping (6-8)
+  void plan_on_the_live_map();               // mapping (step 8) -> navigator
   void drive_the_base_from_the_navigator();  // navigator -> driver (goals, teleop)
 
   RobotState robot_state_;
