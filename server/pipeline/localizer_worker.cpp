@@ -78,10 +78,11 @@ void LocalizerWorker::run() {
   }
 }
 
-void LocalizerWorker::process(ScanEvent scan) {
-  const PointCloud points = points_in_base(scan);
+void LocalizerWorker::process(ScanEvent event) {
+  PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
+  const ScanEvent& scan = preprocessed.event;
   const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
-  const LocalizationUpdate update = localizer_.add_scan(points, odometry);
+  const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry);
   ++status_.scans;
   if (update.registration) {
     const RegistrationResult& r = *update.registration;
@@ -104,7 +105,7 @@ void LocalizerWorker::process(ScanEvent scan) {
   const bool rejected = update.registration && update.correction == Correction::kNone;
   if (sink_ && !rejected) {
     const Eigen::Isometry3d map_from_sensor = update.pose * scan.sensor_to_base;
-    sink_(std::move(scan), map_from_sensor);
+    sink_(std::move(preprocessed), map_from_sensor);
   }
   // Published after the scan is handed on: whoever sees the count can queue a map command (a save) knowing
   // it runs after this scan is mapped.

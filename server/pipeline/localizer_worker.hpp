@@ -9,6 +9,7 @@
 
 #include "core/localization/scan_to_map_localizer.hpp"
 #include "drivers/scan_event.hpp"
+#include "server/pipeline/scan_preprocessing.hpp"
 #include "server/state/robot_state.hpp"
 
 namespace strata::pipeline {
@@ -29,7 +30,9 @@ class LocalizerWorker {
   /// sensor's corrected pose in the map frame, on the localizer's thread. Scans whose registration fault
   /// control rejected are not handed on: their pose is the odometry guess, which would smear the map with
   /// the very error the check caught (the first scan, which has nothing to register against, is).
-  using RegisteredScanSink = std::function<void(ScanEvent scan, const Eigen::Isometry3d& map_from_sensor)>;
+  /// The scan comes preprocessed (step 1, in the base frame): nothing after the localizer does it again.
+  using RegisteredScanSink =
+      std::function<void(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor)>;
   /// Before start().
   void set_registered_scan_sink(RegisteredScanSink sink) { sink_ = std::move(sink); }
 

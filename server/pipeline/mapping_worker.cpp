@@ -90,6 +90,10 @@ void MappingWorker::stop() {
 }
 
 void MappingWorker::submit(ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
+  submit(preprocess(std::move(scan), options_.min_range), map_from_sensor);
+}
+
+void MappingWorker::submit(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
   {
     std::lock_guard lock(mutex_);
     if (waiting_scans_ >= std::max<std::size_t>(options_.queue_capacity, 1)) {
@@ -143,23 +147,23 @@ double wall_clock_now() {
 }  // namespace
 
 void MappingWorker::map_scan(const Scan& scan) {
-  if (!scan.map_from_sensor.matrix().allFinite() || !scan.event.sensor_to_base.matrix().allFinite()) {
+  const ScanEvent& event = scan.preprocessed.event;
+  if (!scan.map_from_sensor.matrix().allFinite() || !event.sensor_to_base.matrix().allFinite()) {
     // A broken pose would put the scan (and the region to refresh) nowhere: drop it, keep the map.
-    spdlog::warn("mapping: scan at t={:.1f} not mapped: its pose is not finite", scan.event.stamp);
+    spdlog::warn("mapping: scan at t={:.1f} not mapped: its pose is not finite", event.stamp);
     return;
   }
   // How long the scan took to get here since it reached the pipeline: the localizer (preprocessing,
   // registration) and this queue. Logged with the mapping's own times: the scan-to-client latency budget.
-  const double waited_ms =
-      scan.event.received_at > 0.0 ? (wall_clock_now() - scan.event.received_at) * 1e3 : 0.0;
-  const Eigen::Isometry3d map_from_base = scan.map_from_sensor * scan.event.sensor_to_base.inverse();
-  const PointCloud points = transformed(points_in_base(scan.event, options_.min_range), map_from_base);
+  const double waited_ms = event.received_at > 0.0 ? (wall_clock_now() - event.received_at) * 1e3 : 0.0;
+  const Eigen::Isometry3d map_from_base = scan.map_from_sensor * event.sensor_to_base.inverse();
+  const PointCloud points = transformed(scan.preprocessed.points, map_from_base);
   MappingTimes times;
   try {
     times = live_.add_scan(points, scan.map_from_sensor.translation(), map_from_base.translation(),
-                           scan.event.received_at);
+                           event.received_at);
   } catch (const std::exception& error) {  // an encoder failure must not end the mapping thread
-    spdlog::error("mapping: scan at t={:.1f} not mapped: {}", scan.event.stamp, error.what());
+    spdlog::error("mapping: scan at t={:.1f} not mapped: {}", event.stamp, error.what());
     return;
   }
   {
@@ -171,9 +175,9 @@ void MappingWorker::map_scan(const Scan& scan) {
   spdlog::debug(
       "mapped scan at t={:.1f}: {} points, {} tiles changed; reached mapping {:.1f} ms after receipt; insert "
       "{:.1f} ms, drivable {:.1f} ms, tiles {:.1f} ms, png {:.1f} ms; published {:.1f} ms after receipt",
-      scan.event.stamp, points.size(), times.changed_tiles, waited_ms, times.insert_ms, times.drivable_ms,
+      event.stamp, points.size(), times.changed_tiles, waited_ms, times.insert_ms, times.drivable_ms,
       times.tiles_ms, times.png_ms,
-      scan.event.received_at > 0.0 ? (wall_clock_now() - scan.event.received_at) * 1e3 : 0.0);
+      event.received_at > 0.0 ? (wall_clock_now() - event.received_at) * 1e3 : 0.0);
 }
 
 void MappingWorker::publish() {

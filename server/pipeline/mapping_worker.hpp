@@ -15,6 +15,7 @@
 #include "server/control/robot_commands.hpp"
 #include "server/pipeline/live_map.hpp"
 #include "server/pipeline/map_update.hpp"
+#include "server/pipeline/scan_preprocessing.hpp"
 #include "server/state/map_state.hpp"
 
 namespace strata::pipeline {
@@ -24,7 +25,8 @@ struct MappingOptions {
   /// Registered scans waiting to be mapped; when full the oldest waiting scan is dropped (counted), so the
   /// localizer never waits for the mapping.
   std::size_t queue_capacity = 4;
-  /// Returns nearer the sensor than this are the robot itself (as for registration), metres.
+  /// Returns nearer the sensor than this are the robot itself (as for registration), metres: for scans
+  /// submitted unprocessed (the live pipeline's come preprocessed by the localizer, with the same bound).
   double min_range = 0.3;
 };
 
@@ -59,8 +61,11 @@ class MappingWorker final : public MapCommands {
   /// Finishes the scan or command under way, abandons waiting scans, fails waiting commands.
   void stop();
 
-  /// A registered scan: `scan` as the driver took it (sensor frame) and where its sensor was in the map
-  /// frame. Returns at once.
+  /// A registered scan, preprocessed by the localizer (step 1), and where its sensor was in the map frame.
+  /// Returns at once.
+  void submit(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor);
+  /// The same for a scan as the driver took it (sensor frame): preprocessed here with
+  /// MappingOptions::min_range (tests, tools).
   void submit(ScanEvent scan, const Eigen::Isometry3d& map_from_sensor);
   /// Waits until everything submitted before is done (tests, tools, a replay as fast as possible). False
   /// when the worker is not running.
@@ -76,7 +81,7 @@ class MappingWorker final : public MapCommands {
 
  private:
   struct Scan {
-    ScanEvent event;
+    PreprocessedScan preprocessed;
     Eigen::Isometry3d map_from_sensor;
   };
   using Task = std::function<void()>;

@@ -70,9 +70,10 @@ void RobotPipeline::take_scans_from_the_driver() {
 }
 
 void RobotPipeline::map_the_registered_scans() {
-  localizer_.set_registered_scan_sink([this](ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
-    mapping_.submit(std::move(scan), map_from_sensor);
-  });
+  localizer_.set_registered_scan_sink(
+      [this](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
+        mapping_.submit(std::move(scan), map_from_sensor);
+      });
 }
 
 void RobotPipeline::plan_on_the_live_map() {

@@ -22,4 +22,12 @@ PointCloud points_in_base(const ScanEvent& scan, double min_range) {
   return points;
 }
 
+PreprocessedScan preprocess(ScanEvent scan, double min_range) {
+  PreprocessedScan preprocessed;
+  preprocessed.points = points_in_base(scan, min_range);
+  scan.points = {};  // the raw points are done with: free them before the scan waits in a queue
+  preprocessed.event = std::move(scan);
+  return preprocessed;
+}
+
 }  // namespace strata::pipeline

@@ -10,4 +10,13 @@ namespace strata::pipeline {
 /// the sensor's max-range "no return" readings.
 [[nodiscard]] PointCloud points_in_base(const ScanEvent& scan, double min_range = 0.3);
 
+/// A scan after step 1, as it travels on from the localizer to the mapping worker: preprocessed once.
+struct PreprocessedScan {
+  ScanEvent event;    ///< as the driver took it, without its raw points (`points` replaces them)
+  PointCloud points;  ///< points_in_base(event)
+};
+
+/// Step 1 for a scan the pipeline takes over: its points in the base frame, the raw ones released.
+[[nodiscard]] PreprocessedScan preprocess(ScanEvent scan, double min_range = 0.3);
+
 }  // namespace strata::pipeline

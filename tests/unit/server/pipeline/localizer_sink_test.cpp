@@ -28,8 +28,8 @@ TEST(LocalizerWorkerSink, HandsOnRegisteredScansWithTheirSensorPose) {
 
   std::mutex mutex;
   std::condition_variable arrived;
-  std::vector<std::pair<ScanEvent, Eigen::Isometry3d>> received;
-  localizer.set_registered_scan_sink([&](ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
+  std::vector<std::pair<PreprocessedScan, Eigen::Isometry3d>> received;
+  localizer.set_registered_scan_sink([&](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
     std::lock_guard lock(mutex);
     received.emplace_back(std::move(scan), map_from_sensor);
     arrived.notify_all();
@@ -44,9 +44,13 @@ TEST(LocalizerWorkerSink, HandsOnRegisteredScansWithTheirSensorPose) {
   }
   localizer.stop();
   ASSERT_EQ(received.size(), 2U);  // the first, with nothing to register against, and a registered one
-  for (const auto& [scan, map_from_sensor] : received) {
-    EXPECT_FALSE(scan.points.empty()) << "full resolution, as the driver took it";
-    const Eigen::Isometry3d truth = scan.truth->to_isometry() * scan.sensor_to_base;
+  for (std::size_t i = 0; i < received.size(); ++i) {
+    const auto& [scan, map_from_sensor] = received[i];
+    // Full resolution, preprocessed once (step 1) for the mapping worker too; the raw points released.
+    EXPECT_EQ(scan.points.size(), points_in_base(scans[i]).size());
+    EXPECT_FALSE(scan.points.empty());
+    EXPECT_TRUE(scan.event.points.empty());
+    const Eigen::Isometry3d truth = scan.event.truth->to_isometry() * scan.event.sensor_to_base;
     EXPECT_LT((map_from_sensor.translation() - truth.translation()).norm(), 0.3);
   }
 }
@@ -65,11 +69,12 @@ TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextS
   std::mutex mutex;
   std::condition_variable arrived;
   std::vector<ScanEvent> mapped;
-  localizer.set_registered_scan_sink([&](ScanEvent scan, const Eigen::Isometry3d& map_from_sensor) {
-    const Eigen::Isometry3d truth = scan.truth->to_isometry() * scan.sensor_to_base;
-    EXPECT_LT((map_from_sensor.translation() - truth.translation()).norm(), 0.3) << "at t=" << scan.stamp;
+  localizer.set_registered_scan_sink([&](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
+    const Eigen::Isometry3d truth = scan.event.truth->to_isometry() * scan.event.sensor_to_base;
+    EXPECT_LT((map_from_sensor.translation() - truth.translation()).norm(), 0.3)
+        << "at t=" << scan.event.stamp;
     std::lock_guard lock(mutex);
-    mapped.push_back(std::move(scan));
+    mapped.push_back(std::move(scan.event));
     arrived.notify_all();
   });
   // The estimate for one fixed odometry pose: it moves only when the correction does.
