@@ -8,7 +8,10 @@
 
 namespace strata {
 
-Pose3 parse_pose_text(std::string_view text) {
+namespace {
+
+/// The comma-separated numbers of `text`; throws naming the first item that is not a finite number.
+std::vector<double> parse_numbers(std::string_view text) {
   std::vector<double> values;
   std::size_t start = 0;
   while (true) {
@@ -28,6 +31,13 @@ Pose3 parse_pose_text(std::string_view text) {
       break;
     start = comma + 1;
   }
+  return values;
+}
+
+}  // namespace
+
+Pose3 parse_pose_text(std::string_view text) {
+  std::vector<double> values = parse_numbers(text);
   if (values.size() != 3 && values.size() != 6)
     throw std::invalid_argument("expected x,y,z or x,y,z,roll,pitch,yaw (metres, degrees)");
   values.resize(6, 0.0);
@@ -38,6 +48,13 @@ Pose3 parse_pose_text(std::string_view text) {
   pose.pitch = values[4] * kRadians;
   pose.yaw = values[5] * kRadians;
   return pose;
+}
+
+Eigen::Vector3d parse_point_text(std::string_view text) {
+  const std::vector<double> values = parse_numbers(text);
+  if (values.size() != 3)
+    throw std::invalid_argument("expected x,y,z (metres)");
+  return {values[0], values[1], values[2]};
 }
 
 }  // namespace strata

@@ -11,4 +11,7 @@ namespace strata {
 /// value that is not a finite number, or not 3 or 6 of them.
 [[nodiscard]] Pose3 parse_pose_text(std::string_view text);
 
+/// A point in the same syntax: "x,y,z" in metres. Throws std::invalid_argument as parse_pose_text does.
+[[nodiscard]] Eigen::Vector3d parse_point_text(std::string_view text);
+
 }  // namespace strata

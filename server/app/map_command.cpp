@@ -1,5 +1,7 @@
 #include "server/app/map_command.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -7,6 +9,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "core/geometry/pose_text.hpp"
 #include "core/mls/drivable_map.hpp"
 #include "core/mls/map_export.hpp"
 #include "core/mls/mls_file.hpp"
@@ -16,6 +19,27 @@
 
 namespace strata::app {
 namespace {
+
+/// --robot in the command line's one syntax (x,y,z), or the old "x y z" with a warning that says what to
+/// write.
+Eigen::Vector3d parse_robot_point(const std::string& text) {
+  constexpr const char* kSyntax = "--pgm needs --robot x,y,z (the ground point the robot stands on, metres)";
+  if (text.find(',') == std::string::npos) {
+    Eigen::Vector3d robot;
+    std::istringstream in(text);
+    std::string extra;
+    if (!(in >> robot.x() >> robot.y() >> robot.z()) || (in >> extra) || !robot.allFinite())
+      throw std::runtime_error(kSyntax);
+    spdlog::warn("--robot \"{}\" is the old form (spaces); write --robot {},{},{}", text, robot.x(),
+                 robot.y(), robot.z());
+    return robot;
+  }
+  try {
+    return parse_point_text(text);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error(std::string(kSyntax) + ": " + error.what());
+  }
+}
 
 Eigen::Isometry3d read_pose(const std::filesystem::path& path) {
   if (path.extension() == ".pose")
@@ -59,7 +83,7 @@ MapCommand add_map_command(CLI::App& app, MapBuildOptions& build, MapExportOptio
       "--pgm", export_options.pgm_yaml,
       "Write the drivable map at the robot's level: the map_server YAML (PGM beside it)");
   command.export_->add_option("--robot", export_options.robot,
-                              "\"x y z\": the ground point the robot stands on (needed with --pgm)");
+                              "x,y,z: the ground point the robot stands on, metres (needed with --pgm)");
   command.export_->add_option("--max-step", export_options.max_step, "Highest step the robot climbs, metres")
       ->capture_default_str();
   command.export_->add_option("--max-slope", export_options.max_slope_degrees, "Steepest slope, degrees")
@@ -110,10 +134,7 @@ int run_map_export(const MapExportOptions& options) {
     summary += ",\"ply\":\"" + options.ply + "\"";
   }
   if (!options.pgm_yaml.empty()) {
-    Eigen::Vector3d robot;
-    std::istringstream in(options.robot);
-    if (!(in >> robot.x() >> robot.y() >> robot.z()))
-      throw std::runtime_error("--pgm needs --robot \"x y z\" (the ground point the robot stands on)");
+    const Eigen::Vector3d robot = parse_robot_point(options.robot);
     TraversabilityConfig config;
     config.max_step = options.max_step;
     config.max_slope = options.max_slope_degrees * std::numbers::pi / 180.0;

@@ -1,62 +1,18 @@
 #include "server/pipeline/mapping_worker.hpp"
 
 #include <spdlog/spdlog.h>
-#include <unistd.h>
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <fstream>
 #include <future>
-#include <iterator>
-#include <system_error>
 #include <utility>
 
-#include "core/files/temporary_files.hpp"
-#include "core/mls/map_export.hpp"
-#include "core/mls/mls_file.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
-#include "server/protocol/client_messages.hpp"
 
 namespace strata::pipeline {
-namespace {
-
-std::vector<std::uint8_t> read_bytes(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-/// A directory of its own for one download's files, removed with it.
-class ScratchDirectory {
- public:
-  ScratchDirectory() {
-    static std::atomic<unsigned> counter{0};
-    path_ = std::filesystem::temp_directory_path() /
-            ("strata-download-" + std::to_string(::getpid()) + "-" + std::to_string(counter++));
-    std::filesystem::create_directories(path_);
-  }
-  ~ScratchDirectory() {
-    std::error_code ignored;
-    std::filesystem::remove_all(path_, ignored);
-  }
-  ScratchDirectory(const ScratchDirectory&) = delete;
-  ScratchDirectory& operator=(const ScratchDirectory&) = delete;
-  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
-
- private:
-  std::filesystem::path path_;
-};
-
-}  // namespace
 
 MappingWorker::MappingWorker(MapState& state, std::filesystem::path maps_dir, MappingOptions options)
-    : state_(state), maps_dir_(std::move(maps_dir)), options_(std::move(options)), live_(options_.map) {
-  std::filesystem::create_directories(maps_dir_);  // throws with the reason when it cannot
-  // A save killed before its rename (power cut, SIGKILL) leaves its temporary behind; nothing ever reads
-  // it, so it would only take space. Only files named like our temporaries, of processes that are gone.
-  for (const auto& stale : remove_stale_temporaries(maps_dir_))
-    spdlog::info("removed {}: left by an interrupted map save", stale.string());
-}
+    : state_(state), store_(std::move(maps_dir)), options_(std::move(options)), live_(options_.map) {}
 
 MappingWorker::~MappingWorker() {
   stop();
@@ -219,104 +175,43 @@ bool MappingWorker::run_on_mapping_thread(Task task) const {
 }
 
 CommandResult MappingWorker::save_map(const std::string& name) {
-  if (!protocol::is_valid_map_name(name))
-    return CommandResult::failure(
-        ErrorCode::kBadParams,
-        "'" + name + "' is not a map name (1-64 characters of A-Z a-z 0-9 . _ -, not starting with a dot)");
-  if (temporary_file_owner(name)) {
-    // Such a file is not listed, and the next start may remove it as a save's leftover.
-    return CommandResult::failure(ErrorCode::kBadParams,
-                                  "'" + name + "' is named like a temporary file (NAME.tmp.NUMBER)");
-  }
+  if (CommandResult checked = MapStore::check_name(name); !checked.ok)
+    return checked;
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
-  run_on_mapping_thread([&] {
-    try {
-      save_mls_map(live_.map(), maps_dir_ / name);  // atomic: temporary file, fsync, rename
-      result = CommandResult::success();
-      spdlog::info("map saved to {}", (maps_dir_ / name).string());
-    } catch (const std::exception& error) {
-      result = CommandResult::failure(ErrorCode::kIoError, error.what());
-    }
-  });
+  run_on_mapping_thread([&] { result = store_.save(live_.map(), name); });
   return result;
 }
 
 CommandResult MappingWorker::load_map(const std::string& name) {
-  if (!protocol::is_valid_map_name(name))
-    return CommandResult::failure(
-        ErrorCode::kBadParams,
-        "'" + name + "' is not a map name (1-64 characters of A-Z a-z 0-9 . _ -, not starting with a dot)");
-  const std::filesystem::path path = maps_dir_ / name;
-  std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error))
-    return CommandResult::failure(ErrorCode::kNotFound, "no map named '" + name + "'");
+  // Read and checked here, on the caller's thread: the mapping goes on meanwhile, and a corrupt file
+  // changes nothing.
+  MapStore::Loaded loaded = store_.load(name);
+  if (!loaded.result.ok)
+    return loaded.result;
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
-    MlsMap loaded;
     try {
-      loaded = load_mls_map(path);  // the whole file is checked before anything changes
-    } catch (const std::exception& failure) {
-      result = CommandResult::failure(ErrorCode::kCorruptFile, failure.what());
-      return;
-    }
-    try {
-      live_.replace(std::move(loaded));
+      live_.replace(std::move(loaded.map));
     } catch (const std::exception& failure) {
       result = CommandResult::failure(ErrorCode::kIoError, failure.what());
       return;
     }
     result = CommandResult::success();
-    spdlog::info("map loaded from {}", path.string());
+    spdlog::info("map loaded from {}", (store_.directory() / name).string());
     publish();
   });
   return result;
 }
 
 std::vector<MapFileInfo> MappingWorker::list_maps() const {
-  std::vector<MapFileInfo> maps;
-  std::error_code error;
-  for (const auto& entry : std::filesystem::directory_iterator(maps_dir_, error)) {
-    const std::string name = entry.path().filename().string();
-    // Hidden files and save_mls_map's temporaries (name.tmp.PID) are not maps.
-    if (!protocol::is_valid_map_name(name) || temporary_file_owner(name) || !entry.is_regular_file(error))
-      continue;
-    MapFileInfo info;
-    info.name = name;
-    info.bytes = entry.file_size(error);
-    const auto modified = std::chrono::file_clock::to_sys(entry.last_write_time(error));
-    info.modified = std::chrono::duration<double>(modified.time_since_epoch()).count();
-    maps.push_back(std::move(info));
-  }
-  std::sort(maps.begin(), maps.end(),
-            [](const MapFileInfo& a, const MapFileInfo& b) { return a.name < b.name; });
-  return maps;
+  return store_.list();
 }
 
 std::vector<std::uint8_t> MappingWorker::download(const std::string& format) const {
-  if (format != "strata" && format != "ply" && format != "pgm" && format != "yaml")
-    return {};
   std::vector<std::uint8_t> bytes;
   run_on_mapping_thread([&] {
     try {
-      if (format == "strata" || format == "ply") {
-        if (live_.map().patch_count() == 0)
-          return;
-        if (format == "strata") {
-          const std::string data = serialize_mls_map(live_.map());
-          bytes.assign(data.begin(), data.end());
-          return;
-        }
-        const ScratchDirectory scratch;
-        write_mls_ply(live_.map(), scratch.path() / "map.ply");
-        bytes = read_bytes(scratch.path() / "map.ply");
-        return;
-      }
-      const DrivableMap* drivable = live_.drivable();
-      if (drivable == nullptr || drivable->grid.cells.empty())
-        return;
-      const ScratchDirectory scratch;
-      const std::filesystem::path pgm = write_ros_map(drivable->grid, scratch.path() / "map.yaml");
-      bytes = read_bytes(format == "pgm" ? pgm : scratch.path() / "map.yaml");
+      bytes = MapStore::download(format, live_.map(), live_.drivable());
     } catch (const std::exception& error) {
       spdlog::error("map download as {} failed: {}", format, error.what());
       bytes.clear();

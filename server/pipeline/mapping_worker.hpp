@@ -14,6 +14,7 @@
 #include "drivers/scan_event.hpp"
 #include "server/control/robot_commands.hpp"
 #include "server/pipeline/live_map.hpp"
+#include "server/pipeline/map_store.hpp"
 #include "server/pipeline/map_update.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 #include "server/state/map_state.hpp"
@@ -41,11 +42,11 @@ struct MappingStatus {
 /// registered scan at full resolution into the live map, recomputes the drivable map at the robot's level
 /// for the changed region, re-encodes the changed tiles and the occupancy image, publishes the snapshot
 /// into MapState, then tells the listeners. Map commands (save, load, list, download) run on the same
-/// thread, in order with the scans, so they see the map between two scans, never during one.
+/// thread, in order with the scans, so they see the map between two scans, never during one; the files
+/// and formats are the MapStore's.
 class MappingWorker final : public MapCommands {
  public:
-  /// `maps_dir` holds saved maps; it is created if missing, and temporaries left there by interrupted saves
-  /// (remove_stale_temporaries) are removed.
+  /// `maps_dir` holds saved maps (a MapStore: created if missing, temporaries of interrupted saves removed).
   MappingWorker(MapState& state, std::filesystem::path maps_dir, MappingOptions options = {});
   ~MappingWorker() override;
   MappingWorker(const MappingWorker&) = delete;
@@ -77,7 +78,7 @@ class MappingWorker final : public MapCommands {
   [[nodiscard]] std::vector<MapFileInfo> list_maps() const override;
   [[nodiscard]] std::vector<std::uint8_t> download(const std::string& format) const override;
 
-  [[nodiscard]] const std::filesystem::path& maps_dir() const { return maps_dir_; }
+  [[nodiscard]] const std::filesystem::path& maps_dir() const { return store_.directory(); }
 
  private:
   struct Scan {
@@ -94,7 +95,7 @@ class MappingWorker final : public MapCommands {
   bool run_on_mapping_thread(Task task) const;
 
   MapState& state_;
-  std::filesystem::path maps_dir_;
+  MapStore store_;
   MappingOptions options_;
   LiveMap live_;  // mapping thread only
   std::vector<MapUpdateListener> listeners_;

@@ -49,7 +49,7 @@ TEST_F(MapCommand, BuildsAMapThenExportsPlyAndRosMap) {
 
   const CommandResult exported =
       run_strata({"map", "export", map.string(), "--ply", (directory_ / "site.ply").string(), "--pgm",
-                  (directory_ / "site.yaml").string(), "--robot", "0 0 -0.5"},
+                  (directory_ / "site.yaml").string(), "--robot", "0,0,-0.5"},
                  std::chrono::seconds(60));
   ASSERT_EQ(exported.exit_code, 0) << exported.output;
   const nlohmann::json out = json_of(exported);
@@ -59,6 +59,30 @@ TEST_F(MapCommand, BuildsAMapThenExportsPlyAndRosMap) {
   EXPECT_EQ(read_bytes(directory_ / "site.ply").rfind("ply\n", 0), 0U);
   EXPECT_EQ(read_bytes(directory_ / "site.pgm").rfind("P5\n", 0), 0U);
   EXPECT_NE(read_bytes(directory_ / "site.yaml").find("image: site.pgm"), std::string::npos);
+}
+
+TEST_F(MapCommand, TheRobotPointInTheOldFormWorksWithAWarning) {
+  const fs::path map = directory_ / "site.smls";
+  ASSERT_EQ(run_strata({"map", "build", "--scans", (directory_ / "scan.xyz").string(), "-o", map.string()},
+                       std::chrono::seconds(60))
+                .exit_code,
+            0);
+  const auto export_with = [&](const std::string& robot, const std::string& stem) {
+    return run_strata(
+        {"map", "export", map.string(), "--pgm", (directory_ / (stem + ".yaml")).string(), "--robot", robot},
+        std::chrono::seconds(60));
+  };
+  const CommandResult current = export_with("0,0,-0.5", "current");
+  ASSERT_EQ(current.exit_code, 0) << current.output;
+  const CommandResult old = export_with("0 0 -0.5", "old");
+  ASSERT_EQ(old.exit_code, 0) << old.output;
+  EXPECT_NE(old.output.find("write --robot 0,0,-0.5"), std::string::npos) << old.output;
+  EXPECT_EQ(read_bytes(directory_ / "old.pgm"), read_bytes(directory_ / "current.pgm"));
+
+  const CommandResult wrong = export_with("0,0", "wrong");
+  EXPECT_NE(wrong.exit_code, 0);
+  EXPECT_NE(wrong.output.find("--robot x,y,z"), std::string::npos) << wrong.output;
+  EXPECT_FALSE(fs::exists(directory_ / "wrong.pgm"));
 }
 
 TEST_F(MapCommand, CorruptedMapFileFailsWithAClearMessage) {

@@ -32,5 +32,11 @@ TEST(PoseText, SaysWhatIsWrong) {
   }
 }
 
+TEST(PoseText, APointIsThreeNumbersInMetres) {
+  EXPECT_TRUE(parse_point_text("1.5,-2, 0.25").isApprox(Eigen::Vector3d(1.5, -2.0, 0.25)));
+  for (const std::string bad : {"1,2", "1,2,3,0,0,0", "1,nan,3", "1 2 3"})
+    EXPECT_THROW((void)parse_point_text(bad), std::invalid_argument) << bad;
+}
+
 }  // namespace
 }  // namespace strata

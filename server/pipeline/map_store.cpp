@@ -1,0 +1,100 @@
+#include "server/pipeline/map_store.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <fstream>
+#include <iterator>
+#include <system_error>
+
+#include "core/files/temporary_files.hpp"
+#include "core/mls/map_export.hpp"
+#include "core/mls/mls_file.hpp"
+#include "server/protocol/client_messages.hpp"
+
+namespace strata::pipeline {
+
+MapStore::MapStore(std::filesystem::path directory) : directory_(std::move(directory)) {
+  std::filesystem::create_directories(directory_);
+  // A save killed before its rename (power cut, SIGKILL) leaves its temporary behind; nothing ever reads
+  // it, so it would only take space. Only files named like our temporaries, of processes that are gone.
+  for (const auto& stale : remove_stale_temporaries(directory_))
+    spdlog::info("removed {}: left by an interrupted map save", stale.string());
+}
+
+CommandResult MapStore::check_name(const std::string& name) {
+  if (!protocol::is_valid_map_name(name))
+    return CommandResult::failure(
+        ErrorCode::kBadParams,
+        "'" + name + "' is not a map name (1-64 characters of A-Z a-z 0-9 . _ -, not starting with a dot)");
+  if (temporary_file_owner(name)) {
+    // Such a file is not listed, and the next start may remove it as a save's leftover.
+    return CommandResult::failure(ErrorCode::kBadParams,
+                                  "'" + name + "' is named like a temporary file (NAME.tmp.NUMBER)");
+  }
+  return CommandResult::success();
+}
+
+CommandResult MapStore::save(const MlsMap& map, const std::string& name) const {
+  if (CommandResult checked = check_name(name); !checked.ok)
+    return checked;
+  try {
+    save_mls_map(map, directory_ / name);  // atomic: temporary file, fsync, rename
+  } catch (const std::exception& error) {
+    return CommandResult::failure(ErrorCode::kIoError, error.what());
+  }
+  spdlog::info("map saved to {}", (directory_ / name).string());
+  return CommandResult::success();
+}
+
+MapStore::Loaded MapStore::load(const std::string& name) const {
+  if (!protocol::is_valid_map_name(name))
+    return {check_name(name), MlsMap()};
+  const std::filesystem::path path = directory_ / name;
+  std::error_code error;
+  if (!std::filesystem::is_regular_file(path, error))
+    return {CommandResult::failure(ErrorCode::kNotFound, "no map named '" + name + "'"), MlsMap()};
+  try {
+    return {CommandResult::success(), load_mls_map(path)};  // the whole file is checked
+  } catch (const std::exception& failure) {
+    return {CommandResult::failure(ErrorCode::kCorruptFile, failure.what()), MlsMap()};
+  }
+}
+
+std::vector<MapFileInfo> MapStore::list() const {
+  std::vector<MapFileInfo> maps;
+  std::error_code error;
+  for (const auto& entry : std::filesystem::directory_iterator(directory_, error)) {
+    const std::string name = entry.path().filename().string();
+    if (!protocol::is_valid_map_name(name) || temporary_file_owner(name) || !entry.is_regular_file(error))
+      continue;
+    MapFileInfo info;
+    info.name = name;
+    info.bytes = entry.file_size(error);
+    const auto modified = std::chrono::file_clock::to_sys(entry.last_write_time(error));
+    info.modified = std::chrono::duration<double>(modified.time_since_epoch()).count();
+    maps.push_back(std::move(info));
+  }
+  std::sort(maps.begin(), maps.end(),
+            [](const MapFileInfo& a, const MapFileInfo& b) { return a.name < b.name; });
+  return maps;
+}
+
+std::vector<std::uint8_t> MapStore::download(const std::string& format, const MlsMap& map,
+                                             const DrivableMap* drivable) {
+  std::string bytes;
+  if (format == "strata" || format == "ply") {
+    if (map.patch_count() == 0)
+      return {};
+    bytes = format == "strata" ? serialize_mls_map(map) : mls_ply(map);
+  } else if (format == "pgm" || format == "yaml") {
+    if (drivable == nullptr || drivable->grid.cells.empty())
+      return {};
+    // The YAML names the image as a download saves it next to it (map.pgm).
+    bytes = format == "pgm" ? ros_map_pgm(drivable->grid) : ros_map_yaml(drivable->grid, "map.pgm");
+  }
+  return {bytes.begin(), bytes.end()};
+}
+
+}  // namespace strata::pipeline

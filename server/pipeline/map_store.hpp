@@ -1,0 +1,49 @@
+#pragma once
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "core/mls/drivable_map.hpp"
+#include "core/mls/mls_map.hpp"
+#include "server/control/robot_commands.hpp"
+
+namespace strata::pipeline {
+
+/// The saved maps of one directory, and the map's download formats as bytes: everything about map files,
+/// so the mapping worker is only a queue and a thread. Names follow protocol::is_valid_map_name, the one
+/// rule the API checks too: every listed map can be loaded by its name.
+class MapStore {
+ public:
+  /// Creates `directory` if missing (throws with the reason when it cannot) and removes temporaries left
+  /// there by interrupted saves.
+  explicit MapStore(std::filesystem::path directory);
+
+  /// Whether `name` can be saved as: success, or kBadParams saying why not.
+  [[nodiscard]] static CommandResult check_name(const std::string& name);
+  /// Saves `map` as `name` atomically (the previous file survives a failure); kIoError with the reason.
+  [[nodiscard]] CommandResult save(const MlsMap& map, const std::string& name) const;
+
+  /// A map read from the store: `map` is set only when `result` is a success.
+  struct Loaded {
+    CommandResult result;
+    MlsMap map;
+  };
+  /// Reads and checks the whole file; kNotFound or kCorruptFile (with the decoder's reason) otherwise.
+  [[nodiscard]] Loaded load(const std::string& name) const;
+  /// The saved maps by name; hidden files, temporaries and names the API would refuse are not maps.
+  [[nodiscard]] std::vector<MapFileInfo> list() const;
+
+  /// `map` in a download format: "strata" (the native file), "ply", or the drivable map as ROS "pgm" or
+  /// "yaml". Empty for an unknown format or when there is nothing to download (no patches, no drivable map).
+  [[nodiscard]] static std::vector<std::uint8_t> download(const std::string& format, const MlsMap& map,
+                                                          const DrivableMap* drivable);
+
+  [[nodiscard]] const std::filesystem::path& directory() const { return directory_; }
+
+ private:
+  std::filesystem::path directory_;
+};
+
+}  // namespace strata::pipeline

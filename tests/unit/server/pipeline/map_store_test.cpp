@@ -1,0 +1,99 @@
+#include "server/pipeline/map_store.hpp"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <string>
+
+#include "core/mls/map_export.hpp"
+#include "tests/unit/core/mls/mls_scenes.hpp"
+
+namespace strata::pipeline {
+namespace {
+
+namespace fs = std::filesystem;
+
+class MapStoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    directory_ =
+        fs::temp_directory_path() / ("strata_map_store_" + std::to_string(::getpid()) + "_" +
+                                     ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(directory_);
+  }
+  void TearDown() override { fs::remove_all(directory_); }
+
+  static MlsMap scene_map() {
+    MlsMap map;
+    PointCloud cloud;
+    test::add_plane(cloud, -3, 3, -2, 2, 0.0);
+    test::add_vertical_face(cloud, 2.5, -2, 2.5, 2, 0.0, 1.5);
+    map.insert_scan(cloud, {0, 0, 1});
+    return map;
+  }
+  static std::string read_bytes(const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+  static std::string text_of(const std::vector<std::uint8_t>& bytes) { return {bytes.begin(), bytes.end()}; }
+
+  fs::path directory_;
+};
+
+TEST_F(MapStoreTest, ListsOnlyWhatLoadsByItsName) {
+  const MapStore store(directory_);  // creates the directory
+  const MlsMap map = scene_map();
+  ASSERT_TRUE(store.save(map, "site.smls").ok);
+  std::ofstream(directory_ / ".hidden") << "x";
+  std::ofstream(directory_ / std::string(65, 'a')) << "x";  // a name the API refuses
+  fs::create_directories(directory_ / "folder");
+
+  const std::vector<MapFileInfo> maps = store.list();
+  ASSERT_EQ(maps.size(), 1U);
+  EXPECT_EQ(maps[0].name, "site.smls");
+  EXPECT_EQ(maps[0].bytes, fs::file_size(directory_ / "site.smls"));
+
+  const MapStore::Loaded loaded = store.load("site.smls");
+  ASSERT_TRUE(loaded.result.ok) << loaded.result.message;
+  EXPECT_TRUE(loaded.map.same_content(map));
+}
+
+TEST_F(MapStoreTest, BadNamesMissingAndCorruptFilesSayWhich) {
+  const MapStore store(directory_);
+  EXPECT_EQ(store.save(scene_map(), "../escape").code, ErrorCode::kBadParams);
+  EXPECT_EQ(store.save(scene_map(), "site.tmp.12").code, ErrorCode::kBadParams);
+  EXPECT_FALSE(fs::exists(directory_ / "site.tmp.12"));
+  EXPECT_EQ(store.load("nothing.smls").result.code, ErrorCode::kNotFound);
+  std::ofstream(directory_ / "broken.smls") << "STRATMLS but not a map";
+  const MapStore::Loaded broken = store.load("broken.smls");
+  EXPECT_EQ(broken.result.code, ErrorCode::kCorruptFile);
+  EXPECT_FALSE(broken.result.message.empty());
+  EXPECT_EQ(broken.map.patch_count(), 0U);
+}
+
+TEST_F(MapStoreTest, DownloadsAreTheBytesTheFilesWouldHold) {
+  const MapStore store(directory_);
+  const MlsMap map = scene_map();
+  ASSERT_TRUE(store.save(map, "site.smls").ok);
+  EXPECT_EQ(text_of(MapStore::download("strata", map, nullptr)), read_bytes(directory_ / "site.smls"));
+  EXPECT_EQ(text_of(MapStore::download("ply", map, nullptr)), mls_ply(map));
+
+  const CellRegion region{map.cell_of(-3, -2), 60, 40};
+  const DrivableMap drivable = compute_drivable_map(map, TraversabilityConfig{}, {0, 0, 0}, region);
+  const std::string pgm = text_of(MapStore::download("pgm", map, &drivable));
+  EXPECT_EQ(pgm.rfind("P5\n# strata drivable map\n60 40\n255\n", 0), 0U);
+  const std::string yaml = text_of(MapStore::download("yaml", map, &drivable));
+  EXPECT_NE(yaml.find("image: map.pgm"), std::string::npos) << yaml;
+
+  EXPECT_TRUE(MapStore::download("zip", map, &drivable).empty());
+  EXPECT_TRUE(MapStore::download("pgm", map, nullptr).empty());
+  EXPECT_TRUE(MapStore::download("strata", MlsMap(), nullptr).empty());
+  EXPECT_EQ(std::distance(fs::directory_iterator(directory_), fs::directory_iterator()), 1)
+      << "a download writes no file";
+}
+
+}  // namespace
+}  // namespace strata::pipeline
