@@ -37,11 +37,9 @@ std::string describe_counters(const LidarScanBuilder& builder) {
 
 // --- PcapLidarDriver ---------------------------------------------------------------------------------
 
-PcapLidarDriver::PcapLidarDriver(std::filesystem::path pcap, LidarDriverOptions options, Pacing pacing)
-    : pcap_(std::move(pcap)), options_(std::move(options)), pacing_(pacing), source_(pcap_, options_.setup) {
-  if (!pacing_.as_fast_as_possible && !(pacing_.time_scale > 0.0))
-    throw std::invalid_argument("the capture's time scale must be positive");
-}
+PcapLidarDriver::PcapLidarDriver(std::filesystem::path pcap, LidarDriverOptions options,
+                                 PlaybackPacing pacing)
+    : pcap_(std::move(pcap)), options_(std::move(options)), clock_(pacing), source_(pcap_, options_.setup) {}
 
 PcapLidarDriver::~PcapLidarDriver() {
   stop();
@@ -49,9 +47,7 @@ PcapLidarDriver::~PcapLidarDriver() {
 
 std::string PcapLidarDriver::description() const {
   return fmt::format("{} capture {}, no odometry (ICP alone tracks the motion), {}",
-                     sensor_name(options_.setup.model), pcap_.string(),
-                     pacing_.as_fast_as_possible ? std::string("as fast as possible")
-                                                 : fmt::format("time scale {}", pacing_.time_scale));
+                     sensor_name(options_.setup.model), pcap_.string(), clock_.description());
 }
 
 void PcapLidarDriver::start(Outputs outputs) {
@@ -61,46 +57,24 @@ void PcapLidarDriver::start(Outputs outputs) {
 }
 
 void PcapLidarDriver::stop() {
-  {
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
-  }
-  wake_.notify_all();
+  clock_.stop();
   if (thread_.joinable())
     thread_.join();
 }
 
-bool PcapLidarDriver::sleep_until(std::chrono::steady_clock::time_point wall_time) {
-  std::unique_lock lock(mutex_);
-  wake_.wait_until(lock, wall_time, [this] { return stopping_; });
-  return !stopping_;
-}
-
 void PcapLidarDriver::run(Outputs outputs) {
-  using clock = std::chrono::steady_clock;
-  const auto started = clock::now();
-  std::optional<double> first_stamp;
   std::size_t played = 0;
   try {
     while (std::optional<ScanEvent> scan = source_.next()) {
-      {
-        std::lock_guard lock(mutex_);
-        if (stopping_)
-          return;
-      }
+      if (clock_.stopped())
+        return;
       prepare(*scan, options_);
-      if (!first_stamp)
-        first_stamp = scan->stamp;
-      if (!pacing_.as_fast_as_possible) {
-        const auto due = started + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(
-                                       (scan->stamp - *first_stamp) / pacing_.time_scale));
-        if (!sleep_until(due))
-          return;
-      }
+      if (!clock_.wait_until_due(scan->stamp))
+        return;
       outputs.on_sample(sample_at(scan->stamp));
       outputs.on_scan(std::move(*scan));
       ++played;
-      if (pacing_.as_fast_as_possible && outputs.wait_for_pipeline && !outputs.wait_for_pipeline())
+      if (!clock_.wait_for_pipeline(outputs.wait_for_pipeline))
         return;
     }
   } catch (const std::exception& error) {
@@ -112,7 +86,7 @@ void PcapLidarDriver::run(Outputs outputs) {
     outputs.on_finished();
   const PcapStats& pcap = source_.pcap_stats();
   spdlog::info("pcap finished: {} scans played in {:.1f} s; serving the map", played,
-               std::chrono::duration<double>(clock::now() - started).count());
+               clock_.seconds_playing());
   spdlog::info("pcap: {} frames, {} UDP datagrams, {} skipped{}; decoder: {}", pcap.records, pcap.datagrams,
                pcap.skipped(), pcap.truncated_file ? " (the file ends inside a record)" : "",
                describe_counters(source_.builder()));

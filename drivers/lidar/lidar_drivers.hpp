@@ -5,16 +5,15 @@
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
 #include <chrono>
-#include <condition_variable>
 #include <filesystem>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <thread>
 
 #include "drivers/lidar/lidar_scan_builder.hpp"
 #include "drivers/lidar/pcap_scan_source.hpp"
 #include "drivers/lidar/udp_scan_source.hpp"
+#include "drivers/playback_clock.hpp"
 #include "drivers/robot_driver.hpp"
 
 namespace strata::lidar {
@@ -33,12 +32,9 @@ struct LidarDriverOptions {
 /// replay). Logs the decoder's counters once at the end.
 class PcapLidarDriver final : public RobotDriver {
  public:
-  struct Pacing {
-    double time_scale = 1.0;           ///< capture seconds per wall-clock second
-    bool as_fast_as_possible = false;  ///< each scan once the pipeline has finished the one before
-  };
-  /// Opens the capture and reads the calibration: throws PcapError or LidarConfigError.
-  PcapLidarDriver(std::filesystem::path pcap, LidarDriverOptions options, Pacing pacing);
+  /// Opens the capture and reads the calibration: throws PcapError or LidarConfigError (and
+  /// std::invalid_argument for a time scale that is not positive).
+  PcapLidarDriver(std::filesystem::path pcap, LidarDriverOptions options, PlaybackPacing pacing);
   ~PcapLidarDriver() override;
 
   [[nodiscard]] std::string kind() const override { return "pcap"; }
@@ -52,15 +48,11 @@ class PcapLidarDriver final : public RobotDriver {
 
  private:
   void run(Outputs outputs);
-  bool sleep_until(std::chrono::steady_clock::time_point wall_time);
 
   std::filesystem::path pcap_;
   LidarDriverOptions options_;
-  Pacing pacing_;
+  PlaybackClock clock_;
   PcapScanSource source_;
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  bool stopping_ = false;
   std::atomic<bool> finished_{false};
   std::thread thread_;
 };

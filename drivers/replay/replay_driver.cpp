@@ -22,9 +22,7 @@ Pose3 planar(const Pose3& pose) {
 }  // namespace
 
 ReplayDriver::ReplayDriver(Dataset dataset, ReplayOptions options)
-    : dataset_(std::move(dataset)), options_(options) {
-  if (!options_.as_fast_as_possible && !(options_.time_scale > 0.0))
-    throw std::invalid_argument("the replay's time scale must be positive");
+    : dataset_(std::move(dataset)), options_(options), clock_(options_.pacing) {
   const auto& scans = dataset_.scans;
   const bool has_odometry =
       std::all_of(scans.begin(), scans.end(), [](const DatasetScan& s) { return s.odometry.has_value(); });
@@ -93,9 +91,7 @@ ReplayDriver::~ReplayDriver() {
 
 std::string ReplayDriver::description() const {
   return fmt::format("{} from {}, odometry from {}, {}", dataset_.description, dataset_.directory.string(),
-                     odometry_from_,
-                     options_.as_fast_as_possible ? std::string("as fast as possible")
-                                                  : fmt::format("time scale {}", options_.time_scale));
+                     odometry_from_, clock_.description());
 }
 
 void ReplayDriver::start(Outputs outputs) {
@@ -105,32 +101,16 @@ void ReplayDriver::start(Outputs outputs) {
 }
 
 void ReplayDriver::stop() {
-  {
-    std::lock_guard lock(mutex_);
-    stopping_ = true;
-  }
-  wake_.notify_all();
+  clock_.stop();
   if (thread_.joinable())
     thread_.join();
 }
 
-bool ReplayDriver::sleep_until(std::chrono::steady_clock::time_point wall_time) {
-  std::unique_lock lock(mutex_);
-  wake_.wait_until(lock, wall_time, [this] { return stopping_; });
-  return !stopping_;
-}
-
 void ReplayDriver::run(Outputs outputs) {
-  using clock = std::chrono::steady_clock;
-  const auto started = clock::now();
-  const double first_stamp = events_.empty() ? 0.0 : events_.front().stamp;
   std::size_t played = 0;
   for (const Event& event : events_) {
-    {
-      std::lock_guard lock(mutex_);
-      if (stopping_)
-        return;
-    }
+    if (clock_.stopped())
+      return;
     std::optional<ScanEvent> scan;
     if (event.scan) {
       // Read before waiting for the scan's time, so a slow file does not delay it.
@@ -154,19 +134,13 @@ void ReplayDriver::run(Outputs outputs) {
         scan->max_range = source.max_range;
       }
     }
-    if (!options_.as_fast_as_possible) {
-      const auto due = started + std::chrono::duration_cast<clock::duration>(std::chrono::duration<double>(
-                                     (event.stamp - first_stamp) / options_.time_scale));
-      if (!sleep_until(due))
-        return;
-    }
+    if (!clock_.wait_until_due(event.stamp))
+      return;
     outputs.on_sample(event.sample);
     if (scan) {
       outputs.on_scan(std::move(*scan));
       ++played;
-      // As fast as possible, but no faster than the pipeline: the localizer keeps only the newest waiting
-      // scan, so the next one waits until this one is registered and mapped.
-      if (options_.as_fast_as_possible && outputs.wait_for_pipeline && !outputs.wait_for_pipeline())
+      if (!clock_.wait_for_pipeline(outputs.wait_for_pipeline))
         return;
     }
   }
@@ -174,7 +148,7 @@ void ReplayDriver::run(Outputs outputs) {
   if (outputs.on_finished)
     outputs.on_finished();
   spdlog::info("replay finished: {} scans played in {:.1f} s ({} unreadable); serving the map", played,
-               std::chrono::duration<double>(clock::now() - started).count(), failed_.load());
+               clock_.seconds_playing(), failed_.load());
 }
 
 }  // namespace strata::replay

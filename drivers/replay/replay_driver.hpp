@@ -1,14 +1,13 @@
 #pragma once
 
 #include <atomic>
-#include <condition_variable>
 #include <cstdint>
-#include <mutex>
 #include <optional>
 #include <string>
 #include <thread>
 #include <vector>
 
+#include "drivers/playback_clock.hpp"
 #include "drivers/replay/dataset.hpp"
 #include "drivers/replay/reference_odometry.hpp"
 #include "drivers/robot_driver.hpp"
@@ -24,10 +23,9 @@ enum class OdometrySource {
 };
 
 struct ReplayOptions {
-  /// Dataset seconds per wall-clock second; ignored when as_fast_as_possible.
-  double time_scale = 1.0;
-  /// Each scan as soon as the pipeline has finished the one before (none dropped), odometry without waiting.
-  bool as_fast_as_possible = false;
+  /// By the dataset's clock (times a time scale), or each scan as soon as the pipeline has finished the one
+  /// before (none dropped), odometry without waiting.
+  PlaybackPacing pacing;
   OdometrySource odometry = OdometrySource::kAuto;
   OdometryNoise noise;     ///< only for odometry made from reference poses
   std::uint64_t seed = 1;  ///< of the noise
@@ -60,17 +58,13 @@ class ReplayDriver final : public RobotDriver {
     RobotSample sample;
   };
   void run(Outputs outputs);
-  /// Sleeps until `wall_time`; false when stopped meanwhile.
-  bool sleep_until(std::chrono::steady_clock::time_point wall_time);
 
   Dataset dataset_;
   ReplayOptions options_;
   std::string odometry_from_;
   std::vector<Event> events_;
   Eigen::Isometry3d initial_map_from_odom_ = Eigen::Isometry3d::Identity();
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  bool stopping_ = false;
+  PlaybackClock clock_;
   std::atomic<bool> finished_{false};
   std::atomic<std::size_t> failed_{0};
   std::thread thread_;

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 #include <cmath>
+#include <numbers>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -16,13 +17,17 @@
 namespace strata::app {
 namespace {
 
+/// Replays and captures share one clock: --time-scale, or --replay-rate max.
+PlaybackPacing playback_pacing(const ServeOptions& options) {
+  return {.time_scale = options.time_scale, .as_fast_as_possible = options.replay.rate == ReplayRate::kMax};
+}
+
 std::unique_ptr<RobotDriver> make_replay(const ServeOptions& options) {
   replay::ReplayOptions replay;
-  replay.as_fast_as_possible = options.replay.rate == ReplayRate::kMax;
-  replay.time_scale = options.time_scale;
+  replay.pacing = playback_pacing(options);
   replay.odometry = options.replay.odometry;
   replay.noise.translation = options.replay.noise_translation;
-  replay.noise.rotation = options.replay.noise_rotation_deg * 3.14159265358979323846 / 180.0;
+  replay.noise.rotation = options.replay.noise_rotation_deg * std::numbers::pi / 180.0;
   replay.seed = options.seed;
   return std::make_unique<replay::ReplayDriver>(replay::open_dataset(options.replay.directory), replay);
 }
@@ -93,9 +98,7 @@ std::unique_ptr<RobotDriver> make_lidar(const ServeOptions& options) {
   driver.sensor_to_base = parse_mount(lidar.mount);
   if (!lidar.pcap.empty()) {
     try {
-      return std::make_unique<lidar::PcapLidarDriver>(
-          lidar.pcap, driver,
-          lidar::PcapLidarDriver::Pacing{options.time_scale, options.replay.rate == ReplayRate::kMax});
+      return std::make_unique<lidar::PcapLidarDriver>(lidar.pcap, driver, playback_pacing(options));
     } catch (const std::exception& error) {
       throw std::runtime_error(fmt::format("cannot play {}: {}", lidar.pcap.string(), error.what()));
     }

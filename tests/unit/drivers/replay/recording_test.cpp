@@ -130,7 +130,7 @@ TEST_F(Recording, AFailedWriteIsCountedAndTheRestIsRecorded) {
 TEST_F(Recording, ReplayAsFastAsPossiblePlaysEverythingInOrder) {
   record_run();
   ReplayOptions options;
-  options.as_fast_as_possible = true;
+  options.pacing.as_fast_as_possible = true;
   ReplayDriver driver(open_dataset(dir_), options);
   EXPECT_EQ(driver.initial_map_from_odom().matrix(), initial().matrix());
   std::vector<double> sample_stamps;
@@ -173,7 +173,7 @@ TEST_F(Recording, ReplayAsFastAsPossiblePlaysEverythingInOrder) {
 TEST_F(Recording, ReplayAtTheRecordedRatePlaysEverythingAndStops) {
   record_run();  // 0.09 s of samples: at 10x, about 10 ms
   ReplayOptions options;
-  options.time_scale = 10.0;
+  options.pacing.time_scale = 10.0;
   ReplayDriver driver(open_dataset(dir_), options);
   std::mutex mutex;
   std::condition_variable done;
@@ -201,7 +201,7 @@ TEST_F(Recording, ReplayAtTheRecordedRatePlaysEverythingAndStops) {
 TEST_F(Recording, StoppingAReplayEndsItEarly) {
   record_run();
   ReplayOptions options;
-  options.time_scale = 1e-4;  // 0.09 s of data would take 15 minutes
+  options.pacing.time_scale = 1e-4;  // 0.09 s of data would take 15 minutes
   ReplayDriver driver(open_dataset(dir_), options);
   RobotDriver::Outputs outputs;
   outputs.on_sample = [](const RobotSample&) {};
