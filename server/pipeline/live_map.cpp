@@ -29,16 +29,8 @@ CellRegion grown(const CellRegion& region, int margin) {
 /// Height of the level the robot is on: the surface the fill reached in the robot's cell, else the
 /// robot's own ground height.
 double level_height(const LevelGrid& grid, const Eigen::Vector3d& robot_ground) {
-  const auto col = static_cast<int>(std::floor((robot_ground.x() - grid.origin.x()) / grid.resolution));
-  const auto row = static_cast<int>(std::floor((robot_ground.y() - grid.origin.y()) / grid.resolution));
-  if (col >= 0 && row >= 0 && col < grid.width && row < grid.height) {
-    const float height =
-        grid.surface_height[static_cast<std::size_t>(row) * static_cast<std::size_t>(grid.width) +
-                            static_cast<std::size_t>(col)];
-    if (std::isfinite(height))
-      return height;
-  }
-  return robot_ground.z();
+  const float height = grid.surface_height_at(robot_ground.x(), robot_ground.y());
+  return std::isfinite(height) ? static_cast<double>(height) : robot_ground.z();
 }
 
 }  // namespace

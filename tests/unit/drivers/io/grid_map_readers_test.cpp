@@ -6,6 +6,7 @@
 #include <fstream>
 #include <string>
 
+#include "core/mls/map_export.hpp"
 #include "drivers/io/map_file_error.hpp"
 #include "drivers/io/map_server_reader.hpp"
 #include "drivers/io/movingai_reader.hpp"
@@ -48,6 +49,38 @@ class GridMapReaders : public ::testing::Test {
   }
   fs::path dir_;
 };
+
+// The drivable map's ROS download, read back as a planner's map: one grid geometry, so every cell and
+// every map-frame point lands where it was.
+TEST_F(GridMapReaders, TheRosMapWeWriteReadsBackCellForCell) {
+  LevelGrid level;
+  level.origin = {-3.2, 1.7};
+  level.resolution = 0.1;
+  level.width = 7;
+  level.height = 5;
+  const Occupancy kinds[] = {Occupancy::free, Occupancy::occupied, Occupancy::unknown};
+  for (std::size_t i = 0; i < level.cell_count(); ++i)
+    level.cells.push_back(kinds[(i * i + i / 3) % 3]);  // no symmetry a flip could keep
+  const fs::path yaml = dir_ / "level.yaml";
+  write_ros_map(level, yaml);
+
+  const OccupancyGrid grid = read_map_server_map(yaml);
+  ASSERT_EQ(grid.width, level.width);
+  ASSERT_EQ(grid.height, level.height);
+  EXPECT_DOUBLE_EQ(grid.resolution, level.resolution);
+  EXPECT_TRUE(grid.origin.isApprox(level.origin));
+  for (int y = 0; y < level.height; ++y)
+    for (int x = 0; x < level.width; ++x) {
+      const Occupancy expected = level.at(x, y);
+      const CellState read = grid.at({x, y});
+      EXPECT_EQ(read, expected == Occupancy::free       ? CellState::free
+                      : expected == Occupancy::occupied ? CellState::occupied
+                                                        : CellState::unknown)
+          << x << "," << y;
+      const Eigen::Vector2d centre = grid.center_of({x, y});
+      EXPECT_EQ(level.at_position(centre.x(), centre.y()), expected);
+    }
+}
 
 TEST_F(GridMapReaders, MovingAiMapTerrainAndAppendedText) {
   const fs::path path = write("small.map",
