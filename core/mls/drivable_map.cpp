@@ -32,40 +32,20 @@ DrivableMap compute_drivable_map(const MlsMap& map, const SurfaceGrid& surfaces,
       grid.cells[c] = Occupancy::occupied;  // observed; free only if the fill reaches it
 
   // The robot's patch: the horizontal patch nearest its ground height in its cell or, since many scanners
-  // do not see the ground right under the robot, in the nearest ring of cells around it that has one.
-  const CellIndex robot = map.cell_of(robot_ground.x(), robot_ground.y());
-  const int search = static_cast<int>(std::ceil(config.start_search_radius / map.resolution()));
-  int start_col = 0;
-  int start_row = 0;
-  std::uint32_t start_surface = 0;
-  for (int ring = 0; ring <= search && !result.start_found; ++ring) {
-    double nearest = config.start_tolerance;
-    for (int dy = -ring; dy <= ring; ++dy)
-      for (int dx = -ring; dx <= ring; ++dx) {
-        if (std::max(std::abs(dx), std::abs(dy)) != ring)
-          continue;
-        const CellIndex cell{robot.x + dx, robot.y + dy};
-        if (!region.contains(cell))
-          continue;
-        const int col = cell.x - region.min.x;
-        const int row = cell.y - region.min.y;
-        const std::size_t c = surfaces.cell(col, row);
-        const std::span<const SurfaceGrid::Surface> candidates = surfaces.surfaces(c);
-        for (std::size_t i = 0; i < candidates.size(); ++i) {
-          const double difference = std::abs(static_cast<double>(candidates[i].top) - robot_ground.z());
-          if (!candidates[i].vertical && difference <= nearest) {
-            nearest = difference;
-            start_col = col;
-            start_row = row;
-            start_surface = surfaces.first_surface(c) + static_cast<std::uint32_t>(i);
-            result.start_found = true;
-          }
-        }
-      }
-  }
-  if (!result.start_found)
+  // do not see the ground under the robot, in the nearest ring of cells around it that has one. Any
+  // horizontal patch: the robot stands there whatever the classification says.
+  const auto [robot_col, robot_row] = surfaces.local(map.cell_of(robot_ground.x(), robot_ground.y()));
+  const std::optional<std::uint32_t> start =
+      surfaces.nearest_surface(robot_col, robot_row, robot_ground.z(), config.start_tolerance,
+                               static_cast<int>(std::ceil(config.start_search_radius / map.resolution())),
+                               SurfaceGrid::Standing::kHorizontal);
+  if (!start)
     return result;
-  const std::size_t start_cell = surfaces.cell(start_col, start_row);
+  result.start_found = true;
+  const std::uint32_t start_surface = *start;
+  const std::size_t start_cell = surfaces.cell_of_surface(start_surface);
+  const int start_col = static_cast<int>(start_cell % static_cast<std::size_t>(region.width));
+  const int start_row = static_cast<int>(start_cell / static_cast<std::size_t>(region.width));
 
   struct Item {
     int col;
@@ -85,11 +65,8 @@ DrivableMap compute_drivable_map(const MlsMap& map, const SurfaceGrid& surfaces,
   };
   // The robot stands on its patch even if the classification (say, a slope estimate at a map edge) would
   // not enter it.
-  reach(start_col, start_row, start_surface, [&] {
-    return surfaces.surfaces(start_cell)[start_surface - surfaces.first_surface(start_cell)].top;
-  }());
+  reach(start_col, start_row, start_surface, surfaces.surface(start_surface).top);
 
-  const auto max_step = static_cast<float>(config.max_step);
   constexpr int kNeighbours[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
   while (!stack.empty()) {
     const Item item = stack.back();
@@ -97,25 +74,9 @@ DrivableMap compute_drivable_map(const MlsMap& map, const SurfaceGrid& surfaces,
     for (const auto& offset : kNeighbours) {
       const int col = item.col + offset[0];
       const int row = item.row + offset[1];
-      if (col < 0 || row < 0 || col >= grid.width || row >= grid.height)
-        continue;
-      const std::size_t c = surfaces.cell(col, row);
-      const std::uint32_t first = surfaces.first_surface(c);
-      const std::span<const SurfaceGrid::Surface> candidates = surfaces.surfaces(c);
-      // The patch of the neighbour cell this one connects to: the traversable one nearest in height.
-      std::uint32_t chosen = 0;
-      float best = max_step;
-      bool found = false;
-      for (std::size_t i = 0; i < candidates.size(); ++i) {
-        const float difference = std::abs(candidates[i].top - item.top);
-        if (candidates[i].traversable && difference <= best) {
-          best = difference;
-          chosen = first + static_cast<std::uint32_t>(i);
-          found = true;
-        }
-      }
-      if (found && reached[chosen] == 0)
-        reach(col, row, chosen, candidates[chosen - first].top);
+      const std::optional<std::uint32_t> next = surfaces.step_onto(col, row, item.top);
+      if (next && reached[*next] == 0)
+        reach(col, row, *next, surfaces.surface(*next).top);
     }
   }
   return result;

@@ -26,7 +26,7 @@ CellRegion CellRegion::of_tiles(const std::vector<TileIndex>& tiles) {
 }
 
 SurfaceGrid::SurfaceGrid(const MlsMap& map, const CellRegion& region, const TraversabilityConfig& config)
-    : region_(region), cell_size_(map.resolution()) {
+    : region_(region), cell_size_(map.resolution()), config_(config) {
   const std::size_t cells = static_cast<std::size_t>(std::max(region.width, 0)) *
                             static_cast<std::size_t>(std::max(region.height, 0));
   begin_.reserve(cells + 1);
@@ -61,7 +61,8 @@ SurfaceGrid::SurfaceGrid(const MlsMap& map, const CellRegion& region, const Trav
     else
       simple_height_[c] = std::numeric_limits<float>::infinity();
   }
-  classify(config);
+  classify();
+  drive_over_seams();
 }
 
 bool SurfaceGrid::neighbour_height(int col, int row, float height, float& out) const {
@@ -115,12 +116,85 @@ SurfaceGrid SurfaceGrid::with_added(std::vector<std::pair<std::size_t, Surface>>
                      [](const Surface& a, const Surface& b) { return a.top < b.top; });
   }
   copy.begin_[cells] = static_cast<std::uint32_t>(copy.surfaces_.size());
+  copy.drive_over_seams();
   return copy;
 }
 
-void SurfaceGrid::classify(const TraversabilityConfig& config) {
-  const auto robot_height = static_cast<float>(config.robot_height);
-  const double max_gradient = std::tan(config.max_slope);
+std::size_t SurfaceGrid::cell_of_surface(std::uint32_t index) const {
+  // begin_ never decreases: the cell is the last one whose first surface is at or before `index`.
+  return static_cast<std::size_t>(std::upper_bound(begin_.begin(), begin_.end(), index) - begin_.begin()) - 1;
+}
+
+std::optional<std::uint32_t> SurfaceGrid::step_onto(int col, int row, float top) const {
+  if (!contains_local(col, row))
+    return std::nullopt;
+  const std::size_t c = cell(col, row);
+  std::optional<std::uint32_t> best;
+  float best_difference = static_cast<float>(config_.max_step);
+  for (std::uint32_t i = begin_[c]; i < begin_[c + 1]; ++i) {
+    const float difference = std::abs(surfaces_[i].top - top);
+    if (surfaces_[i].traversable && difference <= best_difference) {
+      best_difference = difference;
+      best = i;
+    }
+  }
+  return best;
+}
+
+std::optional<std::uint32_t> SurfaceGrid::nearest_surface(int centre_col, int centre_row, double z,
+                                                          double tolerance, int rings,
+                                                          Standing standing) const {
+  if (!std::isfinite(z))
+    return std::nullopt;
+  for (int ring = 0; ring <= rings; ++ring) {
+    std::optional<std::uint32_t> best;
+    double best_difference = tolerance;
+    for (int dy = -ring; dy <= ring; ++dy)
+      for (int dx = -ring; dx <= ring; ++dx) {
+        if (std::max(std::abs(dx), std::abs(dy)) != ring || !contains_local(centre_col + dx, centre_row + dy))
+          continue;
+        const std::size_t c = cell(centre_col + dx, centre_row + dy);
+        for (std::uint32_t i = begin_[c]; i < begin_[c + 1]; ++i) {
+          const Surface& s = surfaces_[i];
+          const bool usable = standing == Standing::kTraversable ? s.traversable : !s.vertical;
+          const double difference = std::abs(static_cast<double>(s.top) - z);
+          if (usable && difference <= best_difference) {
+            best_difference = difference;
+            best = i;
+          }
+        }
+      }
+    if (best)
+      return best;
+  }
+  return std::nullopt;
+}
+
+void SurfaceGrid::drive_over_seams() {
+  const auto robot_height = static_cast<float>(config_.robot_height);
+  const auto continues = [&](int col, int row, float top) { return step_onto(col, row, top).has_value(); };
+  std::vector<std::uint32_t> seams;  // marked after the search: a seam does not continue another
+  for (int row = 0; row < region_.height; ++row)
+    for (int col = 0; col < region_.width; ++col) {
+      const std::size_t c = cell(col, row);
+      for (std::uint32_t i = begin_[c]; i < begin_[c + 1]; ++i) {
+        const Surface& s = surfaces_[i];
+        if (!s.vertical || s.traversable)
+          continue;
+        if (i + 1 < begin_[c + 1] && surfaces_[i + 1].bottom - s.top < robot_height)
+          continue;
+        if ((continues(col - 1, row, s.top) && continues(col + 1, row, s.top)) ||
+            (continues(col, row - 1, s.top) && continues(col, row + 1, s.top)))
+          seams.push_back(i);
+      }
+    }
+  for (const std::uint32_t i : seams)
+    surfaces_[i].traversable = true;
+}
+
+void SurfaceGrid::classify() {
+  const auto robot_height = static_cast<float>(config_.robot_height);
+  const double max_gradient = std::tan(config_.max_slope);
   // Gradients in metres per cell. Slope over two cells each way rather than one: a step the robot may climb
   // (max_step over one cell) must not read as a steep slope, while a ramp keeps its gradient at any baseline.
   const auto axis_gradient = [&](int col, int row, int dc, int dr, float height) {

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <utility>
 #include <vector>
@@ -52,8 +53,33 @@ class SurfaceGrid {
 
   SurfaceGrid(const MlsMap& map, const CellRegion& region, const TraversabilityConfig& config);
 
-  /// A copy with more surfaces, each (cell index, surface) already classified, kept lowest first per cell.
+  /// A copy with more surfaces, each (cell index, surface) already classified, kept lowest first per cell;
+  /// seams the new surfaces continue become traversable.
   [[nodiscard]] SurfaceGrid with_added(std::vector<std::pair<std::size_t, Surface>> added) const;
+
+  /// The one rule for moving from cell to cell, shared by the drivable map's fill, the patch graph's edges
+  /// and the seams: the traversable surface of local cell (col, row) that a surface at height `top` steps
+  /// onto, the nearest in height and within max_step (ties to the higher one). None outside the region.
+  [[nodiscard]] std::optional<std::uint32_t> step_onto(int col, int row, float top) const;
+
+  /// Which surfaces may hold the robot or a goal.
+  enum class Standing {
+    kTraversable,  ///< what the robot may drive on: the planner's start and goal
+    kHorizontal,   ///< any horizontal surface: where the robot stands, whatever the classification says
+  };
+  /// The one rule for placing the robot or a goal: the surface of local cell (col, row) nearest the height
+  /// z within `tolerance` (ties to the higher one) or, when that cell has none, the nearest such surface in
+  /// the nearest ring of cells around it within `rings` that has one (scanners rarely see the ground under
+  /// the robot). None when no cell within the rings has one.
+  [[nodiscard]] std::optional<std::uint32_t> nearest_surface(int col, int row, double z, double tolerance,
+                                                             int rings, Standing standing) const;
+  /// Local (col, row) of a global cell; it may lie outside the region.
+  [[nodiscard]] std::pair<int, int> local(CellIndex cell) const {
+    return {cell.x - region_.min.x, cell.y - region_.min.y};
+  }
+  [[nodiscard]] bool contains_local(int col, int row) const {
+    return col >= 0 && row >= 0 && col < region_.width && row < region_.height;
+  }
 
   [[nodiscard]] const CellRegion& region() const { return region_; }
   /// Index of the cell at local (col, row).
@@ -67,14 +93,23 @@ class SurfaceGrid {
   }
   [[nodiscard]] std::uint32_t first_surface(std::size_t cell) const { return begin_[cell]; }
   [[nodiscard]] std::size_t surface_count() const { return surfaces_.size(); }
+  /// A surface by its index (first_surface(cell) + i).
+  [[nodiscard]] const Surface& surface(std::uint32_t index) const { return surfaces_[index]; }
+  /// The index of the cell that holds surface `index`.
+  [[nodiscard]] std::size_t cell_of_surface(std::uint32_t index) const;
 
  private:
   /// Height of the horizontal surface in (col, row) nearest `height` (within 0.5 m), if any.
   [[nodiscard]] bool neighbour_height(int col, int row, float height, float& out) const;
-  void classify(const TraversabilityConfig& config);
+  void classify();
+  /// Where one structure ends against another (a ramp's end under a bridge deck), the cell at the seam
+  /// holds the end face seen from below and the surface seen from above: one vertical patch. Its top is
+  /// traversable when traversable surfaces continue it within a step on opposite sides, with room above.
+  void drive_over_seams();
 
   CellRegion region_;
   double cell_size_;
+  TraversabilityConfig config_;
   std::vector<std::uint32_t> begin_;  ///< per cell, then one past the end
   std::vector<Surface> surfaces_;
   /// Per cell: its one horizontal surface's height; NaN if empty; infinity if anything else. Only for

@@ -32,10 +32,9 @@ PatchGraph::PatchGraph(std::shared_ptr<const SurfaceGrid> surfaces, double resol
       const auto cell_surfaces = grid.surfaces(c);
       for (std::size_t i = 0; i < cell_surfaces.size(); ++i) {
         cell_of_[first + i] = static_cast<std::uint32_t>(c);
-        traversable_[first + i] = cell_surfaces[i].traversable && !cell_surfaces[i].vertical ? 1 : 0;
+        traversable_[first + i] = cell_surfaces[i].traversable ? 1 : 0;  // seams included
       }
     }
-  drive_over_seams(config.traversability);
   link(config.traversability);
   measure_clearance();
   label_components();
@@ -63,46 +62,6 @@ void PatchGraph::label_components() {
   }
 }
 
-void PatchGraph::drive_over_seams(const TraversabilityConfig& config) {
-  // Where one structure ends against another (a ramp's end under a bridge deck), the cell at the seam
-  // holds the end face seen from below and the surface seen from above: one vertical patch. Its top is
-  // drivable when drivable patches continue it within a step on opposite sides.
-  const SurfaceGrid& grid = *surfaces_;
-  const CellRegion& region = grid.region();
-  const auto max_step = static_cast<float>(config.max_step);
-  const auto continues = [&](int col, int row, float top) {
-    if (col < 0 || row < 0 || col >= region.width || row >= region.height)
-      return false;
-    const std::size_t c = grid.cell(col, row);
-    const std::uint32_t first = grid.first_surface(c);
-    const auto candidates = grid.surfaces(c);
-    for (std::size_t i = 0; i < candidates.size(); ++i)
-      if (traversable_[first + i] != 0 && std::abs(candidates[i].top - top) <= max_step)
-        return true;
-    return false;
-  };
-  std::vector<Node> seams;
-  for (int row = 0; row < region.height; ++row)
-    for (int col = 0; col < region.width; ++col) {
-      const std::size_t c = grid.cell(col, row);
-      const std::uint32_t first = grid.first_surface(c);
-      const auto cell_surfaces = grid.surfaces(c);
-      for (std::size_t i = 0; i < cell_surfaces.size(); ++i) {
-        const SurfaceGrid::Surface& s = cell_surfaces[i];
-        if (!s.vertical)
-          continue;
-        if (i + 1 < cell_surfaces.size() &&
-            cell_surfaces[i + 1].bottom - s.top < static_cast<float>(config.robot_height))
-          continue;
-        if ((continues(col - 1, row, s.top) && continues(col + 1, row, s.top)) ||
-            (continues(col, row - 1, s.top) && continues(col, row + 1, s.top)))
-          seams.push_back(first + static_cast<Node>(i));
-      }
-    }
-  for (const Node node : seams)
-    traversable_[node] = 1;
-}
-
 std::pair<int, int> PatchGraph::cell(Node node) const {
   const auto width = static_cast<std::uint32_t>(surfaces_->region().width);
   return {static_cast<int>(cell_of_[node] % width), static_cast<int>(cell_of_[node] / width)};
@@ -120,26 +79,11 @@ Eigen::Vector3d PatchGraph::position(Node node) const {
 void PatchGraph::link(const TraversabilityConfig& config) {
   const SurfaceGrid& grid = *surfaces_;
   const CellRegion& region = grid.region();
-  const auto max_step = static_cast<float>(config.max_step);
   const auto robot_height = static_cast<float>(config.robot_height);
   neighbours_.assign(grid.surface_count(), {kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone});
-  // The traversable patch of (col, row) that a patch at `top` meets: the nearest in height within a step.
+  // The traversable patch of (col, row) that a patch at `top` meets (SurfaceGrid::step_onto).
   const auto meet = [&](int col, int row, float top) -> Node {
-    if (col < 0 || row < 0 || col >= region.width || row >= region.height)
-      return kNone;
-    const std::size_t c = grid.cell(col, row);
-    const std::uint32_t first = grid.first_surface(c);
-    const auto candidates = grid.surfaces(c);
-    Node best = kNone;
-    float best_difference = max_step;
-    for (std::size_t i = 0; i < candidates.size(); ++i) {
-      const float difference = std::abs(candidates[i].top - top);
-      if (traversable_[first + i] != 0 && difference <= best_difference) {
-        best_difference = difference;
-        best = first + static_cast<Node>(i);
-      }
-    }
-    return best;
+    return grid.step_onto(col, row, top).value_or(kNone);
   };
   // Whether (col, row) holds something seen at or below a patch at `top`, up to the robot's roof: a wall,
   // a step, lower ground. Without that the cell is unknown at this level (unseen, or only a roof above).
@@ -273,38 +217,12 @@ bool PatchGraph::mapped(double x, double y) const {
 
 std::optional<PatchGraph::Node> PatchGraph::locate(double x, double y, double z, double tolerance,
                                                    double search_radius) const {
-  int centre_col = 0;
-  int centre_row = 0;
-  if (!local_cell(x, y, centre_col, centre_row) || !std::isfinite(z))
+  int col = 0;
+  int row = 0;
+  if (!local_cell(x, y, col, row))
     return std::nullopt;
-  const CellRegion& region = surfaces_->region();
   const int rings = static_cast<int>(std::ceil(std::max(search_radius, 0.0) / resolution_));
-  for (int ring = 0; ring <= rings; ++ring) {
-    std::optional<Node> best;
-    double best_difference = tolerance;
-    for (int dy = -ring; dy <= ring; ++dy)
-      for (int dx = -ring; dx <= ring; ++dx) {
-        if (std::max(std::abs(dx), std::abs(dy)) != ring)
-          continue;
-        const int col = centre_col + dx;
-        const int row = centre_row + dy;
-        if (col < 0 || row < 0 || col >= region.width || row >= region.height)
-          continue;
-        const std::size_t c = surfaces_->cell(col, row);
-        const std::uint32_t first = surfaces_->first_surface(c);
-        const auto candidates = surfaces_->surfaces(c);
-        for (std::size_t i = 0; i < candidates.size(); ++i) {
-          const double difference = std::abs(static_cast<double>(candidates[i].top) - z);
-          if (traversable_[first + i] != 0 && difference <= best_difference) {
-            best_difference = difference;
-            best = first + static_cast<Node>(i);
-          }
-        }
-      }
-    if (best)
-      return best;
-  }
-  return std::nullopt;
+  return surfaces_->nearest_surface(col, row, z, tolerance, rings, SurfaceGrid::Standing::kTraversable);
 }
 
 }  // namespace strata

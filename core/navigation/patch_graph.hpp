@@ -34,9 +34,9 @@ struct PatchGraphConfig {
 /// within max_step (diagonals only when both cells beside the diagonal meet it too: no corner cutting).
 /// Because nodes are patches, not cells, the deck of a bridge and the road under it are different nodes of
 /// the same cell, and the ramp joins them. Each node knows its clearance: the distance along the graph to
-/// the nearest edge of its level, so the robot's radius is respected on every level on its own. A vertical
-/// patch is a node too where drivable patches continue its top on opposite sides (a seam: the ramp's end
-/// face under a bridge deck merges with the surface above it into one vertical patch).
+/// the nearest edge of its level, so the robot's radius is respected on every level on its own. Which
+/// patches are traversable (seams included), which patch a step reaches and where the robot stands are the
+/// SurfaceGrid's rules (core/mls/traversability.hpp), shared with the drivable map.
 class PatchGraph {
  public:
   using Node = std::uint32_t;
@@ -76,7 +76,7 @@ class PatchGraph {
 
   /// The traversable patch of the cell under (x, y) nearest the height z and within `tolerance` of it,
   /// if any. With `search_radius` > 0 the nearest ring of cells around that has one is taken when the
-  /// cell itself has none (the robot's own cell is often unseen).
+  /// cell itself has none (the robot's own cell is often unseen): SurfaceGrid::nearest_surface.
   [[nodiscard]] std::optional<Node> locate(double x, double y, double z, double tolerance,
                                            double search_radius = 0.0) const;
   /// Whether the cell under (x, y) has a patch reaching within `tolerance` of the height z (a floor, a wall).
@@ -86,7 +86,6 @@ class PatchGraph {
 
  private:
   [[nodiscard]] bool local_cell(double x, double y, int& col, int& row) const;
-  void drive_over_seams(const TraversabilityConfig& config);
   void link(const TraversabilityConfig& config);
   void measure_clearance();
   /// Multi-source Dijkstra over the graph from per-node seed distances (infinity: no seed), metres.

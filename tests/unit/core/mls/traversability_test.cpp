@@ -1,0 +1,105 @@
+// The surface rules in one place (SurfaceGrid): the drivable map the UI shows and the patch graph the
+// planner searches step, stand and cross seams alike.
+#include "core/mls/traversability.hpp"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <set>
+#include <vector>
+
+#include "core/mls/drivable_map.hpp"
+#include "core/navigation/patch_graph.hpp"
+#include "tests/support/navigation_scenes.hpp"
+
+namespace strata {
+namespace {
+
+TEST(SurfaceGridRules, TheDrivableMapFillsWhatThePatchGraphLinks) {
+  const MlsMap map = test::bridge_scene();
+  const TraversabilityConfig traversability;
+  const auto surfaces = test::surfaces_of(map, traversability);
+  PatchGraphConfig graph_config;
+  graph_config.traversability = traversability;
+  graph_config.unseen_gaps.max_gap = 0.0;  // the same surfaces for both
+  const PatchGraph graph(surfaces, map.resolution(), graph_config);
+
+  for (const Eigen::Vector3d& robot : {Eigen::Vector3d(0, 22, 0), Eigen::Vector3d(-5, 0, 0)}) {
+    const DrivableMap drivable = compute_drivable_map(map, *surfaces, traversability, robot);
+    ASSERT_TRUE(drivable.start_found);
+    // Everything the graph links to the robot's patch, whatever the robot's radius.
+    const std::optional<PatchGraph::Node> start = graph.locate(
+        robot.x(), robot.y(), robot.z(), traversability.start_tolerance, traversability.start_search_radius);
+    ASSERT_TRUE(start.has_value());
+    std::vector<std::uint8_t> linked(graph.node_count(), 0);
+    std::vector<PatchGraph::Node> stack{*start};
+    linked[*start] = 1;
+    while (!stack.empty()) {
+      const PatchGraph::Node node = stack.back();
+      stack.pop_back();
+      for (const PatchGraph::Node next : graph.neighbours(node))
+        if (next != PatchGraph::kNone && linked[next] == 0) {
+          linked[next] = 1;
+          stack.push_back(next);
+        }
+    }
+    std::set<std::pair<int, int>> linked_cells;
+    for (PatchGraph::Node node = 0; node < graph.node_count(); ++node)
+      if (linked[node] != 0)
+        linked_cells.insert(graph.cell(node));
+    std::size_t free = 0;
+    for (int row = 0; row < drivable.grid.height; ++row)
+      for (int col = 0; col < drivable.grid.width; ++col) {
+        const bool is_free = drivable.grid.at(col, row) == Occupancy::free;
+        free += is_free ? 1 : 0;
+        EXPECT_EQ(is_free, linked_cells.count({col, row}) == 1)
+            << "cell " << col << "," << row << " from the robot at " << robot.transpose();
+      }
+    EXPECT_EQ(free, drivable.free_cells);
+  }
+}
+
+TEST(SurfaceGridRules, TheRampsEndUnderTheDeckIsASeamBothDriveOver) {
+  const MlsMap map = test::bridge_scene();
+  const TraversabilityConfig traversability;
+  // The deck and the ramp's upper part only (x in [-1.5, 1.5], y in [0, 10]): the road under the deck
+  // is joined to them only outside. From the deck, over the seam at y = 5, down the ramp.
+  const CellRegion deck_and_ramp{map.cell_of(-1.5, 0.0), 30, 100};
+  const DrivableMap drivable = compute_drivable_map(map, traversability, {0.05, 2.05, 1.5}, deck_and_ramp);
+  ASSERT_TRUE(drivable.start_found);
+  EXPECT_NEAR(drivable.grid.surface_height_at(0.05, 5.05), 1.5, 0.05) << "the seam";
+  EXPECT_EQ(drivable.grid.at_position(0.05, 8.05), Occupancy::free) << "the ramp";
+  EXPECT_NEAR(drivable.grid.surface_height_at(0.05, 8.05), 1.2, 0.05);
+
+  PatchGraphConfig graph_config;
+  graph_config.unseen_gaps.max_gap = 0.0;
+  const PatchGraph graph(std::make_shared<const SurfaceGrid>(map, deck_and_ramp, traversability),
+                         map.resolution(), graph_config);
+  const auto seam = graph.locate(0.05, 5.05, 1.5, 0.1);
+  ASSERT_TRUE(seam.has_value());
+  EXPECT_TRUE(graph.traversable(*seam));
+}
+
+TEST(SurfaceGridRules, TheRobotStandsOnAnyHorizontalPatchThePlannerOnlyOnTraversableOnes) {
+  const MlsMap map = test::wall_and_stairs_scene();
+  const SurfaceGrid surfaces(map, CellRegion::of_tiles(map.tile_indices()), TraversabilityConfig{});
+  const auto [col, row] = surfaces.local(map.cell_of(0.05, 0.05));
+  const auto standing = surfaces.nearest_surface(col, row, 0.0, 0.5, 0, SurfaceGrid::Standing::kHorizontal);
+  const auto driving = surfaces.nearest_surface(col, row, 0.0, 0.5, 0, SurfaceGrid::Standing::kTraversable);
+  ASSERT_TRUE(standing && driving);
+  EXPECT_EQ(*standing, *driving) << "open floor is both";
+  // In the wall's cell there is nothing to stand on; one ring out there is floor.
+  const auto [wall_col, wall_row] = surfaces.local(map.cell_of(-2.95, 0.05));
+  const auto in_wall =
+      surfaces.nearest_surface(wall_col, wall_row, 0.0, 0.5, 0, SurfaceGrid::Standing::kHorizontal);
+  EXPECT_FALSE(in_wall.has_value());
+  const auto beside_wall =
+      surfaces.nearest_surface(wall_col, wall_row, 0.0, 0.5, 1, SurfaceGrid::Standing::kHorizontal);
+  ASSERT_TRUE(beside_wall.has_value());
+  EXPECT_FALSE(surfaces.surface(*beside_wall).vertical);
+  EXPECT_NE(surfaces.cell_of_surface(*beside_wall), surfaces.cell(wall_col, wall_row));
+  EXPECT_FALSE(surfaces.nearest_surface(col, row, std::nan(""), 0.5, 3, SurfaceGrid::Standing::kHorizontal));
+}
+
+}  // namespace
+}  // namespace strata
