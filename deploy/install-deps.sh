@@ -19,6 +19,7 @@ apt_packages=(
   libopencv-core-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libspdlog-dev libfmt-dev libvalijson-dev
   libnanoflann-dev liblzf-dev libyaml-cpp-dev libssl-dev openssl
+  libceres-dev  # the pose graph's optimizer
   chromium
   # The .deb (cmake/StrataPackaging.cmake, tests/deploy/): dpkg-shlibdeps for its dependencies; the deploy
   # test's HTTP client; systemd-analyze to verify the unit (the package works without systemd running).

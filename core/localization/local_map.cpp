@@ -1,5 +1,7 @@
 #include "core/localization/local_map.hpp"
 
+#include <algorithm>
+
 #include "core/points/voxel_key.hpp"
 
 namespace strata {
@@ -31,6 +33,26 @@ void LocalMap::add(const PointCloud& points) {
     normals_.states.resize(points_.size(), LazyNormals::State::kUnknown);
   }
   expire();
+}
+
+void LocalMap::transform(const Eigen::Isometry3d& transform) {
+  const PointCloud moved = transformed(points_, transform);
+  const std::vector<std::uint32_t> seen = seen_;
+  points_.clear();
+  seen_.clear();
+  voxels_.clear();
+  normals_ = {};
+  for (std::size_t i = 0; i < moved.size(); ++i) {
+    const auto next = static_cast<std::uint32_t>(points_.size());
+    const auto [index, added] =
+        voxels_.try_emplace(voxel_key(voxel_cell(moved[i], inverse_voxel_size_)), next);
+    if (added) {
+      points_.push_back(moved[i]);
+      seen_.push_back(seen[i]);
+    } else {
+      seen_[index] = std::max(seen_[index], seen[i]);
+    }
+  }
 }
 
 void LocalMap::expire() {

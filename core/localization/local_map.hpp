@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -21,6 +22,9 @@ class LocalMap {
 
   /// Adds a registered scan (map frame) and expires what it leaves too old.
   void add(const PointCloud& points);
+  /// Moves every point by `transform` (the map frame was corrected): the voxels are hashed again, two
+  /// points in one voxel keep the older, and the normals are estimated afresh.
+  void transform(const Eigen::Isometry3d& transform);
 
   /// One point per live voxel, oldest voxels first.
   [[nodiscard]] const PointCloud& points() const { return points_; }

@@ -24,6 +24,11 @@ ScanToMapLocalizer::ScanToMapLocalizer(LocalizerOptions options,
   global_.apply_correction(initial_map_from_odom);
 }
 
+void ScanToMapLocalizer::correct(const Eigen::Isometry3d& correction) {
+  global_.apply_correction(correction);
+  local_map_.transform(correction);
+}
+
 LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const Pose2& odometry) {
   // Guess: the last correction carried forward by the odometry since (docs/architecture.md 3, step 2).
   const Eigen::Isometry3d guess = global_.pose_isometry(odometry);

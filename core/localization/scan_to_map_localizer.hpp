@@ -89,6 +89,10 @@ class ScanToMapLocalizer {
   }
   [[nodiscard]] const Eigen::Isometry3d& map_from_odom() const { return global_.correction(); }
 
+  /// Moves the estimate by `correction` (new map <- old map), as a pose graph optimization asks: the
+  /// global pose and the local map follow, so the next scan registers where the graph put the robot.
+  void correct(const Eigen::Isometry3d& correction);
+
  private:
   LocalizerOptions options_;
   ScanRegistration registration_;

@@ -10,7 +10,7 @@
 
 namespace strata::pipeline {
 
-LocalizerWorker::LocalizerWorker(RobotState& state, LocalizerOptions options,
+LocalizerWorker::LocalizerWorker(RobotState& state, GraphLocalizerOptions options,
                                  const Eigen::Isometry3d& initial_map_from_odom)
     : state_(state), localizer_(std::move(options), initial_map_from_odom) {
   state_.set_correction(initial_map_from_odom, false);
@@ -24,6 +24,7 @@ void LocalizerWorker::start() {
   if (thread_.joinable())
     return;
   thread_ = std::thread([this] { run(); });
+  loop_thread_ = std::thread([this] { close_loops(); });
 }
 
 void LocalizerWorker::stop() {
@@ -33,8 +34,35 @@ void LocalizerWorker::stop() {
   }
   wake_.notify_one();
   idle_.notify_all();
+  graph_wake_.notify_all();
   if (thread_.joinable())
     thread_.join();
+  if (loop_thread_.joinable())
+    loop_thread_.join();  // an optimization under way finishes first (a second or less)
+}
+
+void LocalizerWorker::close_loops() {
+  while (true) {
+    {
+      std::unique_lock lock(mutex_);
+      graph_wake_.wait(lock, [this] { return stopping_ || scans_for_the_graph_ > 0; });
+      if (stopping_)
+        return;
+      scans_for_the_graph_ = 0;
+    }
+    try {
+      if (localizer_.close_loops()) {
+        const PoseGraphStatus graph = localizer_.status();
+        spdlog::info(
+            "localization: loop closed at t={:.1f}, {:.2f} m of drift corrected ({} loops over {} "
+            "keyframes, optimized in {:.2f} s)",
+            graph.last_loop_stamp, graph.last_correction, graph.loops, graph.keyframes,
+            graph.last_optimization_seconds);
+      }
+    } catch (const std::exception& error) {  // the scan path goes on without the graph's corrections
+      spdlog::error("localization: the pose graph failed: {}", error.what());
+    }
+  }
 }
 
 void LocalizerWorker::submit(ScanEvent scan) {
@@ -82,7 +110,7 @@ void LocalizerWorker::process(ScanEvent event) {
   PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
   const ScanEvent& scan = preprocessed.event;
   const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
-  const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry);
+  const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, scan.stamp);
   ++status_.scans;
   if (update.registration) {
     const RegistrationResult& r = *update.registration;
@@ -110,7 +138,13 @@ void LocalizerWorker::process(ScanEvent event) {
   // Published after the scan is handed on: whoever sees the count can queue a map command (a save) knowing
   // it runs after this scan is mapped.
   state_.set_correction(update.map_from_odom, true);
+  status_.graph = localizer_.status();
   state_.set_registration(status_);
+  {
+    std::lock_guard lock(mutex_);
+    ++scans_for_the_graph_;
+  }
+  graph_wake_.notify_one();
 }
 
 }  // namespace strata::pipeline

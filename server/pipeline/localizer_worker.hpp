@@ -7,7 +7,7 @@
 #include <optional>
 #include <thread>
 
-#include "core/localization/scan_to_map_localizer.hpp"
+#include "core/localization/graph_localizer.hpp"
 #include "drivers/scan_event.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 #include "server/state/robot_state.hpp"
@@ -17,10 +17,12 @@ namespace strata::pipeline {
 /// The pipeline worker for localization: takes scans from the driver thread without blocking it, registers
 /// each on its own thread, and publishes the corrected pose and the registration status. When scans come
 /// faster than registration (a 10 Hz lidar), the newest waiting scan replaces an older one: the pose
-/// stays current and the driver never waits (docs/architecture.md 3).
+/// stays current and the driver never waits (docs/architecture.md 3). Behind it, on a thread of its own,
+/// the pose graph looks for loop closures and optimizes; its corrections reach the scan path at the next
+/// scan, so registration never waits for it.
 class LocalizerWorker {
  public:
-  LocalizerWorker(RobotState& state, LocalizerOptions options,
+  LocalizerWorker(RobotState& state, GraphLocalizerOptions options,
                   const Eigen::Isometry3d& initial_map_from_odom);
   ~LocalizerWorker();
   LocalizerWorker(const LocalizerWorker&) = delete;
@@ -47,10 +49,12 @@ class LocalizerWorker {
  private:
   void run();
   void process(ScanEvent scan);
+  /// The pose graph's thread: closes loops whenever the scan path made keyframes.
+  void close_loops();
 
   RobotState& state_;
   RegisteredScanSink sink_;
-  ScanToMapLocalizer localizer_;
+  GraphLocalizer localizer_;
   RegistrationStatus status_;
   std::mutex mutex_;
   std::condition_variable wake_;
@@ -59,7 +63,10 @@ class LocalizerWorker {
   std::optional<ScanEvent> pending_;
   std::size_t dropped_ = 0;
   bool stopping_ = false;
+  std::size_t scans_for_the_graph_ = 0;  ///< processed scans the loop thread has not looked at
+  std::condition_variable graph_wake_;
   std::thread thread_;
+  std::thread loop_thread_;
 };
 
 }  // namespace strata::pipeline

@@ -35,7 +35,7 @@ RobotPipeline::RobotPipeline(std::unique_ptr<RobotDriver> driver, std::unique_pt
       recorder_(std::move(recorder)),
       navigator_(navigation_for(options.robot)),
       mapping_(map_state_, options.maps_dir, mapping_for(options.robot)),
-      localizer_(robot_state_, LocalizerOptions{}, driver_->initial_map_from_odom()),
+      localizer_(robot_state_, GraphLocalizerOptions{}, driver_->initial_map_from_odom()),
       max_scans_(options.max_scans) {
   robot_state_.set_driver(DriverStatus{driver_->kind(), false});
   robot_state_.set_sensor_timeout(options.sensor_timeout);

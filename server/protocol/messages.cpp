@@ -49,6 +49,13 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
                    {"reason", last.reason}, {"message", last.message},       {"rmse", last.rmse},
                    {"pairs", last.pairs},   {"iterations", last.iterations}, {"seconds", last.seconds}};
   }
+  const PoseGraphStatus& graph = registration.graph;
+  nlohmann::json pose_graph{
+      {"keyframes", graph.keyframes},         {"loops", graph.loops},
+      {"loops_dropped", graph.loops_dropped}, {"optimizations", graph.optimizations},
+      {"last_loop_stamp", nullptr},           {"last_correction_m", graph.last_correction}};
+  if (graph.last_loop_stamp >= 0.0)
+    pose_graph["last_loop_stamp"] = graph.last_loop_stamp;
   nlohmann::json map{{"version", 0}, {"tiles", 0}, {"cells", 0}, {"patches", 0}, {"bytes", 0}};
   if (extras.map) {
     map = {{"version", extras.map->version},
@@ -64,6 +71,7 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
   if (extras.sensor.seconds_since_last_scan)
     sensor["seconds_since_last_scan"] = *extras.sensor.seconds_since_last_scan;
   return {{"registration", std::move(reg)},
+          {"pose_graph", std::move(pose_graph)},
           {"clients", extras.clients},
           {"scan_rate", extras.scan_rate},
           {"map", std::move(map)},

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/geometry/pose.hpp"
+#include "core/localization/pose_graph_status.hpp"
 #include "drivers/robot_sample.hpp"
 #include "server/state/sensor_watch.hpp"
 
@@ -31,6 +32,7 @@ struct RegistrationStatus {
     double seconds = 0.0;
   };
   std::optional<Last> last;
+  PoseGraphStatus graph;  ///< keyframes and loop closures (docs/architecture.md 4.1)
 };
 
 /// Where the scans come from (the driver), for the status stream.

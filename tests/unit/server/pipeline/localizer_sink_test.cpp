@@ -24,7 +24,7 @@ TEST(LocalizerWorkerSink, HandsOnRegisteredScansWithTheirSensorPose) {
   const Eigen::Isometry3d map_from_odom =
       scans.front().truth->to_isometry() * scans.front().odometry.to_isometry().inverse();
   RobotState state;
-  LocalizerWorker localizer(state, LocalizerOptions{}, map_from_odom);
+  LocalizerWorker localizer(state, GraphLocalizerOptions{}, map_from_odom);
 
   std::mutex mutex;
   std::condition_variable arrived;
@@ -65,7 +65,7 @@ TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextS
   const Eigen::Isometry3d map_from_odom =
       scans.front().truth->to_isometry() * scans.front().odometry.to_isometry().inverse();
   RobotState state;
-  LocalizerWorker localizer(state, LocalizerOptions{}, map_from_odom);
+  LocalizerWorker localizer(state, GraphLocalizerOptions{}, map_from_odom);
   std::mutex mutex;
   std::condition_variable arrived;
   std::vector<ScanEvent> mapped;

@@ -1,0 +1,158 @@
+#include "core/localization/graph_localizer.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "core/points/voxel_downsample.hpp"
+
+namespace strata {
+
+GraphLocalizer::GraphLocalizer(GraphLocalizerOptions options, const Eigen::Isometry3d& initial_map_from_odom)
+    : options_(std::move(options)), scan_matching_(options_.scan_matching, initial_map_from_odom) {}
+
+LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const Pose2& odometry, double stamp) {
+  if (options_.pose_graph) {
+    std::optional<Eigen::Isometry3d> correction;
+    {
+      std::lock_guard lock(mutex_);
+      correction = std::exchange(pending_correction_, std::nullopt);
+      if (correction)
+        last_keyframe_frontend_ = *correction * last_keyframe_frontend_;
+    }
+    if (correction)
+      scan_matching_.correct(*correction);
+  }
+  LocalizationUpdate update = scan_matching_.add_scan(points, odometry);
+  const bool registered = !update.registration || update.correction != Correction::kNone;
+  if (options_.pose_graph && registered)
+    add_keyframe(points, update, stamp);
+  return update;
+}
+
+void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp) {
+  std::lock_guard lock(mutex_);
+  const Eigen::Isometry3d relative = last_keyframe_frontend_.inverse() * update.pose;
+  const double distance = relative.translation().norm();
+  const double angle = Eigen::AngleAxisd(relative.linear()).angle();
+  if (!keyframes_.empty() && distance < options_.keyframe_distance && angle < options_.keyframe_angle)
+    return;
+  auto keyframe = std::make_shared<Keyframe>();
+  keyframe->stamp = stamp;
+  keyframe->points = voxel_downsample(points, options_.keyframe_voxel);
+  keyframe->travelled = keyframes_.empty() ? 0.0 : keyframes_.back()->travelled + distance;
+  if (keyframes_.empty()) {
+    graph_.add_node(update.pose);
+  } else {
+    const std::size_t previous = graph_.size() - 1;
+    const std::size_t node = graph_.add_node(graph_.pose(previous) * relative);
+    // The chain: what the scan matcher measured between the two, as sure as a scan match over that
+    // distance; where it took a direction from odometry (a corridor's axis), as sure as odometry.
+    const double sigma_t = options_.chain_sigma_translation + options_.chain_sigma_per_metre * distance;
+    const double sigma_r = options_.chain_sigma_rotation + options_.chain_sigma_per_metre * 0.1 * distance;
+    Eigen::Matrix3d translation = Eigen::Matrix3d::Identity() / (sigma_t * sigma_t);
+    if (update.correction == Correction::kPartial && update.registration) {
+      const TranslationConstraint& constraint = update.registration->constraint;
+      const double sigma_odometry = options_.chain_sigma_translation + options_.odometry_sigma * distance;
+      const Eigen::Matrix3d from_rotation = last_keyframe_frontend_.linear().transpose();
+      for (int k = 0; k < 3; ++k) {
+        if (constraint.eigenvalues[k] >= options_.scan_matching.weak_direction_guard)
+          continue;
+        const Eigen::Vector3d d = from_rotation * constraint.directions.col(k);
+        translation +=
+            (1.0 / (sigma_odometry * sigma_odometry) - 1.0 / (sigma_t * sigma_t)) * d * d.transpose();
+      }
+    }
+    PoseGraphEdge chain;
+    chain.from = previous;
+    chain.to = node;
+    chain.measurement = relative;
+    chain.information.setZero();
+    chain.information.topLeftCorner<3, 3>() = translation;
+    chain.information.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() / (sigma_r * sigma_r);
+    graph_.add_edge(chain);
+  }
+  keyframes_.push_back(std::move(keyframe));
+  last_keyframe_frontend_ = update.pose;
+  status_.keyframes = keyframes_.size();
+}
+
+bool GraphLocalizer::close_loops() {
+  if (!options_.pose_graph)
+    return false;
+  // A copy of the graph to work on: the scan path goes on adding keyframes meanwhile.
+  PoseGraph graph;
+  std::vector<KeyframePtr> keyframes;
+  std::size_t from = 0;
+  {
+    std::lock_guard lock(mutex_);
+    if (searched_ == keyframes_.size())
+      return false;
+    graph = graph_;
+    keyframes = keyframes_;
+    from = searched_;
+    searched_ = keyframes_.size();
+  }
+  std::vector<Eigen::Isometry3d> poses(graph.size());
+  for (std::size_t i = 0; i < graph.size(); ++i)
+    poses[i] = graph.pose(i);
+  std::vector<LoopClosure> found;
+  for (std::size_t newest = from; newest < keyframes.size(); ++newest) {
+    if (std::optional<LoopClosure> loop = find_loop_closure(keyframes, poses, newest, options_.loops)) {
+      graph.add_edge(loop->edge);
+      found.push_back(std::move(*loop));
+    }
+  }
+  if (found.empty())
+    return false;
+  const PoseGraphSummary summary = graph.optimize(options_.optimizer);
+  if (!summary.solved)
+    return false;
+
+  std::lock_guard lock(mutex_);
+  // Keyframes made while optimizing follow the newest optimized one rigidly.
+  const std::size_t optimized = graph.size();
+  const Eigen::Isometry3d moved = graph.pose(optimized - 1) * graph_.pose(optimized - 1).inverse();
+  for (std::size_t i = 0; i < graph_.size(); ++i)
+    graph_.set_pose(i, i < optimized ? graph.pose(i) : moved * graph_.pose(i));
+  // The loop edges that survived the optimizer's fault check join the live graph.
+  for (const PoseGraphEdge& edge : graph.edges())
+    if (edge.loop && std::none_of(graph_.edges().begin(), graph_.edges().end(), [&](const PoseGraphEdge& e) {
+          return e.loop && e.from == edge.from && e.to == edge.to;
+        }))
+      graph_.add_edge(edge);
+  // The scan path's frame moves as its newest keyframe did (last_keyframe_frontend_ is in the scan path's
+  // frame as it is now, before any correction still pending: this one replaces it).
+  pending_correction_ = graph_.pose(graph_.size() - 1) * last_keyframe_frontend_.inverse();
+  status_.loops = graph_.loop_count();
+  status_.loops_dropped += summary.loops_dropped;
+  ++status_.optimizations;
+  status_.last_loop_stamp = keyframes[found.back().edge.to]->stamp;
+  status_.last_correction = found.back().correction;
+  status_.last_optimization_seconds = summary.seconds;
+  return true;
+}
+
+Eigen::Isometry3d GraphLocalizer::pose(const Pose2& odometry) const {
+  return scan_matching_.pose(odometry);
+}
+
+Eigen::Isometry3d GraphLocalizer::map_from_odom() const {
+  return scan_matching_.map_from_odom();
+}
+
+PoseGraphStatus GraphLocalizer::status() const {
+  std::lock_guard lock(mutex_);
+  return status_;
+}
+
+std::vector<std::pair<KeyframePtr, Eigen::Isometry3d>> GraphLocalizer::keyframes() const {
+  std::lock_guard lock(mutex_);
+  std::vector<std::pair<KeyframePtr, Eigen::Isometry3d>> out;
+  out.reserve(keyframes_.size());
+  for (std::size_t i = 0; i < keyframes_.size(); ++i)
+    out.emplace_back(keyframes_[i], graph_.pose(i));
+  return out;
+}
+
+}  // namespace strata

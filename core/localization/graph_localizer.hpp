@@ -1,0 +1,79 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "core/localization/keyframe.hpp"
+#include "core/localization/loop_closure.hpp"
+#include "core/localization/pose_graph_status.hpp"
+#include "core/localization/scan_to_map_localizer.hpp"
+#include "core/posegraph/pose_graph.hpp"
+
+namespace strata {
+
+struct GraphLocalizerOptions {
+  LocalizerOptions scan_matching;
+  /// Off: the scan-to-map localizer alone (what the benchmark compares against).
+  bool pose_graph = true;
+  /// A registered scan becomes a keyframe when the robot moved this far, metres, or turned this much,
+  /// radians, since the last one (a stop-and-go scanner's every scan; a spinning lidar's every few).
+  double keyframe_distance = 1.0;
+  double keyframe_angle = 0.26;
+  /// What a keyframe keeps: one point per voxel of this size, metres (docs/architecture.md 4.1: memory).
+  double keyframe_voxel = 0.2;
+  /// The chain between consecutive keyframes: the scan matcher's relative pose, with standard deviations
+  /// growing with the motion (metres and radians per metre driven on top of a floor); directions the scan
+  /// matcher took from odometry get the odometry's, `odometry_sigma` per metre.
+  double chain_sigma_translation = 0.02;
+  double chain_sigma_rotation = 0.005;
+  double chain_sigma_per_metre = 0.01;
+  double odometry_sigma = 0.05;
+  LoopClosureOptions loops;
+  PoseGraphOptions optimizer;
+};
+
+/// Localization that stays consistent (docs/architecture.md 4.1): the scan-to-map localizer on the scan
+/// path, and behind it a pose graph over keyframes whose loop closures, found and optimized off the scan
+/// path, correct its drift. add_scan() never waits for the graph; close_loops() does the slow part and
+/// may run on another thread: its correction reaches the scan path at the next add_scan().
+class GraphLocalizer {
+ public:
+  explicit GraphLocalizer(GraphLocalizerOptions options = {},
+                          const Eigen::Isometry3d& initial_map_from_odom = Eigen::Isometry3d::Identity());
+
+  /// The scan path: `points` in the base frame, cleaned; `odometry` the wheel odometry at the scan.
+  LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry, double stamp = 0.0);
+
+  /// The background step: looks for loop closures of the keyframes made since the last call and, when
+  /// it finds one, optimizes the graph. True when the estimates changed. Safe to call from another
+  /// thread than add_scan.
+  bool close_loops();
+
+  [[nodiscard]] Eigen::Isometry3d pose(const Pose2& odometry) const;
+  [[nodiscard]] Eigen::Isometry3d map_from_odom() const;
+  [[nodiscard]] PoseGraphStatus status() const;
+  /// The keyframes and their current pose estimates (map frame), for rebuilding the map.
+  [[nodiscard]] std::vector<std::pair<KeyframePtr, Eigen::Isometry3d>> keyframes() const;
+
+ private:
+  void add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp);
+
+  GraphLocalizerOptions options_;
+  ScanToMapLocalizer scan_matching_;  // scan path only
+
+  mutable std::mutex mutex_;  // everything below
+  std::vector<KeyframePtr> keyframes_;
+  PoseGraph graph_;
+  /// The scan matcher's pose of the last keyframe, in the scan matcher's current frame: the chain's
+  /// relative measurement starts there.
+  Eigen::Isometry3d last_keyframe_frontend_ = Eigen::Isometry3d::Identity();
+  std::size_t searched_ = 0;  ///< keyframes looked at for loops so far
+  /// map <- scan matcher correction from the last optimization, not yet applied on the scan path.
+  std::optional<Eigen::Isometry3d> pending_correction_;
+  PoseGraphStatus status_;
+};
+
+}  // namespace strata

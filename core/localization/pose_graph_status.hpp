@@ -1,0 +1,18 @@
+#pragma once
+
+#include <cstddef>
+
+namespace strata {
+
+/// What the pose graph has done, for status and benchmarks.
+struct PoseGraphStatus {
+  std::size_t keyframes = 0;
+  std::size_t loops = 0;          ///< loop edges in the graph
+  std::size_t loops_dropped = 0;  ///< found, then dropped as false by the optimizer
+  std::size_t optimizations = 0;
+  double last_loop_stamp = -1.0;  ///< scan time of the newest keyframe of the last loop closure; -1: none
+  double last_correction = 0.0;   ///< metres the last loop closure moved the newest keyframe
+  double last_optimization_seconds = 0.0;
+};
+
+}  // namespace strata
