@@ -111,6 +111,12 @@ int main(int argc, char** argv) {
   std::sort(times.begin(), times.end());
   std::sort(scan_times.begin(), scan_times.end());
   const PoseGraphStatus graph = localizer.status();
+  std::size_t keyframe_points = 0;
+  for (const auto& [keyframe, pose] : localizer.keyframes())
+    keyframe_points += keyframe->points.size();
+  // What the keyframes hold per kilometre driven: their points (Eigen::Vector3d, 24 bytes each).
+  const double keyframe_mb_per_km =
+      travelled > 0.0 ? static_cast<double>(keyframe_points) * 24.0 / 1e6 / (travelled / 1000.0) : 0.0;
   const auto pct_of = [](const std::vector<double>& sorted, double q) {
     return sorted.empty() ? 0.0
                           : sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
@@ -126,13 +132,13 @@ int main(int argc, char** argv) {
       "\"registration_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f,\"mean\":%.1f},"
       "\"add_scan_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f},"
       "\"pose_graph\":{\"on\":%s,\"keyframes\":%zu,\"loops\":%zu,\"loops_dropped\":%zu,\"optimizations\":%zu,"
-      "\"background_s\":%.2f}}\n",
+      "\"background_s\":%.2f,\"keyframe_points\":%zu,\"keyframe_mb_per_km\":%.1f}}\n",
       world_name.c_str(), scanner.c_str(), duration, travelled, scans, full, partial, none, corrected_error,
       odometry_error, 100.0 * corrected_error / travelled, 100.0 * odometry_error / travelled,
       max_corrected_error, max_odometry_error, 1000 * pct(0.5), 1000 * pct(0.95), 1000 * pct(1.0),
       times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
       graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops, graph.loops_dropped,
-      graph.optimizations, loop_seconds);
+      graph.optimizations, loop_seconds, keyframe_points, keyframe_mb_per_km);
   return 0;
 }
