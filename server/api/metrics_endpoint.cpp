@@ -59,6 +59,13 @@ protocol::HttpResponse HttpRouter::metrics(const protocol::HttpRequest& request)
          static_cast<double>(registration.accepted));
   metric(out, "strata_registrations_rejected_total", "counter", "registrations fault control rejected",
          static_cast<double>(registration.rejected));
+  metric(out, "strata_registrations_kept_odometry_total", "counter",
+         "registrations not used at all: the odometry guess was kept",
+         static_cast<double>(registration.kept_odometry));
+  metric(out, "strata_pose_graph_loops", "gauge", "loop closures in the pose graph",
+         static_cast<double>(registration.graph.loops));
+  metric(out, "strata_pose_graph_keyframes", "gauge", "keyframes in the pose graph",
+         static_cast<double>(registration.graph.keyframes));
   metric(out, "strata_scans_dropped_total", "counter", "scans skipped because the localizer was busy",
          static_cast<double>(registration.dropped));
   const nlohmann::json status = status_.fields();

@@ -117,6 +117,8 @@ void LocalizerWorker::process(ScanEvent event) {
     r.accepted() ? ++status_.accepted : ++status_.rejected;
     if (update.correction == Correction::kPartial)
       ++status_.partial;
+    if (update.correction == Correction::kFull)
+      ++status_.full;
     status_.last = RegistrationStatus::Last{scan.stamp,
                                             std::string(to_string(r.assessment.verdict)),
                                             std::string(to_string(update.correction)),
@@ -127,6 +129,7 @@ void LocalizerWorker::process(ScanEvent event) {
                                             r.iterations,
                                             r.seconds};
     if (update.correction == Correction::kNone) {
+      ++status_.kept_odometry;
       spdlog::info("registration rejected at t={:.1f}: {}", scan.stamp, r.assessment.message);
     }
   }

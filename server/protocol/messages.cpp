@@ -38,11 +38,10 @@ std::string pose_message(const RobotSnapshot& robot) {
 }
 
 nlohmann::json status_fields(const RegistrationStatus& registration, const StatusExtras& extras) {
-  nlohmann::json reg{{"scans", registration.scans},
-                     {"accepted", registration.accepted},
-                     {"rejected", registration.rejected},
-                     {"partial", registration.partial},
-                     {"dropped", registration.dropped}};
+  nlohmann::json reg{{"scans", registration.scans},       {"accepted", registration.accepted},
+                     {"rejected", registration.rejected}, {"partial", registration.partial},
+                     {"dropped", registration.dropped},   {"kept_odometry", registration.kept_odometry},
+                     {"full", registration.full}};
   if (registration.last) {
     const auto& last = *registration.last;
     reg["last"] = {{"stamp", last.stamp},   {"verdict", last.verdict},       {"correction", last.correction},

@@ -20,6 +20,10 @@ struct RegistrationStatus {
   std::size_t rejected = 0;  ///< registrations it rejected (the odometry guess was kept)
   std::size_t partial = 0;   ///< corrections that took odometry along an unconstrained direction
   std::size_t dropped = 0;   ///< scans skipped because the localizer was still busy
+  /// Registrations not used at all (the odometry guess kept): what "rejected" means to a user. A
+  /// rejected verdict may still correct partly (degenerate geometry: `partial`).
+  std::size_t kept_odometry = 0;
+  std::size_t full = 0;  ///< registrations used whole
   struct Last {
     double stamp = 0.0;
     std::string verdict;     ///< "accepted" or "rejected" (fault control's)

@@ -21,7 +21,17 @@ export class StatusPanel {
 
   showStatus(status) {
     const r = status.registration;
-    field('loc-scans').textContent = `${r.scans} (${r.accepted} ok, ${r.rejected} rejected)`;
+    // What each scan's registration did: used whole, used except along directions nothing constrains
+    // (odometry there), or not used (odometry kept). Fault control's verdicts are not these three.
+    field('loc-scans').textContent = `${r.scans}: ${r.full} corrected, ${r.partial} partly, ${r.kept_odometry} kept odometry`;
+    const graph = status.pose_graph;
+    if (graph) {
+      const last =
+        graph.last_loop_stamp === null
+          ? 'none yet'
+          : `at ${graph.last_loop_stamp.toFixed(0)} s, moved ${graph.last_correction_m.toFixed(2)} m`;
+      field('loc-loops').textContent = `${graph.loops} over ${graph.keyframes} keyframes · last ${last}`;
+    }
     const rate = field('scan-rate');
     rate.textContent = `${(status.scan_rate * 60).toFixed(1)} / min`;
     // The sensor stopped delivering scans it owes (a cable, a crashed lidar): say so until a scan comes.

@@ -101,6 +101,7 @@ TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextS
   EXPECT_EQ(after_diverged.last->verdict, "rejected") << after_diverged.last->message;
   EXPECT_EQ(after_diverged.last->correction, "none");
   EXPECT_EQ(after_diverged.rejected, 1U);
+  EXPECT_EQ(after_diverged.kept_odometry, 1U) << "what the panel calls kept odometry";
   {
     std::lock_guard lock(mutex);
     EXPECT_EQ(mapped.size(), 1U) << "the rejected scan was handed on to the map";
@@ -115,6 +116,8 @@ TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextS
   EXPECT_EQ(after_good.last->verdict, "accepted") << after_good.last->message;
   EXPECT_NE(after_good.last->correction, "none");
   EXPECT_EQ(after_good.rejected, 1U);
+  EXPECT_EQ(after_good.kept_odometry, 1U);
+  EXPECT_EQ(after_good.full + after_good.partial, 1U) << "the good scan was used, whole or partly";
   std::lock_guard lock(mutex);
   ASSERT_EQ(mapped.size(), 2U);
   EXPECT_EQ(mapped[0].stamp, scans[0].stamp);
