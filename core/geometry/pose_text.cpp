@@ -8,10 +8,7 @@
 
 namespace strata {
 
-namespace {
-
-/// The comma-separated numbers of `text`; throws naming the first item that is not a finite number.
-std::vector<double> parse_numbers(std::string_view text) {
+std::vector<double> parse_number_list(std::string_view text) {
   std::vector<double> values;
   std::size_t start = 0;
   while (true) {
@@ -34,10 +31,8 @@ std::vector<double> parse_numbers(std::string_view text) {
   return values;
 }
 
-}  // namespace
-
 Pose3 parse_pose_text(std::string_view text) {
-  std::vector<double> values = parse_numbers(text);
+  std::vector<double> values = parse_number_list(text);
   if (values.size() != 3 && values.size() != 6)
     throw std::invalid_argument("expected x,y,z or x,y,z,roll,pitch,yaw (metres, degrees)");
   values.resize(6, 0.0);
@@ -51,7 +46,7 @@ Pose3 parse_pose_text(std::string_view text) {
 }
 
 Eigen::Vector3d parse_point_text(std::string_view text) {
-  const std::vector<double> values = parse_numbers(text);
+  const std::vector<double> values = parse_number_list(text);
   if (values.size() != 3)
     throw std::invalid_argument("expected x,y,z (metres)");
   return {values[0], values[1], values[2]};

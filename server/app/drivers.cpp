@@ -34,24 +34,16 @@ std::unique_ptr<RobotDriver> make_replay(const ServeOptions& options) {
 
 /// --sim-sensor-outage "START,DURATION": simulated seconds, both finite, START >= 0, DURATION > 0.
 sim::SimulatorConfig::SensorOutage parse_outage(const std::string& text) {
-  const std::size_t comma = text.find(',');
-  const auto number = [&text](const std::string& item) {
-    std::size_t used = 0;
-    double value = 0.0;
-    try {
-      value = std::stod(item, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || item.find_first_not_of(" \t", used) != std::string::npos || !std::isfinite(value))
-      throw std::runtime_error("--sim-sensor-outage '" + text + "': '" + item + "' is not a number");
-    return value;
-  };
-  if (comma == std::string::npos)
+  std::vector<double> values;
+  try {
+    values = parse_number_list(text);
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error("--sim-sensor-outage '" + text + "': " + error.what());
+  }
+  if (values.size() != 2)
     throw std::runtime_error("--sim-sensor-outage '" + text +
                              "': expected START,DURATION (simulated seconds)");
-  const sim::SimulatorConfig::SensorOutage outage{number(text.substr(0, comma)),
-                                                  number(text.substr(comma + 1))};
+  const sim::SimulatorConfig::SensorOutage outage{values[0], values[1]};
   if (outage.start < 0.0 || outage.duration <= 0.0)
     throw std::runtime_error("--sim-sensor-outage '" + text + "': START must be >= 0 and DURATION > 0");
   return outage;
