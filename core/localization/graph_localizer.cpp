@@ -11,7 +11,8 @@ namespace strata {
 GraphLocalizer::GraphLocalizer(GraphLocalizerOptions options, const Eigen::Isometry3d& initial_map_from_odom)
     : options_(std::move(options)), scan_matching_(options_.scan_matching, initial_map_from_odom) {}
 
-LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const Pose2& odometry, double stamp) {
+LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const Pose2& odometry, double stamp,
+                                            const Eigen::Vector3d& sensor_origin) {
   if (options_.pose_graph) {
     std::optional<Eigen::Isometry3d> correction;
     {
@@ -26,11 +27,12 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const Pose
   LocalizationUpdate update = scan_matching_.add_scan(points, odometry);
   const bool registered = !update.registration || update.correction != Correction::kNone;
   if (options_.pose_graph && registered)
-    add_keyframe(points, update, stamp);
+    add_keyframe(points, update, stamp, sensor_origin);
   return update;
 }
 
-void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp) {
+void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp,
+                                  const Eigen::Vector3d& sensor_origin) {
   std::lock_guard lock(mutex_);
   const Eigen::Isometry3d relative = last_keyframe_frontend_.inverse() * update.pose;
   const double distance = relative.translation().norm();
@@ -40,6 +42,14 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
   auto keyframe = std::make_shared<Keyframe>();
   keyframe->stamp = stamp;
   keyframe->points = voxel_downsample(points, options_.keyframe_voxel);
+  if (options_.keyframe_map_voxel > 0.0) {
+    const PointCloud map_points = voxel_downsample(points, options_.keyframe_map_voxel);
+    keyframe->map_points.reserve(map_points.size());
+    for (const Eigen::Vector3d& p : map_points)
+      keyframe->map_points.push_back(p.cast<float>());
+  }
+  keyframe->sensor_origin = sensor_origin;
+  keyframe->mapped_pose = update.pose;
   keyframe->travelled = keyframes_.empty() ? 0.0 : keyframes_.back()->travelled + distance;
   if (keyframes_.empty()) {
     graph_.add_node(update.pose);
@@ -146,12 +156,12 @@ PoseGraphStatus GraphLocalizer::status() const {
   return status_;
 }
 
-std::vector<std::pair<KeyframePtr, Eigen::Isometry3d>> GraphLocalizer::keyframes() const {
+std::vector<KeyframePose> GraphLocalizer::keyframes() const {
   std::lock_guard lock(mutex_);
-  std::vector<std::pair<KeyframePtr, Eigen::Isometry3d>> out;
+  std::vector<KeyframePose> out;
   out.reserve(keyframes_.size());
   for (std::size_t i = 0; i < keyframes_.size(); ++i)
-    out.emplace_back(keyframes_[i], graph_.pose(i));
+    out.push_back({keyframes_[i], graph_.pose(i)});
   return out;
 }
 

@@ -24,6 +24,9 @@ struct GraphLocalizerOptions {
   double keyframe_angle = 0.26;
   /// What a keyframe keeps: one point per voxel of this size, metres (docs/architecture.md 4.1: memory).
   double keyframe_voxel = 0.2;
+  /// What a keyframe keeps for rebuilding the map: one point per voxel of this size, metres (the MLS
+  /// map's cell: finer adds nothing a cell can hold; 0 keeps none and the map cannot be rebuilt).
+  double keyframe_map_voxel = 0.1;
   /// The chain between consecutive keyframes: the scan matcher's relative pose, with standard deviations
   /// growing with the motion (metres and radians per metre driven on top of a floor); directions the scan
   /// matcher took from odometry get the odometry's, `odometry_sigma` per metre.
@@ -44,8 +47,10 @@ class GraphLocalizer {
   explicit GraphLocalizer(GraphLocalizerOptions options = {},
                           const Eigen::Isometry3d& initial_map_from_odom = Eigen::Isometry3d::Identity());
 
-  /// The scan path: `points` in the base frame, cleaned; `odometry` the wheel odometry at the scan.
-  LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry, double stamp = 0.0);
+  /// The scan path: `points` in the base frame, cleaned; `odometry` the wheel odometry at the scan;
+  /// `sensor_origin` where the sensor was in the base frame (the rays of a map rebuild start there).
+  LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry, double stamp = 0.0,
+                              const Eigen::Vector3d& sensor_origin = Eigen::Vector3d::Zero());
 
   /// The background step: looks for loop closures of the keyframes made since the last call and, when
   /// it finds one, optimizes the graph. True when the estimates changed. Safe to call from another
@@ -55,11 +60,12 @@ class GraphLocalizer {
   [[nodiscard]] Eigen::Isometry3d pose(const Pose2& odometry) const;
   [[nodiscard]] Eigen::Isometry3d map_from_odom() const;
   [[nodiscard]] PoseGraphStatus status() const;
-  /// The keyframes and their current pose estimates (map frame), for rebuilding the map.
-  [[nodiscard]] std::vector<std::pair<KeyframePtr, Eigen::Isometry3d>> keyframes() const;
+  /// The keyframes and their current pose estimates (map frame), oldest first, for rebuilding the map.
+  [[nodiscard]] std::vector<KeyframePose> keyframes() const;
 
  private:
-  void add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp);
+  void add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp,
+                    const Eigen::Vector3d& sensor_origin);
 
   GraphLocalizerOptions options_;
   ScanToMapLocalizer scan_matching_;  // scan path only

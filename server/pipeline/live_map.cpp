@@ -57,6 +57,11 @@ void LiveMap::replace(MlsMap map) {
   map.set_version(version);
   for (const TileIndex& tile : map.tile_indices())
     map.set_tile_version(tile, version);
+  // Tiles the new map does not have stay as empty ones with the new version: a client removes a tile when
+  // an empty one arrives, and would otherwise keep drawing what is gone.
+  for (const TileIndex& tile : map_.tile_indices())
+    if (map.find_tile(tile) == nullptr)
+      map.set_tile_version(tile, version);
   map_ = std::move(map);
   tiles_.clear();
   received_at_ = 0.0;  // not from a scan

@@ -46,9 +46,10 @@ class LiveMap {
   MappingTimes add_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
                         const Eigen::Vector3d& robot_ground, double received_at = 0.0);
 
-  /// Replaces the map (a loaded file). Its version becomes newer than any before, and so do all its tiles,
-  /// so clients that track versions redraw everything; the drivable map is recomputed around the last
-  /// known robot position over the whole new map.
+  /// Replaces the map (a loaded file, a rebuild). Its version becomes newer than any before, and so do all
+  /// its tiles, so clients that track versions redraw everything; tiles only the old map had become empty
+  /// ones, so clients drop them. The drivable map is recomputed around the last known robot position over
+  /// the whole new map.
   void replace(MlsMap map);
 
   [[nodiscard]] const MlsMap& map() const { return map_; }

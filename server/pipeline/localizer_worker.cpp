@@ -58,6 +58,8 @@ void LocalizerWorker::close_loops() {
             "keyframes, optimized in {:.2f} s)",
             graph.last_loop_stamp, graph.last_correction, graph.loops, graph.keyframes,
             graph.last_optimization_seconds);
+        if (keyframes_sink_)
+          keyframes_sink_(localizer_.keyframes());
       }
     } catch (const std::exception& error) {  // the scan path goes on without the graph's corrections
       spdlog::error("localization: the pose graph failed: {}", error.what());
@@ -110,7 +112,8 @@ void LocalizerWorker::process(ScanEvent event) {
   PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
   const ScanEvent& scan = preprocessed.event;
   const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
-  const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, scan.stamp);
+  const LocalizationUpdate update =
+      localizer_.add_scan(preprocessed.points, odometry, scan.stamp, scan.sensor_to_base.translation());
   ++status_.scans;
   if (update.registration) {
     const RegistrationResult& r = *update.registration;

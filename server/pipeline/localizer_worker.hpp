@@ -6,6 +6,7 @@
 #include <mutex>
 #include <optional>
 #include <thread>
+#include <vector>
 
 #include "core/localization/graph_localizer.hpp"
 #include "drivers/scan_event.hpp"
@@ -37,6 +38,10 @@ class LocalizerWorker {
       std::function<void(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor)>;
   /// Before start().
   void set_registered_scan_sink(RegisteredScanSink sink) { sink_ = std::move(sink); }
+  /// Where the keyframes go after the pose graph moved them (the mapping worker, to rebuild the map from
+  /// them): all keyframes at their new poses, on the pose graph's thread. Before start().
+  using KeyframesMovedSink = std::function<void(const std::vector<KeyframePose>& keyframes)>;
+  void set_keyframes_moved_sink(KeyframesMovedSink sink) { keyframes_sink_ = std::move(sink); }
 
   void start();
   void stop();
@@ -54,6 +59,7 @@ class LocalizerWorker {
 
   RobotState& state_;
   RegisteredScanSink sink_;
+  KeyframesMovedSink keyframes_sink_;
   GraphLocalizer localizer_;
   RegistrationStatus status_;
   std::mutex mutex_;

@@ -12,7 +12,11 @@
 namespace strata::pipeline {
 
 MappingWorker::MappingWorker(MapState& state, std::filesystem::path maps_dir, MappingOptions options)
-    : state_(state), store_(std::move(maps_dir)), options_(std::move(options)), live_(options_.map) {}
+    : state_(state),
+      store_(std::move(maps_dir)),
+      options_(std::move(options)),
+      live_(options_.map),
+      rebuilder_(options_.map.mls, options_.rebuild) {}
 
 MappingWorker::~MappingWorker() {
   stop();
@@ -102,26 +106,35 @@ double wall_clock_now() {
 
 }  // namespace
 
-void MappingWorker::map_scan(const Scan& scan) {
+bool MappingWorker::insert(const Scan& scan, MappingTimes& times) {
   const ScanEvent& event = scan.preprocessed.event;
   if (!scan.map_from_sensor.matrix().allFinite() || !event.sensor_to_base.matrix().allFinite()) {
     // A broken pose would put the scan (and the region to refresh) nowhere: drop it, keep the map.
     spdlog::warn("mapping: scan at t={:.1f} not mapped: its pose is not finite", event.stamp);
-    return;
+    return false;
   }
-  // How long the scan took to get here since it reached the pipeline: the localizer (preprocessing,
-  // registration) and this queue. Logged with the mapping's own times: the scan-to-client latency budget.
-  const double waited_ms = event.received_at > 0.0 ? (wall_clock_now() - event.received_at) * 1e3 : 0.0;
   const Eigen::Isometry3d map_from_base = scan.map_from_sensor * event.sensor_to_base.inverse();
   const PointCloud points = transformed(scan.preprocessed.points, map_from_base);
-  MappingTimes times;
   try {
     times = live_.add_scan(points, scan.map_from_sensor.translation(), map_from_base.translation(),
                            event.received_at);
   } catch (const std::exception& error) {  // an encoder failure must not end the mapping thread
     spdlog::error("mapping: scan at t={:.1f} not mapped: {}", event.stamp, error.what());
-    return;
+    return false;
   }
+  return true;
+}
+
+void MappingWorker::map_scan(const Scan& scan) {
+  const ScanEvent& event = scan.preprocessed.event;
+  // How long the scan took to get here since it reached the pipeline: the localizer (preprocessing,
+  // registration) and this queue. Logged with the mapping's own times: the scan-to-client latency budget.
+  const double waited_ms = event.received_at > 0.0 ? (wall_clock_now() - event.received_at) * 1e3 : 0.0;
+  MappingTimes times;
+  if (!insert(scan, times))
+    return;
+  if (recording_)
+    mapped_meanwhile_.push_back(scan);
   {
     std::lock_guard lock(mutex_);
     ++status_.scans;
@@ -131,9 +144,64 @@ void MappingWorker::map_scan(const Scan& scan) {
   spdlog::debug(
       "mapped scan at t={:.1f}: {} points, {} tiles changed; reached mapping {:.1f} ms after receipt; insert "
       "{:.1f} ms, drivable {:.1f} ms, tiles {:.1f} ms, png {:.1f} ms; published {:.1f} ms after receipt",
-      event.stamp, points.size(), times.changed_tiles, waited_ms, times.insert_ms, times.drivable_ms,
-      times.tiles_ms, times.png_ms,
+      event.stamp, scan.preprocessed.points.size(), times.changed_tiles, waited_ms, times.insert_ms,
+      times.drivable_ms, times.tiles_ms, times.png_ms,
       event.received_at > 0.0 ? (wall_clock_now() - event.received_at) * 1e3 : 0.0);
+}
+
+bool MappingWorker::rebuild_from(const std::vector<KeyframePose>& keyframes) {
+  std::lock_guard rebuild_lock(rebuild_mutex_);
+  const KeyframeMoves moves = rebuilder_.moves(keyframes);
+  if (moves.moved == 0)
+    return false;
+  bool loaded = false;
+  const bool running = run_on_mapping_thread([&] {
+    loaded = loaded_;
+    recording_ = !loaded_;
+    mapped_meanwhile_.clear();
+  });
+  if (!running || loaded)
+    return false;
+
+  const auto start = std::chrono::steady_clock::now();
+  MlsMap map = rebuilder_.build(keyframes);
+  const double build_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+
+  bool swapped = false;
+  std::size_t again = 0;
+  run_on_mapping_thread([&] {
+    recording_ = false;
+    const std::vector<Scan> meanwhile = std::exchange(mapped_meanwhile_, {});
+    if (loaded_)  // a map was loaded while this one was built: it wins
+      return;
+    try {
+      live_.replace(std::move(map));
+    } catch (const std::exception& error) {  // an encoder failure: the old map stays
+      spdlog::error("mapping: the rebuilt map could not replace the live map: {}", error.what());
+      return;
+    }
+    // The scans mapped while the keyframes were being put in: they went into the map just replaced.
+    for (const Scan& scan : meanwhile) {
+      MappingTimes times;
+      again += insert(scan, times) ? 1 : 0;
+    }
+    swapped = true;
+    {
+      std::lock_guard lock(mutex_);
+      ++status_.rebuilds;
+    }
+    publish();
+  });
+  if (!swapped)
+    return false;
+  rebuilder_.landed(keyframes);
+  spdlog::info(
+      "mapping: map rebuilt from {} keyframes after the pose graph moved {} of them (up to {:.2f} m); built "
+      "in "
+      "{:.2f} s, {} scans mapped meanwhile mapped again",
+      moves.keyframes, moves.moved, moves.largest_shift, build_seconds, again);
+  return true;
 }
 
 void MappingWorker::publish() {
@@ -192,6 +260,7 @@ CommandResult MappingWorker::load_map(const std::string& name) {
   run_on_mapping_thread([&] {
     try {
       live_.replace(std::move(loaded.map));
+      loaded_ = true;
     } catch (const std::exception& failure) {
       result = CommandResult::failure(ErrorCode::kIoError, failure.what());
       return;

@@ -11,9 +11,11 @@
 #include <variant>
 #include <vector>
 
+#include "core/localization/keyframe.hpp"
 #include "drivers/scan_event.hpp"
 #include "server/control/robot_commands.hpp"
 #include "server/pipeline/live_map.hpp"
+#include "server/pipeline/map_rebuilder.hpp"
 #include "server/pipeline/map_store.hpp"
 #include "server/pipeline/map_update.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
@@ -29,12 +31,14 @@ struct MappingOptions {
   /// Returns nearer the sensor than this are the robot itself (as for registration), metres: for scans
   /// submitted unprocessed (the live pipeline's come preprocessed by the localizer, with the same bound).
   double min_range = 0.3;
+  MapRebuildOptions rebuild;
 };
 
 /// What the mapping worker has done, for status and tests.
 struct MappingStatus {
-  std::size_t scans = 0;    ///< mapped
-  std::size_t dropped = 0;  ///< dropped from a full queue
+  std::size_t scans = 0;     ///< mapped
+  std::size_t dropped = 0;   ///< dropped from a full queue
+  std::size_t rebuilds = 0;  ///< maps rebuilt from keyframes the pose graph moved
   MappingTimes last;
 };
 
@@ -68,6 +72,12 @@ class MappingWorker final : public MapCommands {
   /// The same for a scan as the driver took it (sensor frame): preprocessed here with
   /// MappingOptions::min_range (tests, tools).
   void submit(ScanEvent scan, const Eigen::Isometry3d& map_from_sensor);
+  /// The pose graph moved keyframes (docs/architecture.md 4.1, "the map follows"): when any moved from
+  /// where the map has them, builds the map anew from them on the caller's thread (mapping goes on
+  /// meanwhile and the old map stays served), then swaps it in on the mapping thread and maps again the
+  /// scans mapped in the meantime. Does nothing after a map was loaded: the keyframes do not hold it.
+  /// True when the map was rebuilt.
+  bool rebuild_from(const std::vector<KeyframePose>& keyframes);
   /// Waits until everything submitted before is done (tests, tools, a replay as fast as possible). False
   /// when the worker is not running.
   bool flush();
@@ -90,6 +100,8 @@ class MappingWorker final : public MapCommands {
 
   void run();
   void map_scan(const Scan& scan);
+  /// Steps 6-8 for one scan, without publishing. False when the scan could not be mapped.
+  bool insert(const Scan& scan, MappingTimes& times);
   void publish();
   /// Runs `task` on the mapping thread and waits for it; false when the worker is not running.
   bool run_on_mapping_thread(Task task) const;
@@ -97,7 +109,12 @@ class MappingWorker final : public MapCommands {
   MapState& state_;
   MapStore store_;
   MappingOptions options_;
-  LiveMap live_;  // mapping thread only
+  LiveMap live_;                        // mapping thread only
+  bool loaded_ = false;                 // mapping thread only: a map file replaced the live map
+  bool recording_ = false;              // mapping thread only: a rebuild is under way...
+  std::vector<Scan> mapped_meanwhile_;  // ...and these scans were mapped since it started
+  std::mutex rebuild_mutex_;            // one rebuild at a time; guards rebuilder_
+  MapRebuilder rebuilder_;
   std::vector<MapUpdateListener> listeners_;
   std::function<void()> on_published_;
 

@@ -74,6 +74,9 @@ void RobotPipeline::map_the_registered_scans() {
       [this](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
         mapping_.submit(std::move(scan), map_from_sensor);
       });
+  // The map follows the pose graph: rebuilt from the keyframes when a loop closure moved them.
+  localizer_.set_keyframes_moved_sink(
+      [this](const std::vector<KeyframePose>& keyframes) { mapping_.rebuild_from(keyframes); });
 }
 
 void RobotPipeline::plan_on_the_live_map() {

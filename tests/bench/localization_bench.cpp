@@ -3,22 +3,82 @@
 // numbers do not depend on the machine's speed. A benchmark: prints numbers, never fails on them.
 // Usage: strata_localization_bench [world] [simulated seconds] [tilting|lidar]
 // STRATA_BENCH_TRACE=1 prints every scan's error and verdict to stderr.
+//
+// Map consistency ("revisit spread"): where two scans far apart along the way (>= 15 m driven) saw the
+// same place (within 5 m), how far apart the map puts the same true point from the two: the walls a map
+// doubles. For the live map, each scan at the pose it was mapped with; for the rebuilt map, each keyframe
+// at its final pose graph estimate.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "core/localization/graph_localizer.hpp"
+#include "core/points/voxel_downsample.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
+#include "server/pipeline/map_rebuilder.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 
 using namespace strata;
 
 namespace {
+
+/// One scan (or keyframe) as the map has it: where it really was, where the map put it, what it saw.
+struct Visit {
+  Eigen::Isometry3d truth;
+  Eigen::Isometry3d estimate;
+  PointCloud points;  ///< base frame, thinned
+  double travelled = 0.0;
+};
+
+struct Spread {
+  std::size_t pairs = 0;
+  double median = 0.0;
+  double p95 = 0.0;
+  double max = 0.0;
+};
+
+/// See the header comment. Per pair: the mean over the first visit's points within 10 m of its sensor.
+Spread revisit_spread(const std::vector<Visit>& visits) {
+  std::vector<double> spreads;
+  for (std::size_t i = 0; i < visits.size(); ++i) {
+    const Eigen::Isometry3d map_from_world_i = visits[i].estimate * visits[i].truth.inverse();
+    for (std::size_t j = i + 1; j < visits.size(); ++j) {
+      const Eigen::Vector3d apart = visits[j].truth.translation() - visits[i].truth.translation();
+      if (visits[j].travelled - visits[i].travelled < 15.0 || apart.head<2>().norm() > 5.0 ||
+          std::abs(apart.z()) > 1.0)
+        continue;
+      const Eigen::Isometry3d map_from_world_j = visits[j].estimate * visits[j].truth.inverse();
+      double sum = 0.0;
+      std::size_t n = 0;
+      for (const Eigen::Vector3d& p : visits[i].points) {
+        if (p.norm() > 10.0)
+          continue;
+        const Eigen::Vector3d world = visits[i].truth * p;
+        sum += (map_from_world_i * world - map_from_world_j * world).norm();
+        ++n;
+      }
+      if (n > 0)
+        spreads.push_back(sum / static_cast<double>(n));
+    }
+  }
+  Spread spread;
+  spread.pairs = spreads.size();
+  if (spreads.empty())
+    return spread;
+  std::sort(spreads.begin(), spreads.end());
+  const auto at = [&](double q) { return spreads[static_cast<std::size_t>(q * double(spreads.size() - 1))]; };
+  spread.median = at(0.5);
+  spread.p95 = at(0.95);
+  spread.max = spreads.back();
+  return spread;
+}
+
 std::string eigen_text(const TranslationConstraint& c) {
   char text[160];
   std::snprintf(text, sizeof text, "%.3f(%.2f,%.2f,%.2f)/%.3f/%.3f rot %.3f(%.2f,%.2f,%.2f)/%.3f",
@@ -62,6 +122,8 @@ int main(int argc, char** argv) {
   std::vector<double> scan_times;  // the whole add_scan: local map, index, registration
   std::size_t scans = 0, full = 0, partial = 0, none = 0;
   Eigen::Vector3d last = simulator.sample().truth->position;
+  std::vector<Visit> mapped;                     // every scan the live map took, at the pose it took it with
+  std::map<double, Eigen::Isometry3d> truth_at;  // by scan stamp
   double odometry_error = 0.0, corrected_error = 0.0;
   for (double t = 0.0; t < duration; t += 0.01) {
     simulator.step(0.01);
@@ -72,7 +134,11 @@ int main(int argc, char** argv) {
       const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
       const PointCloud points = pipeline::points_in_base(scan);
       const auto start = std::chrono::steady_clock::now();
-      const LocalizationUpdate update = localizer.add_scan(points, odometry, scan.stamp);
+      const LocalizationUpdate update =
+          localizer.add_scan(points, odometry, scan.stamp, scan.sensor_to_base.translation());
+      truth_at[scan.stamp] = scan.truth->to_isometry();
+      if (!update.registration || update.correction != Correction::kNone)
+        mapped.push_back({scan.truth->to_isometry(), update.pose, voxel_downsample(points, 0.5), travelled});
       scan_times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       // The server runs this on a thread of its own; here it runs after each scan, so the numbers do not
       // depend on the machine's speed.
@@ -111,12 +177,29 @@ int main(int argc, char** argv) {
   std::sort(times.begin(), times.end());
   std::sort(scan_times.begin(), scan_times.end());
   const PoseGraphStatus graph = localizer.status();
-  std::size_t keyframe_points = 0;
-  for (const auto& [keyframe, pose] : localizer.keyframes())
+  const std::vector<KeyframePose> keyframes = localizer.keyframes();
+  std::size_t keyframe_points = 0, keyframe_map_points = 0;
+  std::vector<Visit> rebuilt;  // the keyframes at their final estimates: what the rebuilt map has
+  for (const auto& [keyframe, pose] : keyframes) {
     keyframe_points += keyframe->points.size();
-  // What the keyframes hold per kilometre driven: their points (Eigen::Vector3d, 24 bytes each).
+    keyframe_map_points += keyframe->map_points.size();
+    rebuilt.push_back(
+        {truth_at.at(keyframe->stamp), pose, voxel_downsample(keyframe->points, 0.5), keyframe->travelled});
+  }
+  // What the keyframes hold per kilometre driven: their registration points (Eigen::Vector3d, 24 bytes
+  // each) and their map points (Eigen::Vector3f, 12 bytes).
+  const double km = travelled / 1000.0;
   const double keyframe_mb_per_km =
-      travelled > 0.0 ? static_cast<double>(keyframe_points) * 24.0 / 1e6 / (travelled / 1000.0) : 0.0;
+      travelled > 0.0 ? static_cast<double>(keyframe_points) * 24.0 / 1e6 / km : 0.0;
+  const double map_mb_per_km =
+      travelled > 0.0 ? static_cast<double>(keyframe_map_points) * 12.0 / 1e6 / km : 0.0;
+  // The rebuild the mapping worker does after an optimization, here once over all keyframes.
+  const auto rebuild_start = std::chrono::steady_clock::now();
+  const MlsMap rebuilt_map = pipeline::MapRebuilder(MlsConfig{}).build(keyframes);
+  const double rebuild_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - rebuild_start).count();
+  const Spread live_spread = revisit_spread(mapped);
+  const Spread rebuilt_spread = revisit_spread(rebuilt);
   const auto pct_of = [](const std::vector<double>& sorted, double q) {
     return sorted.empty() ? 0.0
                           : sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
@@ -132,13 +215,20 @@ int main(int argc, char** argv) {
       "\"registration_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f,\"mean\":%.1f},"
       "\"add_scan_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f},"
       "\"pose_graph\":{\"on\":%s,\"keyframes\":%zu,\"loops\":%zu,\"loops_dropped\":%zu,\"optimizations\":%zu,"
-      "\"background_s\":%.2f,\"keyframe_points\":%zu,\"keyframe_mb_per_km\":%.1f}}\n",
+      "\"background_s\":%.2f,\"keyframe_points\":%zu,\"keyframe_mb_per_km\":%.1f,"
+      "\"keyframe_map_points\":%zu,\"keyframe_map_mb_per_km\":%.1f,\"rebuild_s\":%.2f,\"rebuilt_patches\":%"
+      "zu},"
+      "\"revisit_spread_m\":{\"live_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f},"
+      "\"rebuilt_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}}}\n",
       world_name.c_str(), scanner.c_str(), duration, travelled, scans, full, partial, none, corrected_error,
       odometry_error, 100.0 * corrected_error / travelled, 100.0 * odometry_error / travelled,
       max_corrected_error, max_odometry_error, 1000 * pct(0.5), 1000 * pct(0.95), 1000 * pct(1.0),
       times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
       graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops, graph.loops_dropped,
-      graph.optimizations, loop_seconds, keyframe_points, keyframe_mb_per_km);
+      graph.optimizations, loop_seconds, keyframe_points, keyframe_mb_per_km, keyframe_map_points,
+      map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(), live_spread.pairs, live_spread.median,
+      live_spread.p95, live_spread.max, rebuilt_spread.pairs, rebuilt_spread.median, rebuilt_spread.p95,
+      rebuilt_spread.max);
   return 0;
 }

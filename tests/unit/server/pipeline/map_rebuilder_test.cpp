@@ -1,0 +1,61 @@
+#include "server/pipeline/map_rebuilder.hpp"
+
+#include <gtest/gtest.h>
+
+#include "tests/support/wall_keyframes.hpp"
+
+namespace strata::pipeline {
+namespace {
+
+using strata::testing::room_keyframe;
+
+Eigen::Isometry3d shifted(double x) {
+  return Eigen::Isometry3d(Eigen::Translation3d(x, 0.0, 0.0));
+}
+
+/// Patches in the column of cells at `x` (all y of the room).
+std::size_t patches_at_x(const MlsMap& map, double x) {
+  std::size_t patches = 0;
+  for (double y = -1.5; y <= 1.5; y += map.resolution())
+    patches += map.patches(map.cell_of(x, y)).size();
+  return patches;
+}
+
+TEST(MapRebuilder, NothingIsDueUntilAKeyframeMovesByHalfACell) {
+  const MapRebuilder rebuilder(MlsConfig{});
+  const KeyframePtr first = room_keyframe(Eigen::Isometry3d::Identity(), 1.0);
+  const KeyframePtr second = room_keyframe(shifted(0.3), 2.0);
+  EXPECT_EQ(rebuilder.moves({{first, first->mapped_pose}, {second, second->mapped_pose}}).moved, 0U);
+  EXPECT_EQ(rebuilder.moves({{first, first->mapped_pose}, {second, shifted(0.28)}}).moved, 0U)
+      << "2 cm is less than half a 10 cm cell";
+  const KeyframeMoves moves =
+      rebuilder.moves({{first, first->mapped_pose}, {second, Eigen::Isometry3d::Identity()}});
+  EXPECT_EQ(moves.moved, 1U);
+  EXPECT_NEAR(moves.largest_shift, 0.3, 1e-9);
+  const Eigen::Isometry3d turned(Eigen::AngleAxisd(0.01, Eigen::Vector3d::UnitZ()));
+  EXPECT_EQ(rebuilder.moves({{first, turned}}).moved, 1U) << "0.01 rad moves a wall 10 m away by 10 cm";
+}
+
+TEST(MapRebuilder, TheRebuiltMapHasOneWallWhereTheLiveMapHadTwo) {
+  // The second visit drifted 0.3 m: the live map would have the wall at 3.0 and at 3.3 m. The pose graph
+  // found it was at the origin too.
+  const KeyframePtr first = room_keyframe(Eigen::Isometry3d::Identity(), 1.0);
+  const KeyframePtr second = room_keyframe(shifted(0.3), 2.0);
+  const std::vector<KeyframePose> corrected{{first, Eigen::Isometry3d::Identity()},
+                                            {second, Eigen::Isometry3d::Identity()}};
+  MapRebuilder rebuilder(MlsConfig{});
+  const MlsMap map = rebuilder.build(corrected);
+  EXPECT_GT(patches_at_x(map, 3.0), 0U);
+  EXPECT_EQ(patches_at_x(map, 3.3), 0U);
+  EXPECT_GT(patches_at_x(map, 1.0), 0U) << "the floor";
+  // Built from the keyframes, not the drift: the same map as two visits from the same place.
+  const MlsMap once = rebuilder.build({{first, Eigen::Isometry3d::Identity()}});
+  EXPECT_EQ(map.occupied_cell_count(), once.occupied_cell_count());
+
+  EXPECT_EQ(rebuilder.moves(corrected).moved, 1U);
+  rebuilder.landed(corrected);
+  EXPECT_EQ(rebuilder.moves(corrected).moved, 0U) << "the map has them where they are now";
+}
+
+}  // namespace
+}  // namespace strata::pipeline
