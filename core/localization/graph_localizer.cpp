@@ -33,7 +33,9 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const Pose
 
 void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp,
                                   const Eigen::Vector3d& sensor_origin) {
-  std::lock_guard lock(mutex_);
+  // Read without the lock: the scan path is the only writer of last_keyframe_frontend_ and keyframes_,
+  // and this is the scan path. So the thinning below, the costly part, runs before the lock the pose
+  // graph's thread waits on.
   const Eigen::Isometry3d relative = last_keyframe_frontend_.inverse() * update.pose;
   const double distance = relative.translation().norm();
   const double angle = Eigen::AngleAxisd(relative.linear()).angle();
@@ -50,6 +52,8 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
   }
   keyframe->sensor_origin = sensor_origin;
   keyframe->mapped_pose = update.pose;
+
+  std::lock_guard lock(mutex_);
   keyframe->travelled = keyframes_.empty() ? 0.0 : keyframes_.back()->travelled + distance;
   if (keyframes_.empty()) {
     graph_.add_node(update.pose);

@@ -70,7 +70,9 @@ class GraphLocalizer {
   GraphLocalizerOptions options_;
   ScanToMapLocalizer scan_matching_;  // scan path only
 
-  mutable std::mutex mutex_;  // everything below
+  /// Everything below. The scan path writes keyframes_ and last_keyframe_frontend_ under it and may read
+  /// them without it (it is their only writer); other threads read them under it.
+  mutable std::mutex mutex_;
   std::vector<KeyframePtr> keyframes_;
   PoseGraph graph_;
   /// The scan matcher's pose of the last keyframe, in the scan matcher's current frame: the chain's
