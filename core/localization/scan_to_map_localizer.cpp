@@ -53,6 +53,7 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
           continue;
         const Eigen::Vector3d axis = result.constraint.rotation_axes.col(k);
         turn -= axis * axis.dot(turn);
+        update.odometry_axes.push_back(axis);
       }
       const double angle = turn.norm();
       const Eigen::Matrix3d kept = angle > 0.0 ? Eigen::AngleAxisd(angle, turn / angle).toRotationMatrix()
@@ -64,6 +65,7 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
           continue;
         const Eigen::Vector3d d = result.constraint.directions.col(k);
         update.pose.translation() += d * d.dot(offset);
+        update.odometry_directions.push_back(d);
       }
       update.correction = Correction::kPartial;
     } else if (result.accepted()) {

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <optional>
 #include <string_view>
+#include <vector>
 
 #include "core/geometry/pose.hpp"
 #include "core/localization/global_pose.hpp"
@@ -67,6 +68,10 @@ struct LocalizationUpdate {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();           ///< base in the map frame
   Eigen::Isometry3d map_from_odom = Eigen::Isometry3d::Identity();  ///< the correction after this scan
   std::optional<RegistrationResult> registration;                   ///< none for the first scan
+  /// For a partial correction, what odometry supplied (map frame, unit vectors): the directions along
+  /// which the position, and the axes about which the turn, came from odometry. Empty otherwise.
+  std::vector<Eigen::Vector3d> odometry_directions;
+  std::vector<Eigen::Vector3d> odometry_axes;
 };
 
 /// Localization by scan matching (thesis chapter 4, with a local map as the model set): each scan is

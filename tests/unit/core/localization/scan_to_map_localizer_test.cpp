@@ -74,8 +74,15 @@ TEST(ScanToMapLocalizer, CorridorAxisComesFromOdometry) {
     for (const ScanEvent& scan : simulator.take_scans()) {
       const LocalizationUpdate update =
           localizer.add_scan(pipeline::points_in_base(scan), planar(scan.odometry));
-      if (update.correction == Correction::kPartial)
+      if (update.correction == Correction::kPartial) {
         ++partial;
+        // What it took from odometry, for the status (LocalizationHealth): the corridor's axis, x.
+        ASSERT_EQ(update.odometry_directions.size(), 1u);
+        EXPECT_GT(std::abs(update.odometry_directions[0].x()), 0.9);
+      } else {
+        EXPECT_TRUE(update.odometry_directions.empty());
+        EXPECT_TRUE(update.odometry_axes.empty());
+      }
       // Along the axis the estimate may be off by what odometry is off, not by a slide of metres.
       const double odometry_along = scan.odometry.position.x() - scan.truth->position.x();
       const double along = update.pose.translation().x() - scan.truth->position.x();

@@ -1,0 +1,154 @@
+#include "core/localization/localization_health.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+namespace strata {
+namespace {
+
+/// Metres or seconds for people: one decimal below 10, whole numbers above.
+std::string amount(double value, const char* unit) {
+  char text[32];
+  if (value < 9.95)
+    std::snprintf(text, sizeof text, "%.1f %s", value, unit);
+  else
+    std::snprintf(text, sizeof text, "%.0f %s", value, unit);
+  return text;
+}
+
+std::string scans_text(std::size_t scans) {
+  return std::to_string(scans) + (scans == 1 ? " scan" : " scans");
+}
+
+/// Why a registration was not used, in plain words.
+std::string_view why_kept(RejectReason reason) {
+  switch (reason) {
+    case RejectReason::kTooFewPairs:
+      return "nothing to match";
+    case RejectReason::kHighResidual:
+      return "the surfaces did not fit";
+    case RejectReason::kJumpFromGuess:
+      return "the match was too far from odometry to trust";
+    case RejectReason::kDegenerateGeometry:
+      return "too few surfaces to fix the position";
+    case RejectReason::kNone:
+      break;
+  }
+  return "not used";
+}
+
+// A direction counts as along a map axis when it is within 67.5 degrees of it (a diagonal corridor is
+// along x and y), and as vertical within 45 degrees of the vertical.
+constexpr double kAlongAxis = 0.38;
+constexpr double kVertical = 0.7;
+
+/// What odometry supplied in a partial correction: "corridor: position along x", "open ground: position
+/// along x,y and heading".
+std::string from_odometry(const ScanOutcome& partial) {
+  std::string axes;
+  int horizontal = 0;
+  for (int axis = 0; axis < 3; ++axis) {
+    bool along = false;
+    for (const Eigen::Vector3d& d : partial.odometry_directions)
+      along = along || std::abs(d[axis]) >= kAlongAxis;
+    if (along)
+      axes += std::string(axes.empty() ? "" : ",") + "xyz"[axis];
+  }
+  for (const Eigen::Vector3d& d : partial.odometry_directions)
+    horizontal += std::abs(d.z()) < kVertical ? 1 : 0;
+  bool heading = false;
+  bool tilt = false;
+  for (const Eigen::Vector3d& a : partial.odometry_axes)
+    (std::abs(a.z()) >= kVertical ? heading : tilt) = true;
+
+  std::string what = axes.empty() ? "" : "position along " + axes;
+  for (const auto& [taken, name] : {std::pair{heading, "heading"}, std::pair{tilt, "tilt"}})
+    if (taken)
+      what += std::string(what.empty() ? "" : " and ") + name;
+  if (what.empty())
+    what = "part of the pose";
+  const char* where = horizontal >= 2 ? "open ground" : horizontal == 1 ? "corridor" : "few surfaces";
+  return std::string(where) + ": " + what;
+}
+
+}  // namespace
+
+std::string_view to_string(LocalizationState state) {
+  switch (state) {
+    case LocalizationState::kOk:
+      return "ok";
+    case LocalizationState::kDegraded:
+      return "degraded";
+    case LocalizationState::kLost:
+      return "lost";
+  }
+  return "lost";
+}
+
+LocalizationHealth LocalizationHealth::no_scan_yet() {
+  return {LocalizationState::kDegraded, "no scan yet: position from odometry only"};
+}
+
+void LocalizationHealthClassifier::add_scan(const ScanOutcome& scan) {
+  const double moved = have_odometry_ ? (scan.odometry - last_odometry_).norm() : 0.0;
+  have_odometry_ = true;
+  last_odometry_ = scan.odometry;
+  ++scans_;
+  last_ = scan;
+  if (scan.registered && scan.correction != Correction::kNone)
+    loose_fits_ = scan.rmse > options_.loose_fit_rmse ? loose_fits_ + 1 : 0;
+  if (!scan.registered || scan.correction == Correction::kFull) {
+    // Matched whole, or the first scan, which the map starts from: nothing rests on odometry.
+    unmatched_scans_ = 0;
+    unmatched_distance_ = 0.0;
+    last_matched_stamp_ = scan.stamp;
+    odometry_distance_ = 0.0;
+    have_partial_ = false;
+    return;
+  }
+  odometry_distance_ += moved;  // along some direction, or all of them
+  if (scan.correction == Correction::kPartial) {
+    unmatched_scans_ = 0;
+    unmatched_distance_ = 0.0;
+    last_matched_stamp_ = scan.stamp;
+    last_partial_ = scan;
+    have_partial_ = true;
+    return;
+  }
+  ++unmatched_scans_;
+  unmatched_distance_ += moved;
+}
+
+LocalizationHealth LocalizationHealthClassifier::health() const {
+  using enum LocalizationState;
+  if (scans_ == 0)
+    return LocalizationHealth::no_scan_yet();
+  const std::string kept =
+      unmatched_scans_ == 1
+          ? "the last scan kept odometry: " + std::string(why_kept(last_.reason))
+          : scans_text(unmatched_scans_) + " in a row kept odometry: " + std::string(why_kept(last_.reason));
+  if (unmatched_scans_ >= options_.lost_unmatched_scans ||
+      (unmatched_scans_ > 0 && unmatched_distance_ >= options_.lost_unmatched_distance)) {
+    return {kLost, "no scan matched for " + scans_text(unmatched_scans_) + " (" +
+                       amount(last_.stamp - last_matched_stamp_, "s") + ", " +
+                       amount(unmatched_distance_, "m") + "): position from odometry only"};
+  }
+  if (unmatched_scans_ >= options_.degraded_unmatched_scans)
+    return {kDegraded, kept};
+  const std::string carried = (have_partial_ ? from_odometry(last_partial_) : std::string("position")) +
+                              " from odometry for " + amount(odometry_distance_, "m");
+  if (odometry_distance_ >= options_.degraded_odometry_distance)
+    return {kDegraded, unmatched_scans_ > 0 ? carried + "; " + kept : carried};
+  if (unmatched_scans_ > 0)
+    return {kOk, kept};
+  if (!last_.registered)
+    return {kOk, "first scan: the map starts here"};
+  if (loose_fits_ >= options_.loose_fit_scans)
+    return {kDegraded, scans_text(loose_fits_) + " in a row fit the map only loosely: the last " +
+                           amount(last_.rmse * 100.0, "cm") + " apart"};
+  if (last_.correction == Correction::kPartial)
+    return {kOk, carried};
+  return {kOk, "the last scan matched the map"};
+}
+
+}  // namespace strata

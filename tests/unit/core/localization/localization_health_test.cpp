@@ -1,0 +1,207 @@
+#include "core/localization/localization_health.hpp"
+
+#include <gtest/gtest.h>
+
+namespace strata {
+namespace {
+
+using enum LocalizationState;
+
+/// Feeds scans as a stop-and-go robot driving along x takes them: `step` metres and `seconds` apart.
+class Robot {
+ public:
+  explicit Robot(double step = 2.0, double seconds = 10.0) : step_(step), seconds_(seconds) {}
+
+  LocalizationHealth first() { return add({}); }
+  LocalizationHealth full(double rmse = 0.03) {
+    ScanOutcome scan = registered(Correction::kFull);
+    scan.rmse = rmse;
+    return add(scan);
+  }
+  LocalizationHealth kept(RejectReason reason = RejectReason::kTooFewPairs) {
+    ScanOutcome scan = registered(Correction::kNone);
+    scan.reason = reason;
+    scan.rmse = 0.2;
+    return add(scan);
+  }
+  /// A corridor along x: the position along it comes from odometry.
+  LocalizationHealth corridor() {
+    ScanOutcome scan = registered(Correction::kPartial);
+    scan.reason = RejectReason::kDegenerateGeometry;
+    scan.odometry_directions = {Eigen::Vector3d::UnitX()};
+    return add(scan);
+  }
+  /// Open ground: nothing constrains the position in the plane nor the heading.
+  LocalizationHealth open_ground() {
+    ScanOutcome scan = registered(Correction::kPartial);
+    scan.odometry_directions = {Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX()};
+    scan.odometry_axes = {Eigen::Vector3d(0.05, 0.0, -1.0).normalized()};
+    return add(scan);
+  }
+  LocalizationHealth add(ScanOutcome scan) {
+    scan.stamp = seconds_ * static_cast<double>(scans_);
+    scan.odometry = {step_ * static_cast<double>(scans_), 0.0};
+    ++scans_;
+    classifier.add_scan(scan);
+    return classifier.health();
+  }
+
+  LocalizationHealthClassifier classifier;
+
+ private:
+  static ScanOutcome registered(Correction correction) {
+    ScanOutcome scan;
+    scan.registered = true;
+    scan.correction = correction;
+    return scan;
+  }
+  double step_;
+  double seconds_;
+  std::size_t scans_ = 0;
+};
+
+TEST(LocalizationHealth, NamesTheThreeStates) {
+  EXPECT_EQ(to_string(kOk), "ok");
+  EXPECT_EQ(to_string(kDegraded), "degraded");
+  EXPECT_EQ(to_string(kLost), "lost");
+}
+
+TEST(LocalizationHealth, BeforeTheFirstScanNothingConfirmedThePose) {
+  const LocalizationHealth health = LocalizationHealthClassifier().health();
+  EXPECT_EQ(health.state, kDegraded);
+  EXPECT_EQ(health.reason, "no scan yet: position from odometry only");
+  EXPECT_EQ(health.state, LocalizationHealth::no_scan_yet().state);
+}
+
+TEST(LocalizationHealth, TheFirstScanStartsTheMapAndMatchedScansAreOk) {
+  Robot robot;
+  LocalizationHealth health = robot.first();
+  EXPECT_EQ(health.state, kOk);
+  EXPECT_EQ(health.reason, "first scan: the map starts here");
+  health = robot.full();
+  EXPECT_EQ(health.state, kOk);
+  EXPECT_EQ(health.reason, "the last scan matched the map");
+}
+
+TEST(LocalizationHealth, ThreeScansInARowThatKeptOdometryAreDegraded) {
+  Robot robot;
+  robot.first();
+  robot.full();
+  LocalizationHealth health = robot.kept();
+  EXPECT_EQ(health.state, kOk) << "one unmatched scan happens on any run";
+  EXPECT_EQ(health.reason, "the last scan kept odometry: nothing to match");
+  health = robot.kept();
+  EXPECT_EQ(health.state, kOk);
+  EXPECT_EQ(health.reason, "2 scans in a row kept odometry: nothing to match");
+  health = robot.kept(RejectReason::kHighResidual);
+  EXPECT_EQ(health.state, kDegraded);
+  EXPECT_EQ(health.reason, "3 scans in a row kept odometry: the surfaces did not fit");
+  // One match ends it.
+  health = robot.full();
+  EXPECT_EQ(health.state, kOk);
+  EXPECT_EQ(health.reason, "the last scan matched the map");
+}
+
+TEST(LocalizationHealth, TenScansWithoutAMatchAreLostAndAMatchRecovers) {
+  Robot robot(0.5, 4.5);  // short steps: the count decides, not the distance
+  robot.first();
+  robot.full();  // at t = 4.5 s
+  for (int i = 0; i < 9; ++i)
+    EXPECT_EQ(robot.kept().state, i >= 2 ? kDegraded : kOk) << i;
+  const LocalizationHealth lost = robot.kept();
+  EXPECT_EQ(lost.state, kLost);
+  EXPECT_EQ(lost.reason, "no scan matched for 10 scans (45 s, 5.0 m): position from odometry only");
+  robot.kept();
+  EXPECT_EQ(robot.classifier.health().state, kLost);
+  EXPECT_EQ(robot.corridor().state, kOk) << "a partial match is a match";
+}
+
+TEST(LocalizationHealth, TwentyMetresOnOdometryAloneAreLost) {
+  Robot robot(4.0, 10.0);  // far between scans: the distance decides before the count
+  robot.first();
+  robot.full();
+  robot.kept();
+  robot.kept();
+  robot.kept();
+  const LocalizationHealth sixteen = robot.kept();
+  EXPECT_EQ(sixteen.state, kDegraded) << sixteen.reason;
+  const LocalizationHealth twenty = robot.kept(RejectReason::kJumpFromGuess);
+  EXPECT_EQ(twenty.state, kLost);
+  EXPECT_EQ(twenty.reason, "no scan matched for 5 scans (50 s, 20 m): position from odometry only");
+}
+
+TEST(LocalizationHealth, ACorridorIsOkUntilOdometryCarriedItsAxisTenMetres) {
+  Robot robot;  // 2 m between scans
+  robot.first();
+  robot.full();
+  LocalizationHealth health = robot.corridor();
+  EXPECT_EQ(health.state, kOk);
+  EXPECT_EQ(health.reason, "corridor: position along x from odometry for 2.0 m");
+  for (int i = 0; i < 3; ++i)
+    health = robot.corridor();
+  EXPECT_EQ(health.state, kOk) << health.reason;  // 8 m
+  health = robot.corridor();
+  EXPECT_EQ(health.state, kDegraded);
+  EXPECT_EQ(health.reason, "corridor: position along x from odometry for 10 m");
+  // A scan that kept odometry on top of it: said too, as one unmatched scan.
+  health = robot.kept();
+  EXPECT_EQ(health.state, kDegraded);
+  EXPECT_EQ(
+      health.reason,
+      "corridor: position along x from odometry for 12 m; the last scan kept odometry: nothing to match");
+  // A full match at the corridor's end.
+  health = robot.full();
+  EXPECT_EQ(health.state, kOk);
+  EXPECT_EQ(robot.corridor().reason, "corridor: position along x from odometry for 2.0 m");
+}
+
+TEST(LocalizationHealth, OpenGroundNamesWhatOdometrySupplied) {
+  Robot robot(3.0);
+  robot.first();
+  LocalizationHealth health = robot.open_ground();
+  EXPECT_EQ(health.state, kOk);
+  EXPECT_EQ(health.reason, "open ground: position along x,y and heading from odometry for 3.0 m");
+  robot.open_ground();
+  robot.open_ground();
+  health = robot.open_ground();
+  EXPECT_EQ(health.state, kDegraded);
+  EXPECT_EQ(health.reason, "open ground: position along x,y and heading from odometry for 12 m");
+}
+
+TEST(LocalizationHealth, ADiagonalCorridorIsAlongXAndY) {
+  Robot robot;
+  robot.first();
+  ScanOutcome scan;
+  scan.registered = true;
+  scan.correction = Correction::kPartial;
+  scan.odometry_directions = {Eigen::Vector3d(0.7, -0.7, 0.1).normalized()};
+  EXPECT_EQ(robot.add(scan).reason, "corridor: position along x,y from odometry for 2.0 m");
+}
+
+TEST(LocalizationHealth, OnlyTheHeadingFromOdometry) {
+  Robot robot;
+  robot.first();
+  ScanOutcome scan;
+  scan.registered = true;
+  scan.correction = Correction::kPartial;
+  scan.odometry_axes = {Eigen::Vector3d::UnitZ()};
+  EXPECT_EQ(robot.add(scan).reason, "few surfaces: heading from odometry for 2.0 m");
+}
+
+TEST(LocalizationHealth, ThreeLooseFitsInARowAreDegraded) {
+  Robot robot;
+  robot.first();
+  EXPECT_EQ(robot.full(0.11).state, kOk) << "one loose fit happens on any run";
+  EXPECT_EQ(robot.full(0.12).state, kOk);
+  robot.kept();  // no fit at all: neither ends nor extends the streak
+  const LocalizationHealth health = robot.full(0.112);
+  EXPECT_EQ(health.state, kDegraded);
+  EXPECT_EQ(health.reason, "3 scans in a row fit the map only loosely: the last 11 cm apart");
+  EXPECT_EQ(robot.full(0.09).state, kOk);  // below the 10 cm limit
+  robot.full(0.11);
+  robot.full(0.11);
+  EXPECT_EQ(robot.full(0.09).state, kOk) << "not three in a row";
+}
+
+}  // namespace
+}  // namespace strata
