@@ -1,7 +1,9 @@
 // GET /metrics: counters and gauges in the Prometheus text exposition format (version 0.0.4).
 #include <spdlog/fmt/fmt.h>
 
+#include <initializer_list>
 #include <string>
+#include <string_view>
 
 #include "server/api/http_router.hpp"
 #include "server/api/responses.hpp"
@@ -12,6 +14,15 @@ namespace {
 void metric(std::string& out, std::string_view name, std::string_view type, std::string_view help,
             double value) {
   out += fmt::format("# HELP {} {}\n# TYPE {} {}\n{} {}\n", name, help, name, type, name, value);
+}
+
+/// A gauge with one series per value of a label, 1 for the current value and 0 for the others: an alert
+/// asks for `NAME{LABEL="value"} == 1`.
+void one_hot(std::string& out, std::string_view name, std::string_view help, std::string_view label,
+             std::initializer_list<std::string_view> values, std::string_view current) {
+  out += fmt::format("# HELP {} {}\n# TYPE {} gauge\n", name, help, name);
+  for (const std::string_view value : values)
+    out += fmt::format("{}{{{}=\"{}\"}} {}\n", name, label, value, value == current ? 1 : 0);
 }
 
 }  // namespace
@@ -66,6 +77,10 @@ protocol::HttpResponse HttpRouter::metrics(const protocol::HttpRequest& request)
          static_cast<double>(registration.graph.loops));
   metric(out, "strata_pose_graph_keyframes", "gauge", "keyframes in the pose graph",
          static_cast<double>(registration.graph.keyframes));
+  using enum LocalizationState;
+  one_hot(out, "strata_localization_state", "how far the pose can be trusted now: ok, degraded or lost",
+          "state", {to_string(kOk), to_string(kDegraded), to_string(kLost)},
+          to_string(registration.localization.state));
   metric(out, "strata_scans_dropped_total", "counter", "scans skipped because the localizer was busy",
          static_cast<double>(registration.dropped));
   const nlohmann::json status = status_.fields();

@@ -108,6 +108,28 @@ void LocalizerWorker::run() {
   }
 }
 
+void LocalizerWorker::classify(const ScanEvent& scan, const LocalizationUpdate& update) {
+  ScanOutcome outcome;
+  outcome.stamp = scan.stamp;
+  outcome.odometry = scan.odometry.position.head<2>();
+  outcome.registered = update.registration.has_value();
+  outcome.correction = update.correction;
+  if (update.registration) {
+    outcome.reason = update.registration->assessment.reason;
+    outcome.rmse = update.registration->rmse;
+  }
+  outcome.odometry_directions = update.odometry_directions;
+  outcome.odometry_axes = update.odometry_axes;
+  health_.add_scan(outcome);
+  const LocalizationHealth health = health_.health();
+  if (health.state != status_.localization.state) {  // the log says when it changes, both ways
+    const auto log_level = health.state == LocalizationState::kOk ? spdlog::level::info : spdlog::level::warn;
+    spdlog::log(log_level, "localization {} at t={:.1f}: {}", to_string(health.state), scan.stamp,
+                health.reason);
+  }
+  status_.localization = health;
+}
+
 void LocalizerWorker::process(ScanEvent event) {
   PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
   const ScanEvent& scan = preprocessed.event;
@@ -115,6 +137,7 @@ void LocalizerWorker::process(ScanEvent event) {
   const LocalizationUpdate update =
       localizer_.add_scan(preprocessed.points, odometry, scan.stamp, scan.sensor_to_base.translation());
   ++status_.scans;
+  classify(scan, update);
   if (update.registration) {
     const RegistrationResult& r = *update.registration;
     r.accepted() ? ++status_.accepted : ++status_.rejected;

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/localization/graph_localizer.hpp"
+#include "core/localization/localization_health.hpp"
 #include "drivers/scan_event.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 #include "server/state/robot_state.hpp"
@@ -56,12 +57,15 @@ class LocalizerWorker {
   void process(ScanEvent scan);
   /// The pose graph's thread: closes loops whenever the scan path made keyframes.
   void close_loops();
+  /// The localization state after a scan, into status_.localization.
+  void classify(const ScanEvent& scan, const LocalizationUpdate& update);
 
   RobotState& state_;
   RegisteredScanSink sink_;
   KeyframesMovedSink keyframes_sink_;
   GraphLocalizer localizer_;
   RegistrationStatus status_;
+  LocalizationHealthClassifier health_;  // scan path only
   std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable idle_;

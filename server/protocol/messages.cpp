@@ -69,7 +69,9 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
                         {"scans", extras.sensor.scans}};
   if (extras.sensor.seconds_since_last_scan)
     sensor["seconds_since_last_scan"] = *extras.sensor.seconds_since_last_scan;
-  return {{"registration", std::move(reg)},
+  const LocalizationHealth& health = registration.localization;
+  return {{"localization", {{"state", to_string(health.state)}, {"reason", health.reason}}},
+          {"registration", std::move(reg)},
           {"pose_graph", std::move(pose_graph)},
           {"clients", extras.clients},
           {"scan_rate", extras.scan_rate},

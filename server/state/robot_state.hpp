@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/geometry/pose.hpp"
+#include "core/localization/localization_health.hpp"
 #include "core/localization/pose_graph_status.hpp"
 #include "drivers/robot_sample.hpp"
 #include "server/state/sensor_watch.hpp"
@@ -37,6 +38,8 @@ struct RegistrationStatus {
   };
   std::optional<Last> last;
   PoseGraphStatus graph;  ///< keyframes and loop closures (docs/architecture.md 4.1)
+  /// ok, degraded or lost, and why in plain words (docs/architecture.md 4.1, "Localization state").
+  LocalizationHealth localization = LocalizationHealth::no_scan_yet();
 };
 
 /// Where the scans come from (the driver), for the status stream.

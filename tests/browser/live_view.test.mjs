@@ -56,6 +56,41 @@ test('page shows the robot moving with a live connection', async () => {
   await page.locator('#loc-last').filter({ hasNotText: '–' }).waitFor({ timeout: 60000 });
   assert.equal(await page.locator('#driver').textContent(), 'simulator', 'the panel names the data source');
 
+  // The localization state with its colour and the reason in words, as the status stream sent them.
+  await page.locator('#loc-state[data-state]').waitFor({ timeout: 30000 });
+  const state = await page.locator('#loc-state').getAttribute('data-state');
+  assert.ok(['ok', 'degraded', 'lost'].includes(state), `state ${state}`);
+  assert.equal(await page.locator('#loc-state').textContent(), state);
+  const colours = await page.evaluate(() => {
+    const style = getComputedStyle(document.documentElement);
+    const colour = (name) => style.getPropertyValue(name);
+    return { ok: colour('--ok'), degraded: colour('--warn'), lost: colour('--bad') };
+  });
+  const rgb = (hex) => `rgb(${[1, 3, 5].map((i) => parseInt(hex.trim().slice(i, i + 2), 16)).join(', ')})`;
+  assert.equal(await page.locator('#loc-state').evaluate((el) => getComputedStyle(el).color), rgb(colours[state]));
+  assert.ok((await page.locator('#loc-reason').textContent()).length > 0, 'the reason is shown');
+  // A long reason wraps onto more lines inside the panel: nothing clipped, no ellipsis.
+  const wrapped = await page.locator('#loc-reason').evaluate((el) => {
+    const shown = el.textContent;
+    el.textContent = 'x';
+    const oneLine = el.getBoundingClientRect().height;
+    el.textContent = 'open ground: position along x,y and heading from odometry for 25 m; '.repeat(3) + 'the end';
+    const box = el.getBoundingClientRect();
+    const panel = el.closest('.panel').getBoundingClientRect();
+    const measured = {
+      lines: box.height / oneLine,
+      clipped: el.scrollHeight > el.clientHeight + 1 || el.scrollWidth > el.clientWidth + 1,
+      inside: box.left >= panel.left && box.right <= panel.right,
+      ellipsis: getComputedStyle(el).textOverflow === 'ellipsis',
+    };
+    el.textContent = shown;
+    return measured;
+  });
+  assert.ok(wrapped.lines >= 3, `the long reason wraps (${wrapped.lines} lines)`);
+  assert.equal(wrapped.clipped, false, 'the reason is not clipped');
+  assert.equal(wrapped.inside, true, 'the reason stays inside the panel');
+  assert.equal(wrapped.ellipsis, false, 'no ellipsis');
+
   await page.screenshot({ path: path.join(artifacts, 'live_view.png') });
   assert.deepEqual(errors, [], 'no uncaught errors in the page');
   await page.close();

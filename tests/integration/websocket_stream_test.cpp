@@ -80,16 +80,31 @@ TEST_F(WebSocketStream, ScansAreRegisteredAndCorrectThePose) {
   }
   EXPECT_TRUE(registered);
   // Status reports registrations once there have been two scans (the first only starts the map).
+  // read() checks each message against its schema: the localization state and its reason are required.
   bool counted = false;
+  nlohmann::json streamed;
   for (int i = 0; i < 6000 && !counted; ++i) {
-    const auto message = client.read();
-    counted = message["op"] == "status" && message["registration"]["scans"] >= 2 &&
-              message["registration"].contains("last");
+    streamed = client.read();
+    counted = streamed["op"] == "status" && streamed["registration"]["scans"] >= 2 &&
+              streamed["registration"].contains("last");
   }
-  EXPECT_TRUE(counted);
+  ASSERT_TRUE(counted);
+  // After registered scans the state says how they went, not that there was none yet.
+  EXPECT_NE(streamed["localization"]["reason"], "no scan yet: position from odometry only")
+      << streamed.dump();
   const auto status = nlohmann::json::parse(http_get(port(), "/api/v1/status").body());
   expect_schema("rest", "status", status);
   EXPECT_GE(status["registration"]["scans"], 2);
+  // /metrics: one series per state, exactly one of them 1.
+  const std::string metrics = http_get(port(), "/metrics").body();
+  int current = 0;
+  for (const char* state : {"ok", "degraded", "lost"}) {
+    const std::string series = std::string("strata_localization_state{state=\"") + state + "\"} ";
+    const auto at = metrics.find(series);
+    ASSERT_NE(at, std::string::npos) << series << " in\n" << metrics;
+    current += metrics.compare(at + series.size(), 2, "1\n") == 0 ? 1 : 0;
+  }
+  EXPECT_EQ(current, 1) << metrics;
 }
 
 TEST_F(WebSocketStream, DefaultWorldIsTheCampus) {

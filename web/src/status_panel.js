@@ -1,5 +1,6 @@
-// The status panel: the robot's pose, how well the last scan registered, the scan rate, the map's size and
-// the link's latency (ping round trip, and the age of the newest pose by the server's clock).
+// The status panel: the robot's pose, whether it can be trusted, how well the last scan registered, the scan
+// rate, the map's size and the link's latency (ping round trip, and the age of the newest pose by the
+// server's clock).
 const degrees = (radians) => (radians * 180) / Math.PI;
 const field = (id) => document.getElementById(id);
 
@@ -20,6 +21,16 @@ export class StatusPanel {
   }
 
   showStatus(status) {
+    // How far the pose can be trusted (ok, degraded, lost) and why, in words: the reason wraps in full.
+    const localization = status.localization;
+    if (localization) {
+      const state = field('loc-state');
+      state.textContent = localization.state;
+      state.dataset.state = localization.state;
+      const reason = field('loc-reason');
+      reason.textContent = localization.reason;
+      reason.dataset.state = localization.state;
+    }
     const r = status.registration;
     // What each scan's registration did: used whole, used except along directions nothing constrains
     // (odometry there), or not used (odometry kept). Fault control's verdicts are not these three.

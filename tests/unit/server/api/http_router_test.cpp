@@ -297,6 +297,19 @@ TEST_F(Router, MetricsArePrometheusText) {
   ASSERT_EQ(response.result(), http::status::ok);
   EXPECT_NE(response.body().find("# TYPE strata_ws_clients gauge\nstrata_ws_clients 0\n"), std::string::npos);
   EXPECT_NE(response.body().find("strata_scans_total 0"), std::string::npos);
+  // The localization state, one series per state: 1 for the current one (no scan yet: degraded).
+  EXPECT_NE(response.body().find("# TYPE strata_localization_state gauge\n"
+                                 "strata_localization_state{state=\"ok\"} 0\n"
+                                 "strata_localization_state{state=\"degraded\"} 1\n"
+                                 "strata_localization_state{state=\"lost\"} 0\n"),
+            std::string::npos)
+      << response.body();
+  RegistrationStatus lost;
+  lost.localization = {LocalizationState::kLost, "no scan matched"};
+  robot_.set_registration(lost);
+  const std::string body = router_.handle(request(http::verb::get, "/metrics")).body();
+  EXPECT_NE(body.find("strata_localization_state{state=\"lost\"} 1\n"), std::string::npos) << body;
+  EXPECT_NE(body.find("strata_localization_state{state=\"degraded\"} 0\n"), std::string::npos) << body;
 }
 
 TEST_F(Router, StaticFilesOutsideTheApiAre404WithoutABundle) {

@@ -81,6 +81,7 @@ TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextS
   RobotSample fixed;
   fixed.odometry = scans.front().odometry;
   state.publish(fixed);
+  EXPECT_EQ(state.registration().localization.state, LocalizationState::kDegraded) << "no scan yet";
   localizer.start();
   // One scan at a time; flush() returns once it is registered and handed on or rejected.
   const auto register_one = [&](ScanEvent scan) {
@@ -90,6 +91,8 @@ TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextS
 
   register_one(scans[0]);
   const Pose3 estimate_before = state.snapshot()->estimate;
+  EXPECT_EQ(state.registration().localization.state, LocalizationState::kOk);
+  EXPECT_EQ(state.registration().localization.reason, "first scan: the map starts here");
 
   ScanEvent diverged = scans[1];
   const double yaw = diverged.odometry.yaw;
@@ -102,6 +105,10 @@ TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextS
   EXPECT_EQ(after_diverged.last->correction, "none");
   EXPECT_EQ(after_diverged.rejected, 1U);
   EXPECT_EQ(after_diverged.kept_odometry, 1U) << "what the panel calls kept odometry";
+  // One unmatched scan is no reason to worry yet, but the status says what happened.
+  EXPECT_EQ(after_diverged.localization.state, LocalizationState::kOk);
+  EXPECT_EQ(after_diverged.localization.reason.rfind("the last scan kept odometry: ", 0), 0U)
+      << after_diverged.localization.reason;
   {
     std::lock_guard lock(mutex);
     EXPECT_EQ(mapped.size(), 1U) << "the rejected scan was handed on to the map";
@@ -118,6 +125,9 @@ TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextS
   EXPECT_EQ(after_good.rejected, 1U);
   EXPECT_EQ(after_good.kept_odometry, 1U);
   EXPECT_EQ(after_good.full + after_good.partial, 1U) << "the good scan was used, whole or partly";
+  EXPECT_EQ(after_good.localization.state, LocalizationState::kOk) << after_good.localization.reason;
+  EXPECT_EQ(after_good.localization.reason.find("kept odometry"), std::string::npos)
+      << after_good.localization.reason;
   std::lock_guard lock(mutex);
   ASSERT_EQ(mapped.size(), 2U);
   EXPECT_EQ(mapped[0].stamp, scans[0].stamp);

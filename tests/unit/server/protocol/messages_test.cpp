@@ -58,6 +58,18 @@ TEST(Messages, ErrorsCarryCodes) {
   EXPECT_EQ(rest["error"]["code"], "not_found");
 }
 
+TEST(Messages, StatusSaysHowFarThePoseCanBeTrusted) {
+  RegistrationStatus registration;  // before the first scan
+  auto message = nlohmann::json::parse(status_message(registration, {}));
+  EXPECT_EQ(message["op"], "status");
+  EXPECT_EQ(message["localization"]["state"], "degraded");
+  EXPECT_EQ(message["localization"]["reason"], "no scan yet: position from odometry only");
+  registration.localization = {LocalizationState::kLost, "no scan matched for 10 scans"};
+  message = nlohmann::json::parse(status_message(registration, {}));
+  EXPECT_EQ(message["localization"],
+            (nlohmann::json{{"state", "lost"}, {"reason", "no scan matched for 10 scans"}}));
+}
+
 TEST(Messages, SimWorldListsEveryShape) {
   sim::WorldDescription d;
   d.name = "w";
