@@ -93,6 +93,8 @@ protocol::HttpResponse HttpRouter::metrics(const protocol::HttpRequest& request)
   metric(out, "strata_map_cells", "gauge", "MLS map cells with patches", map["cells"].get<double>());
   metric(out, "strata_map_patches", "gauge", "MLS map patches", map["patches"].get<double>());
   metric(out, "strata_map_bytes", "gauge", "MLS map memory, bytes", map["bytes"].get<double>());
+  metric(out, "strata_map_rebuilds_total", "counter",
+         "maps rebuilt from the keyframes a pose graph optimization moved", map["rebuilds"].get<double>());
 
   auto response =
       make_response(request, protocol::http::status::ok, std::move(out), "text/plain; version=0.0.4");

@@ -52,7 +52,7 @@ MappingTimes LiveMap::add_scan(const PointCloud& points, const Eigen::Vector3d& 
   return times;
 }
 
-void LiveMap::replace(MlsMap map) {
+void LiveMap::replace(MlsMap map, Replacement why) {
   const std::uint64_t version = std::max(map.version(), map_.version()) + 1;
   map.set_version(version);
   for (const TileIndex& tile : map.tile_indices())
@@ -65,6 +65,8 @@ void LiveMap::replace(MlsMap map) {
   map_ = std::move(map);
   tiles_.clear();
   received_at_ = 0.0;  // not from a scan
+  if (why == Replacement::kRebuilt)
+    ++rebuilds_;
   MappingTimes times;
   const CellRegion all = CellRegion::of_tiles(map_.tile_indices());
   const CellRegion region =
@@ -119,6 +121,7 @@ void LiveMap::refresh(const CellRegion& region, std::uint64_t since, MappingTime
   snapshot->cells = map_.occupied_cell_count();
   snapshot->patches = map_.patch_count();
   snapshot->memory_bytes = map_.memory_bytes();
+  snapshot->rebuilds = rebuilds_;
   snapshot_ = std::move(snapshot);
   times.snapshot_ms = ms_since(start);
 }

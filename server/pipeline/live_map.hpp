@@ -50,7 +50,11 @@ class LiveMap {
   /// its tiles, so clients that track versions redraw everything; tiles only the old map had become empty
   /// ones, so clients drop them. The drivable map is recomputed around the last known robot position over
   /// the whole new map.
-  void replace(MlsMap map);
+  enum class Replacement {
+    kLoaded,   ///< a map file
+    kRebuilt,  ///< rebuilt from keyframes the pose graph moved (counted in MapSnapshot::rebuilds)
+  };
+  void replace(MlsMap map, Replacement why);
 
   [[nodiscard]] const MlsMap& map() const { return map_; }
   /// Null before the first scan or load.
@@ -70,6 +74,7 @@ class LiveMap {
   std::map<std::pair<int, int>, std::shared_ptr<const EncodedTile>> tiles_;  // sorted by (x, y)
   std::shared_ptr<const EncodedOccupancy> occupancy_;
   std::shared_ptr<const MapSnapshot> snapshot_;
+  std::size_t rebuilds_ = 0;
   double received_at_ = 0.0;  // of the scan being added: stamped on the tiles and image it changes
 };
 

@@ -176,7 +176,7 @@ bool MappingWorker::rebuild_from(const std::vector<KeyframePose>& keyframes) {
     if (loaded_)  // a map was loaded while this one was built: it wins
       return;
     try {
-      live_.replace(std::move(map));
+      live_.replace(std::move(map), LiveMap::Replacement::kRebuilt);
     } catch (const std::exception& error) {  // an encoder failure: the old map stays
       spdlog::error("mapping: the rebuilt map could not replace the live map: {}", error.what());
       return;
@@ -259,7 +259,7 @@ CommandResult MappingWorker::load_map(const std::string& name) {
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
     try {
-      live_.replace(std::move(loaded.map));
+      live_.replace(std::move(loaded.map), LiveMap::Replacement::kLoaded);
       loaded_ = true;
     } catch (const std::exception& failure) {
       result = CommandResult::failure(ErrorCode::kIoError, failure.what());

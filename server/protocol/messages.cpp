@@ -55,13 +55,12 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
       {"last_loop_stamp", nullptr},           {"last_correction_m", graph.last_correction}};
   if (graph.last_loop_stamp >= 0.0)
     pose_graph["last_loop_stamp"] = graph.last_loop_stamp;
-  nlohmann::json map{{"version", 0}, {"tiles", 0}, {"cells", 0}, {"patches", 0}, {"bytes", 0}};
+  nlohmann::json map{{"version", 0}, {"tiles", 0}, {"cells", 0},
+                     {"patches", 0}, {"bytes", 0}, {"rebuilds", 0}};
   if (extras.map) {
-    map = {{"version", extras.map->version},
-           {"tiles", extras.map->tiles.size()},
-           {"cells", extras.map->cells},
-           {"patches", extras.map->patches},
-           {"bytes", extras.map->memory_bytes}};
+    map = {{"version", extras.map->version},    {"tiles", extras.map->tiles.size()},
+           {"cells", extras.map->cells},        {"patches", extras.map->patches},
+           {"bytes", extras.map->memory_bytes}, {"rebuilds", extras.map->rebuilds}};
   }
   nlohmann::json sensor{{"state", extras.sensor.stalled ? "stalled" : "ok"},
                         {"overdue_seconds", extras.sensor.overdue},

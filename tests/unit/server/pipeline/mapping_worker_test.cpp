@@ -326,6 +326,7 @@ TEST(MappingWorker, TheMapFollowsThePoseGraph) {
   EXPECT_GT(emptied->version, before->version);
   EXPECT_GT(tile_at(*after, 3.0)->patches, 0U) << "the wall where it is";
   EXPECT_EQ(worker.status().rebuilds, 1U);
+  EXPECT_EQ(state.snapshot()->rebuilds, 1U) << "the status and /metrics count it";
 
   EXPECT_FALSE(worker.rebuild_from(corrected)) << "nothing moved since";
 
