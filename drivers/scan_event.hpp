@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "core/geometry/gravity.hpp"
 #include "core/geometry/pose.hpp"
 
 namespace strata {
@@ -19,8 +20,10 @@ struct ScanEvent {
   Eigen::Isometry3d sensor_to_base = Eigen::Isometry3d::Identity();  ///< the sensor's mounting
   Pose3 odometry;                                                    ///< the base's odometry pose at `stamp`
   std::optional<Pose3> truth;  ///< the base's true pose at `stamp`, when simulated
-  std::size_t rays = 0;        ///< beams fired, returns or not
-  double max_range = 0.0;      ///< m; readings at this range mean "no return" (0: the sensor reports none)
+  /// Which way was up while the scan was taken, from the base's IMU: none without one.
+  std::optional<GravityReading> gravity;
+  std::size_t rays = 0;    ///< beams fired, returns or not
+  double max_range = 0.0;  ///< m; readings at this range mean "no return" (0: the sensor reports none)
   /// Wall-clock time (s since the Unix epoch) the pipeline received it: what scan-to-client latency is
   /// measured from. 0 until the pipeline sets it.
   double received_at = 0.0;

@@ -12,7 +12,8 @@ GraphLocalizer::GraphLocalizer(GraphLocalizerOptions options, const Eigen::Isome
     : options_(std::move(options)), scan_matching_(options_.scan_matching, initial_map_from_odom) {}
 
 LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const Pose2& odometry, double stamp,
-                                            const Eigen::Vector3d& sensor_origin) {
+                                            const Eigen::Vector3d& sensor_origin,
+                                            const std::optional<GravityReading>& gravity) {
   if (options_.pose_graph) {
     std::optional<Eigen::Isometry3d> correction;
     {
@@ -24,7 +25,7 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const Pose
     if (correction)
       scan_matching_.correct(*correction);
   }
-  LocalizationUpdate update = scan_matching_.add_scan(points, odometry);
+  LocalizationUpdate update = scan_matching_.add_scan(points, odometry, gravity);
   const bool registered = !update.registration || update.correction != Correction::kNone;
   if (options_.pose_graph && registered)
     add_keyframe(points, update, stamp, sensor_origin);
@@ -52,6 +53,7 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
   }
   keyframe->sensor_origin = sensor_origin;
   keyframe->mapped_pose = update.pose;
+  keyframe->gravity = update.gravity;
 
   std::lock_guard lock(mutex_);
   keyframe->travelled = keyframes_.empty() ? 0.0 : keyframes_.back()->travelled + distance;
@@ -86,6 +88,10 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
     chain.information.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() / (sigma_r * sigma_r);
     graph_.add_edge(chain);
   }
+  // Gravity holds the graph's roll and pitch (and so its heights) where the chain would let them walk.
+  if (const std::optional<GravityReading>& gravity = update.gravity;
+      gravity && gravity->up_in_base.allFinite() && gravity->sigma > 0.0)
+    graph_.add_prior({.node = graph_.size() - 1, .up_in_body = gravity->up_in_base, .sigma = gravity->sigma});
   keyframes_.push_back(std::move(keyframe));
   last_keyframe_frontend_ = update.pose;
   status_.keyframes = keyframes_.size();

@@ -48,9 +48,12 @@ class GraphLocalizer {
                           const Eigen::Isometry3d& initial_map_from_odom = Eigen::Isometry3d::Identity());
 
   /// The scan path: `points` in the base frame, cleaned; `odometry` the wheel odometry at the scan;
-  /// `sensor_origin` where the sensor was in the base frame (the rays of a map rebuild start there).
+  /// `sensor_origin` where the sensor was in the base frame (the rays of a map rebuild start there);
+  /// `gravity` which way was up, from the base's IMU: it levels the scan path and, as an attitude prior
+  /// on the keyframe, the pose graph.
   LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry, double stamp = 0.0,
-                              const Eigen::Vector3d& sensor_origin = Eigen::Vector3d::Zero());
+                              const Eigen::Vector3d& sensor_origin = Eigen::Vector3d::Zero(),
+                              const std::optional<GravityReading>& gravity = std::nullopt);
 
   /// The background step: looks for loop closures of the keyframes made since the last call and, when
   /// it finds one, optimizes the graph. True when the estimates changed. Safe to call from another

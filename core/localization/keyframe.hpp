@@ -3,8 +3,10 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 #include <memory>
+#include <optional>
 #include <vector>
 
+#include "core/geometry/gravity.hpp"
 #include "core/points/point_cloud.hpp"
 
 namespace strata {
@@ -23,6 +25,8 @@ struct Keyframe {
   /// Where the scan path put it when it was made (map frame): the pose its scan went into the live map
   /// with, so the map rebuild knows what moved.
   Eigen::Isometry3d mapped_pose = Eigen::Isometry3d::Identity();
+  /// Which way was up, from the base's IMU (none without one): the keyframe's attitude prior.
+  std::optional<GravityReading> gravity;
   /// Metres driven from the first keyframe to this one: loops are only looked for between keyframes
   /// far apart along the way.
   double travelled = 0.0;

@@ -20,7 +20,9 @@ ScanToMapLocalizer::ScanToMapLocalizer(LocalizerOptions options,
                                        const Eigen::Isometry3d& initial_map_from_odom)
     : options_(std::move(options)),
       registration_(options_.registration),
-      local_map_(options_.local_map_voxel, options_.local_map_scans) {
+      local_map_(options_.local_map_voxel, options_.local_map_scans),
+      // A start at a given pose knows its tilt; one at the odometry's origin does not.
+      leveling_(options_.gravity, !initial_map_from_odom.isApprox(Eigen::Isometry3d::Identity())) {
   global_.apply_correction(initial_map_from_odom);
 }
 
@@ -29,9 +31,14 @@ void ScanToMapLocalizer::correct(const Eigen::Isometry3d& correction) {
   local_map_.transform(correction);
 }
 
-LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const Pose2& odometry) {
+LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const Pose2& odometry,
+                                                const std::optional<GravityReading>& gravity) {
   // Guess: the last correction carried forward by the odometry since (docs/architecture.md 3, step 2).
-  const Eigen::Isometry3d guess = global_.pose_isometry(odometry);
+  // Its tilt is the last scan's; gravity, where there is a reading, knows the tilt now (a ramp begun).
+  const Eigen::Isometry3d odometry_guess = global_.pose_isometry(odometry);
+  Eigen::Isometry3d guess = odometry_guess;
+  if (gravity)
+    guess.linear() = leveling_.align(guess, *gravity) * guess.linear();
   LocalizationUpdate update;
   update.pose = guess;
   if (!local_map_.empty()) {
@@ -72,10 +79,18 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
       update.pose = result.transform;
       update.correction = Correction::kFull;
     }
-    if (update.correction != Correction::kNone)
-      global_.apply_correction(update.pose * guess.inverse());
     update.registration = std::move(result);
   }
+  // Scan matching's tilt, levelled toward gravity by how far each is to be trusted: what stops the
+  // height walking (a tilt error becomes height error with every metre). Not after a rejected scan: its
+  // odometry is in doubt, and a scan fault control refused changes nothing.
+  const bool used = update.correction != Correction::kNone || !update.registration;
+  if (gravity && used) {
+    update.pose.linear() = leveling_.level(update.pose, *gravity) * update.pose.linear();
+    update.gravity = leveling_.corrected(*gravity);
+  }
+  if (used && (update.correction != Correction::kNone || gravity))
+    global_.apply_correction(update.pose * odometry_guess.inverse());
   update.map_from_odom = global_.correction();
 
   local_map_.add(transformed(points, update.pose));

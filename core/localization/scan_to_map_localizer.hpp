@@ -6,8 +6,10 @@
 #include <string_view>
 #include <vector>
 
+#include "core/geometry/gravity.hpp"
 #include "core/geometry/pose.hpp"
 #include "core/localization/global_pose.hpp"
+#include "core/localization/gravity_leveling.hpp"
 #include "core/localization/local_map.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/registration/register_scan.hpp"
@@ -25,6 +27,8 @@ struct LocalizerOptions {
   /// Likewise for rotation (normalised eigenvalues): about an axis no surface resists (the vertical, over
   /// open ground), the turn is taken from odometry.
   double weak_rotation_guard = 0.02;
+  /// Gravity readings against scan matching's tilt (GravityLeveling).
+  GravityLevelingOptions gravity;
 
   /// Scan-to-map registration: the target is already in the map frame, so nothing may be cropped around
   /// its origin (the caller crops each scan around its own sensor). Point-to-plane: against a local map the
@@ -72,6 +76,9 @@ struct LocalizationUpdate {
   /// which the position, and the axes about which the turn, came from odometry. Empty otherwise.
   std::vector<Eigen::Vector3d> odometry_directions;
   std::vector<Eigen::Vector3d> odometry_axes;
+  /// The scan's gravity reading without the IMU's learnt mounting error (none without a reading): what
+  /// the pose graph's attitude prior takes.
+  std::optional<GravityReading> gravity;
 };
 
 /// Localization by scan matching (thesis chapter 4, with a local map as the model set): each scan is
@@ -85,8 +92,10 @@ class ScanToMapLocalizer {
                               const Eigen::Isometry3d& initial_map_from_odom = Eigen::Isometry3d::Identity());
 
   /// `points` in the robot's base frame, already cleaned (no max-range readings, no self-returns);
-  /// `odometry` the wheel odometry pose when the scan was taken.
-  LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry);
+  /// `odometry` the wheel odometry pose when the scan was taken; `gravity` which way was up meanwhile,
+  /// when the base has an IMU: it sets the guess's tilt and levels the result (GravityLeveling).
+  LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry,
+                              const std::optional<GravityReading>& gravity = std::nullopt);
 
   /// The current estimate for an odometry pose: the latest correction applied to it.
   [[nodiscard]] Eigen::Isometry3d pose(const Pose2& odometry) const {
@@ -103,6 +112,7 @@ class ScanToMapLocalizer {
   ScanRegistration registration_;
   GlobalPose global_;
   LocalMap local_map_;  // map frame
+  GravityLeveling leveling_;
 };
 
 }  // namespace strata

@@ -117,6 +117,23 @@ Eigen::Isometry3d from_row_major(const std::vector<double>& values) {
   return transform;
 }
 
+/// The gravity reading in columns up_x, up_y, up_z (which way is up, base frame) and up_sigma (radians).
+GravityReading read_gravity(const CsvTable& table, std::size_t row, const std::string& name) {
+  GravityReading gravity;
+  gravity.up_in_base = {table.number(row, "up_x"), table.number(row, "up_y"), table.number(row, "up_z")};
+  gravity.sigma = table.number(row, "up_sigma");
+  const double norm = gravity.up_in_base.norm();
+  if (!std::isfinite(norm) || norm < 0.5 || norm > 2.0 || !std::isfinite(gravity.sigma) ||
+      gravity.sigma <= 0.0)
+    throw DatasetError(fmt::format(
+        "{}: scan {}: the gravity reading ({}, {}, {}; sigma {}) is not a direction "
+        "with a positive sigma",
+        name, row, gravity.up_in_base.x(), gravity.up_in_base.y(), gravity.up_in_base.z(), gravity.sigma));
+  if (std::abs(norm - 1.0) > 1e-9)  // a recording's unit vector reads back bit for bit
+    gravity.up_in_base /= norm;
+  return gravity;
+}
+
 /// scans.csv (a recording, or a hand-made list of point files).
 std::vector<DatasetScan> read_scan_list(const fs::path& directory) {
   const CsvTable table(directory / kScansFile);
@@ -150,6 +167,8 @@ std::vector<DatasetScan> read_scan_list(const fs::path& directory) {
       }
       scan.sensor_to_base = from_row_major(mount);
     }
+    if (table.has("up_x") && !table.text(row, "up_x").empty())
+      scan.gravity = read_gravity(table, row, name);
     if (!scans.empty() && scan.stamp < scans.back().stamp)
       throw DatasetError(fmt::format("{}: scan {} is older than the one before it", name, row));
     scans.push_back(std::move(scan));

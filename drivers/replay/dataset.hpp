@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "core/geometry/gravity.hpp"
 #include "core/geometry/pose.hpp"
 #include "drivers/scan_event.hpp"
 
@@ -41,8 +42,9 @@ struct DatasetScan {
   Eigen::Isometry3d sensor_to_base = Eigen::Isometry3d::Identity();
   std::string sensor = "replay";
   double duration = 0.0;
-  std::size_t rays = 0;    ///< 0: as many as points
-  double max_range = 0.0;  ///< readings at this range mean "no return"; 0: none
+  std::size_t rays = 0;                   ///< 0: as many as points
+  double max_range = 0.0;                 ///< readings at this range mean "no return"; 0: none
+  std::optional<GravityReading> gravity;  ///< the base IMU's reading with the scan, where there is one
 };
 
 /// An odometry sample between scans (a recording has the full stream; other layouts have none).

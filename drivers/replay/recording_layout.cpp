@@ -28,7 +28,7 @@ std::string scans_csv_header() {
     for (int col = 0; col < 4; ++col)
       header += fmt::format(",mount_{}{}", row, col);
   }
-  return header + "\n";
+  return header + ",up_x,up_y,up_z,up_sigma\n";
 }
 
 std::string scans_csv_row(const ScanEvent& scan, const std::string& file) {
@@ -40,6 +40,14 @@ std::string scans_csv_row(const ScanEvent& scan, const std::string& file) {
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 4; ++c)
       row += "," + number(scan.sensor_to_base.matrix()(r, c));
+  }
+  // The IMU's gravity reading: empty fields without one.
+  if (scan.gravity) {
+    row += fmt::format(",{},{},{},{}", number(scan.gravity->up_in_base.x()),
+                       number(scan.gravity->up_in_base.y()), number(scan.gravity->up_in_base.z()),
+                       number(scan.gravity->sigma));
+  } else {
+    row += ",,,,";
   }
   return row + "\n";
 }

@@ -128,6 +128,7 @@ void ReplayDriver::run(Outputs outputs) {
         scan->duration = source.duration;
         scan->sensor = source.sensor;
         scan->sensor_to_base = source.sensor_to_base;
+        scan->gravity = source.gravity;
         scan->odometry = event.sample.odometry;
         scan->truth = source.reference;
         scan->rays = source.rays != 0 ? source.rays : scan->points.size();

@@ -12,6 +12,8 @@ Simulator::Simulator(std::shared_ptr<const World> world, SimulatorConfig config)
       base_(config_.limits, world_->description().spawn),
       stance_(placer_.spawn(world_->description().spawn, world_->description().spawn_z)),
       odometry_(config_.limits.wheel_separation, config_.odometry, config_.seed, world_->description().spawn),
+      imu_(config_.imu ? std::optional<SimulatedImu>(std::in_place, *config_.imu, config_.seed)
+                       : std::nullopt),
       driver_(world_->description().route, config_.cruise_speed),
       tilting_(config_.tilting, config_.seed),
       lidar_(config_.lidar, config_.seed),
@@ -33,7 +35,14 @@ void Simulator::step(double dt) {
   if (placed.ok) {
     base_.apply(next);
     stance_ = placed.stance;
-    odometry_.integrate(next.wheels);
+    // Standing, the base holds its heading (and recalibrates the gyro's bias): only a moving base turns.
+    std::optional<double> gyro_turn;
+    if (imu_)
+      gyro_turn = standing
+                      ? 0.0
+                      : imu_->measure_turn(
+                            (next.wheels.right - next.wheels.left) / config_.limits.wheel_separation, dt);
+    odometry_.integrate(next.wheels, gyro_turn);
     since_last_scan_ += std::abs(next.velocity.v) * dt;
     blocked_by_.clear();
   } else {
@@ -67,6 +76,10 @@ void Simulator::command(const VelocityCommand& command) {
 void Simulator::finish_scan(ScanEvent scan) {
   scan.odometry = Pose3::from_pose2(odometry_.pose());
   scan.truth = stance_.pose;
+  if (imu_) {
+    const bool standing = base_.velocity().v == 0.0 && base_.velocity().w == 0.0;
+    scan.gravity = imu_->measure_gravity(stance_.pose, standing);
+  }
   finished_scans_.push_back(std::move(scan));
 }
 

@@ -10,6 +10,7 @@
 #include "drivers/robot_sample.hpp"
 #include "drivers/scan_event.hpp"
 #include "drivers/sim/diff_drive_base.hpp"
+#include "drivers/sim/imu.hpp"
 #include "drivers/sim/route_driver.hpp"
 #include "drivers/sim/scanners/spinning_lidar.hpp"
 #include "drivers/sim/scanners/tilting_scanner.hpp"
@@ -30,6 +31,9 @@ struct SimulatorConfig {
   DiffDriveLimits limits;
   BaseGeometry geometry;
   OdometryNoise odometry;
+  /// The base's IMU: its gyro turns the odometry, its accelerometer reports gravity with each scan. None:
+  /// wheels alone, no gravity (a base without an IMU).
+  std::optional<ImuNoise> imu = ImuNoise{};
   ScannerKind scanner = ScannerKind::kTilting;
   TiltingScannerConfig tilting;
   SpinningLidarConfig lidar;
@@ -75,6 +79,7 @@ class Simulator {
   DiffDriveBase base_;
   Stance stance_;
   WheelOdometry odometry_;
+  std::optional<SimulatedImu> imu_;
   RouteDriver driver_;
   bool commanded_ = false;
   VelocityCommand command_;

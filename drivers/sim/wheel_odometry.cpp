@@ -21,11 +21,11 @@ double WheelOdometry::measure(double travel, double scale_error) {
   return measured;
 }
 
-void WheelOdometry::integrate(const WheelTravel& truth) {
+void WheelOdometry::integrate(const WheelTravel& truth, std::optional<double> gyro_turn) {
   const double left = measure(truth.left, left_scale_error_);
   const double right = measure(truth.right, right_scale_error_);
   const double distance = 0.5 * (left + right);
-  const double turn = (right - left) / wheel_separation_;
+  const double turn = gyro_turn.value_or((right - left) / wheel_separation_);
   // Midpoint integration: accurate to second order for the short steps of an encoder loop.
   const Pose2 delta{distance * std::cos(0.5 * turn), distance * std::sin(0.5 * turn), turn};
   pose_ = pose_.compose(delta);

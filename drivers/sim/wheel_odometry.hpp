@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <random>
 
 #include "core/geometry/pose.hpp"
@@ -21,7 +22,9 @@ class WheelOdometry {
  public:
   WheelOdometry(double wheel_separation, OdometryNoise noise, std::uint64_t seed, Pose2 start = {});
 
-  void integrate(const WheelTravel& truth);
+  /// One step of `truth` wheel travel. `gyro_turn`: the turn a gyro measured meanwhile, which replaces the
+  /// wheels' (gyro-aided odometry, as most bases with an IMU report it: wheels slip in turns, gyros not).
+  void integrate(const WheelTravel& truth, std::optional<double> gyro_turn = std::nullopt);
   [[nodiscard]] const Pose2& pose() const { return pose_; }
   /// Total distance the wheels report, in metres (the odometer).
   [[nodiscard]] double distance() const { return distance_; }

@@ -54,9 +54,12 @@ std::unique_ptr<RobotDriver> make_simulator(const ServeOptions& options) {
   sim::SimulatorConfig config;
   config.seed = options.seed;
   config.scanner = options.scanner;
+  if (!options.sim_imu)
+    config.imu.reset();
   std::string description =
-      fmt::format("world '{}', {} scanner, seed {}, time scale {}", world->description().name,
-                  name_of(kScannerNames, options.scanner), options.seed, options.time_scale);
+      fmt::format("world '{}', {} scanner, {}, seed {}, time scale {}", world->description().name,
+                  name_of(kScannerNames, options.scanner), options.sim_imu ? "wheels and IMU" : "wheels only",
+                  options.seed, options.time_scale);
   if (!options.sim_sensor_outage.empty()) {
     config.sensor_outage = parse_outage(options.sim_sensor_outage);
     description += fmt::format(", sensor outage drill from t={} s for {} s", config.sensor_outage->start,
@@ -109,6 +112,8 @@ std::unique_ptr<RobotDriver> make_lidar(const ServeOptions& options) {
 std::unique_ptr<RobotDriver> make_driver(const ServeOptions& options) {
   const bool simulated =
       options.lidar.pcap.empty() && options.lidar.model.empty() && options.replay.directory.empty();
+  if (!simulated && !options.sim_imu)
+    throw std::runtime_error("--no-sim-imu is for the simulated robot only");
   if (!simulated && !options.sim_sensor_outage.empty())
     throw std::runtime_error("--sim-sensor-outage is a drill for the simulated robot only");
   if (!options.lidar.pcap.empty() || !options.lidar.model.empty())

@@ -75,6 +75,9 @@ struct ServeOptions {
   /// A fault drill with the simulator: "START,DURATION", simulated seconds from the start during which
   /// the sensor delivers nothing; empty: none.
   std::string sim_sensor_outage;
+  /// The simulated base's IMU: its gyro turns the odometry and its gravity reading goes with each scan.
+  /// Off: wheels alone, as on a base without one.
+  bool sim_imu = true;
   std::filesystem::path maps_dir;  ///< saved maps; empty: default_maps_dir()
   std::filesystem::path record;    ///< write the scans and odometry here (replay layout); empty: none
   std::size_t max_scans = 0;       ///< hand at most this many scans to the pipeline; 0: all

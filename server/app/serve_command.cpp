@@ -163,6 +163,11 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
       "Fault drill with the simulator: START,DURATION in simulated seconds from the start during "
       "which the sensor delivers no scans (the status reports it stalled, then recovered)");
   command
+      ->add_flag("--sim-imu,!--no-sim-imu", options.sim_imu,
+                 "The simulated base's IMU: its gyro turns the wheel odometry and its accelerometer reports "
+                 "gravity with each scan, which holds the map's tilt and height. --no-sim-imu: wheels alone")
+      ->capture_default_str();
+  command
       ->add_option(
           "--tls-cert", options.network.tls_certificate,
           "TLS certificate (PEM, may hold the chain): serve https:// and wss:// on the port and refuse "

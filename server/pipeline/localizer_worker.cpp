@@ -134,8 +134,8 @@ void LocalizerWorker::process(ScanEvent event) {
   PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
   const ScanEvent& scan = preprocessed.event;
   const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
-  const LocalizationUpdate update =
-      localizer_.add_scan(preprocessed.points, odometry, scan.stamp, scan.sensor_to_base.translation());
+  const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, scan.stamp,
+                                                        scan.sensor_to_base.translation(), scan.gravity);
   ++status_.scans;
   classify(scan, update);
   if (update.registration) {

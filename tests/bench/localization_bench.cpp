@@ -95,7 +95,17 @@ int main(int argc, char** argv) {
   const std::string scanner = argc > 3 ? argv[3] : "tilting";
   const auto world = std::make_shared<const sim::World>(sim::builtin_world(world_name));
   sim::SimulatorConfig config;
+  if (const char* seed = std::getenv("STRATA_BENCH_SEED"))
+    config.seed = std::strtoull(seed, nullptr, 10);
   config.scanner = scanner == "lidar" ? sim::ScannerKind::kLidar : sim::ScannerKind::kTilting;
+  // STRATA_BENCH_IMU=0: a base without an IMU (wheels alone turn the odometry; no gravity with the scans).
+  const bool imu =
+      std::getenv("STRATA_BENCH_IMU") == nullptr || std::string(std::getenv("STRATA_BENCH_IMU")) != "0";
+  if (!imu)
+    config.imu.reset();
+  // STRATA_BENCH_GRAVITY=0: the gyro still turns the odometry, but the localizer gets no gravity.
+  const bool gravity = std::getenv("STRATA_BENCH_GRAVITY") == nullptr ||
+                       std::string(std::getenv("STRATA_BENCH_GRAVITY")) != "0";
   sim::Simulator simulator(world, config);
   const Eigen::Isometry3d map_from_odom =
       simulator.sample().truth->to_isometry() * simulator.sample().odometry.to_isometry().inverse();
@@ -105,7 +115,8 @@ int main(int argc, char** argv) {
     graph_options.pose_graph = std::string(graph) != "0";
   LocalizerOptions& options = graph_options.scan_matching;
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
-  // STRATA_BENCH_LOCAL_VOXEL=<metres>.
+  // STRATA_BENCH_LOCAL_VOXEL=<metres>, STRATA_BENCH_ROTATION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>,
+  // STRATA_BENCH_TILT_DRIFT=<rad per scan>, STRATA_BENCH_BIAS_RATE=<per scan>.
   if (const char* metric = std::getenv("STRATA_BENCH_METRIC")) {
     options.registration.icp.metric =
         std::string(metric) == "point" ? IcpMetric::kPointToPoint : IcpMetric::kPointToPlane;
@@ -114,6 +125,12 @@ int main(int argc, char** argv) {
     options.local_map_scans = std::strtoul(n, nullptr, 10);
   if (const char* voxel = std::getenv("STRATA_BENCH_LOCAL_VOXEL"))
     options.local_map_voxel = std::atof(voxel);
+  if (const char* drift = std::getenv("STRATA_BENCH_TILT_DRIFT"))
+    options.gravity.drift_per_scan = std::atof(drift);
+  if (const char* rate = std::getenv("STRATA_BENCH_BIAS_RATE"))
+    options.gravity.bias_rate = std::atof(rate);
+  if (const char* guard = std::getenv("STRATA_BENCH_ROTATION_GUARD"))
+    options.weak_rotation_guard = std::atof(guard);
   GraphLocalizer localizer(graph_options, map_from_odom);
   double loop_seconds = 0.0;
 
@@ -135,7 +152,8 @@ int main(int argc, char** argv) {
       const PointCloud points = pipeline::points_in_base(scan);
       const auto start = std::chrono::steady_clock::now();
       const LocalizationUpdate update =
-          localizer.add_scan(points, odometry, scan.stamp, scan.sensor_to_base.translation());
+          localizer.add_scan(points, odometry, scan.stamp, scan.sensor_to_base.translation(),
+                             gravity ? scan.gravity : std::nullopt);
       truth_at[scan.stamp] = scan.truth->to_isometry();
       if (!update.registration || update.correction != Correction::kNone)
         mapped.push_back({scan.truth->to_isometry(), update.pose, voxel_downsample(points, 0.5), travelled});
@@ -155,14 +173,21 @@ int main(int argc, char** argv) {
                                                   : ++none;
       if (std::getenv("STRATA_BENCH_TRACE") != nullptr) {
         const Eigen::Vector3d error = update.pose.translation() - scan.truth->position;
-        std::fprintf(
-            stderr, "t=%7.1f truth=(%6.1f %6.1f %5.2f) error=(%6.2f %6.2f %6.2f) %-8s %s eig=%s rmse=%.3f\n",
-            scan.stamp, scan.truth->position.x(), scan.truth->position.y(), scan.truth->position.z(),
-            error.x(), error.y(), error.z(), std::string(to_string(update.correction)).c_str(),
-            update.registration ? std::string(to_string(update.registration->assessment.reason)).c_str()
-                                : "-",
-            update.registration ? eigen_text(update.registration->constraint).c_str() : "-",
-            update.registration ? update.registration->rmse : 0.0);
+        // Rotation error about the map's axes, degrees: x and y are tilt, z heading.
+        const Eigen::AngleAxisd turn(update.pose.linear() * scan.truth->to_isometry().linear().transpose());
+        const Eigen::Vector3d turn_deg = turn.axis() * turn.angle() * 180.0 / M_PI;
+        std::fprintf(stderr,
+                     "t=%7.1f truth=(%6.1f %6.1f %5.2f) error=(%6.2f %6.2f %6.2f) rot=(%5.2f %5.2f %5.2f) "
+                     "%-8s %s eig=%s "
+                     "rmse=%.3f\n",
+                     scan.stamp, scan.truth->position.x(), scan.truth->position.y(), scan.truth->position.z(),
+                     error.x(), error.y(), error.z(), turn_deg.x(), turn_deg.y(), turn_deg.z(),
+                     std::string(to_string(update.correction)).c_str(),
+                     update.registration
+                         ? std::string(to_string(update.registration->assessment.reason)).c_str()
+                         : "-",
+                     update.registration ? eigen_text(update.registration->constraint).c_str() : "-",
+                     update.registration ? update.registration->rmse : 0.0);
       }
     }
     // Error of the pose the server would stream now: odometry carried by the latest correction.

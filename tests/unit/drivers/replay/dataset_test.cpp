@@ -159,6 +159,21 @@ TEST_F(Datasets, ScanListErrorsNameTheLine) {
   EXPECT_NE(open_error().find("missing.pcd does not exist"), std::string::npos);
   write("scans.csv", "file,stamp\na.pcd,0,7\n");
   EXPECT_NE(open_error().find("line 2 has 3 fields, the header 2"), std::string::npos);
+  write("scans.csv", "file,stamp,up_x,up_y,up_z,up_sigma\na.pcd,0,0,0,0,0.01\n");
+  EXPECT_NE(open_error().find("gravity reading (0, 0, 0; sigma 0.01) is not a direction"), std::string::npos);
+  write("scans.csv", "file,stamp,up_x,up_y,up_z,up_sigma\na.pcd,0,0,0,1,-1\n");
+  EXPECT_NE(open_error().find("with a positive sigma"), std::string::npos);
+}
+
+TEST_F(Datasets, ScanListWithGravityReadings) {
+  write("a.pcd", io::encode_binary_pcd(kPoints));
+  write("b.pcd", io::encode_binary_pcd(kPoints));
+  write("scans.csv", "file,stamp,up_x,up_y,up_z,up_sigma\na.pcd,0,0,0,2,0.01\nb.pcd,1,,,,\n");
+  const Dataset dataset = open_dataset(dir_);
+  ASSERT_TRUE(dataset.scans[0].gravity.has_value());
+  EXPECT_EQ(dataset.scans[0].gravity->up_in_base, Eigen::Vector3d::UnitZ()) << "made a unit vector";
+  EXPECT_EQ(dataset.scans[0].gravity->sigma, 0.01);
+  EXPECT_FALSE(dataset.scans[1].gravity.has_value());
 }
 
 TEST_F(Datasets, ADirectoryWithoutADatasetIsAClearError) {

@@ -55,6 +55,9 @@ class Recording : public testing::Test {
     s.truth = sample(stamp).truth;
     s.rays = 5;
     s.max_range = 30.0;
+    if (stamp > 0.05)  // the later scan with an IMU reading, the earlier without
+      s.gravity =
+          GravityReading{.up_in_base = Eigen::Vector3d(0.01, -1.0 / 3.0, 1.0).normalized(), .sigma = 0.003};
     return s;
   }
   /// Records 10 samples and 2 scans (at samples 3 and 7).
@@ -97,6 +100,10 @@ TEST_F(Recording, ReadsBackExactly) {
   EXPECT_EQ(got.odometry->pitch, expected.odometry.pitch);
   EXPECT_EQ(got.reference->position, expected.truth->position);
   EXPECT_EQ(load_points(got), expected.points);
+  ASSERT_TRUE(got.gravity.has_value());
+  EXPECT_EQ(got.gravity->up_in_base, expected.gravity->up_in_base);
+  EXPECT_EQ(got.gravity->sigma, expected.gravity->sigma);
+  EXPECT_FALSE(dataset.scans[0].gravity.has_value()) << "a scan without a reading reads back without one";
 
   std::ifstream in(dir_ / "recording.json");
   const auto metadata = nlohmann::json::parse(in);

@@ -33,6 +33,18 @@ TEST(WheelOdometry, TurnOnTheSpot) {
   EXPECT_NEAR(odometry.pose().x, 0.0, 1e-12);
 }
 
+TEST(WheelOdometry, AGyroTurnReplacesTheWheels) {
+  // The wheels say one radian (one slipped); the gyro says half of it: gyro-aided odometry turns by the
+  // gyro and drives the wheels' mean distance.
+  WheelOdometry odometry(kSeparation, {.wheel_scale_stddev = 0.0, .slip_stddev = 0.0}, 1);
+  odometry.integrate({-0.3, 0.3}, 0.5);
+  EXPECT_NEAR(odometry.pose().theta, 0.5, 1e-12);
+  odometry.integrate({0.2, 0.2}, 0.0);
+  EXPECT_NEAR(odometry.pose().theta, 0.5, 1e-12);
+  EXPECT_NEAR(odometry.pose().x, 0.2 * std::cos(0.5), 1e-12);
+  EXPECT_NEAR(odometry.pose().y, 0.2 * std::sin(0.5), 1e-12);
+}
+
 TEST(WheelOdometry, SameSeedSameDrift) {
   WheelOdometry a(kSeparation, {}, 42);
   WheelOdometry b(kSeparation, {}, 42);

@@ -1,0 +1,66 @@
+#include "core/localization/gravity_leveling.hpp"
+
+#include <cmath>
+
+namespace strata {
+namespace {
+
+/// The turn, as a rotation vector in the map frame, that takes the reading's up (carried into the map by
+/// `pose`) onto the map's up.
+Eigen::Vector3d tilt_error(const Eigen::Isometry3d& pose, const Eigen::Vector3d& up_in_base) {
+  const Eigen::Vector3d measured_up = pose.linear() * up_in_base;
+  const Eigen::Vector3d axis = measured_up.cross(Eigen::Vector3d::UnitZ());
+  const double sine = axis.norm();
+  if (sine == 0.0)
+    return Eigen::Vector3d::Zero();
+  return axis / sine * std::atan2(sine, measured_up.z());
+}
+
+bool usable(const GravityReading& gravity) {
+  return gravity.up_in_base.allFinite() && std::abs(gravity.up_in_base.norm() - 1.0) < 0.01 &&
+         std::isfinite(gravity.sigma) && gravity.sigma > 0.0;
+}
+
+Eigen::Matrix3d rotation(const Eigen::Vector3d& rotation_vector) {
+  const double angle = rotation_vector.norm();
+  return angle > 0.0 ? Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix()
+                     : Eigen::Matrix3d::Identity();
+}
+
+}  // namespace
+
+GravityLeveling::GravityLeveling(GravityLevelingOptions options, bool start_given)
+    : options_(options),
+      variance_(
+          std::pow(start_given ? options.given_start_tilt_sigma : options.unknown_start_tilt_sigma, 2)) {}
+
+GravityReading GravityLeveling::corrected(const GravityReading& gravity) const {
+  if (!usable(gravity))
+    return gravity;
+  GravityReading out = gravity;
+  out.up_in_base = (rotation(bias_).transpose() * gravity.up_in_base.normalized()).normalized();
+  return out;
+}
+
+Eigen::Matrix3d GravityLeveling::level(const Eigen::Isometry3d& pose, const GravityReading& gravity) {
+  if (!usable(gravity))
+    return Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d error = tilt_error(pose, corrected(gravity).up_in_base);
+  // What is left of the error in the base frame is, on average, the mounting error not yet learnt (a
+  // reading tilted by b about the base's axes asks for a turn of about -b).
+  Eigen::Vector3d in_base = pose.linear().transpose() * error;
+  in_base.z() = 0.0;
+  bias_ -= options_.bias_rate * in_base;
+  variance_ += options_.drift_per_scan * options_.drift_per_scan;
+  const double gain = variance_ / (variance_ + gravity.sigma * gravity.sigma);
+  variance_ *= 1.0 - gain;
+  return rotation(gain * error);
+}
+
+Eigen::Matrix3d GravityLeveling::align(const Eigen::Isometry3d& pose, const GravityReading& gravity) const {
+  if (!usable(gravity))
+    return Eigen::Matrix3d::Identity();
+  return rotation(tilt_error(pose, corrected(gravity).up_in_base));
+}
+
+}  // namespace strata

@@ -1,0 +1,58 @@
+#pragma once
+
+#include <Eigen/Geometry>
+
+#include "core/geometry/gravity.hpp"
+
+namespace strata {
+
+struct GravityLevelingOptions {
+  /// How far scan matching's tilt walks per scan, radians (standard deviation).
+  double drift_per_scan = 0.001;
+  /// How fast the reading's own error (an accelerometer's mounting and calibration: a fixed tilt in the
+  /// base frame) is learnt, per scan: what the readings disagree with scan matching by, on average over
+  /// the last 1 / `bias_rate` scans as the robot turns.
+  double bias_rate = 0.02;
+  /// How well the starting pose's tilt is known, radians. A start placed at a given pose (the
+  /// simulator's spawn, a recording's initial pose) is sure of it, and the first readings teach the
+  /// mounting error; a start at the odometry's origin on unknown ground is not, and takes them.
+  double given_start_tilt_sigma = 0.002;
+  double unknown_start_tilt_sigma = 0.1;
+};
+
+/// Levels the scan path's roll and pitch with gravity (docs/architecture.md 4.1, gravity). Scan matching
+/// against a local map walks in tilt, a little with each scan, and a tilt error turns into height error
+/// with every metre driven; gravity readings do not walk but are noisy, and tilted by the IMU's mounting
+/// error. A Kalman filter on the tilt error weighs the two: its variance grows by `drift_per_scan`^2 with
+/// each scan matched and shrinks with each reading, and the pose turns toward the reading by the filter's
+/// gain. The mounting error is learnt as a tilt fixed in the base frame: scan matching's walk is fixed in
+/// the map frame instead, so as the robot turns the two part. Heading is left alone (gravity cannot see
+/// it).
+class GravityLeveling {
+ public:
+  /// `start_given`: whether the starting pose's tilt is known (GravityLevelingOptions).
+  explicit GravityLeveling(GravityLevelingOptions options = {}, bool start_given = false);
+
+  /// The reading without the learnt mounting error; unchanged when it is not usable.
+  [[nodiscard]] GravityReading corrected(const GravityReading& gravity) const;
+
+  /// The rotation (map frame, about the base's position) that turns `pose`'s tilt toward `gravity` by
+  /// the filter's gain; updates the filter and the mounting error. Identity for a reading that is not a
+  /// unit vector with a positive sigma.
+  [[nodiscard]] Eigen::Matrix3d level(const Eigen::Isometry3d& pose, const GravityReading& gravity);
+
+  /// The full turn that puts `pose`'s up where `gravity` (corrected) says, without touching the filter:
+  /// a guess's tilt, which is the last scan's and stale on a ramp.
+  [[nodiscard]] Eigen::Matrix3d align(const Eigen::Isometry3d& pose, const GravityReading& gravity) const;
+
+  [[nodiscard]] double variance() const { return variance_; }
+  /// The learnt mounting error, a rotation vector in the base frame (radians; z always 0).
+  [[nodiscard]] const Eigen::Vector3d& bias() const { return bias_; }
+
+ private:
+  GravityLevelingOptions options_;
+  double variance_;  ///< of the tilt error, rad^2
+  Eigen::Vector3d bias_ = Eigen::Vector3d::Zero();
+};
+
+}  // namespace strata

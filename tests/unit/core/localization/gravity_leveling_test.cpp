@@ -1,0 +1,102 @@
+#include "core/localization/gravity_leveling.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace strata {
+namespace {
+
+Eigen::Isometry3d pose_with(double roll, double pitch, double yaw) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() =
+      (Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(pitch, Eigen::Vector3d::UnitY()) *
+       Eigen::AngleAxisd(roll, Eigen::Vector3d::UnitX()))
+          .toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(3.0, -2.0, 1.0);
+  return pose;
+}
+
+/// The angle between the map's up and the base's up as the pose has it: the tilt.
+double tilt(const Eigen::Matrix3d& rotation) {
+  return std::acos(std::clamp(rotation(2, 2), -1.0, 1.0));
+}
+
+/// The heading of the base's forward axis projected on the floor.
+double heading(const Eigen::Matrix3d& rotation) {
+  return std::atan2(rotation(1, 0), rotation(0, 0));
+}
+
+TEST(GravityLeveling, AlignPutsThePosesUpWhereGravitySays) {
+  const Eigen::Isometry3d level = pose_with(0.0, 0.0, 0.7);
+  Eigen::Isometry3d tilted = pose_with(0.05, -0.08, 0.7);
+  // The base is level; the estimate says it is tilted.
+  const GravityReading reading{.up_in_base = Eigen::Vector3d::UnitZ(), .sigma = 0.002};
+  const GravityLeveling leveling;
+  tilted.linear() = leveling.align(tilted, reading) * tilted.linear();
+  EXPECT_NEAR(tilt(tilted.linear()), 0.0, 1e-9);
+  EXPECT_NEAR(heading(tilted.linear()), heading(level.linear()), 0.01) << "gravity cannot see heading";
+}
+
+TEST(GravityLeveling, TheFirstReadingIsTakenAndLaterOnesAreWeighedAgainstScanMatching) {
+  GravityLeveling leveling;
+  const GravityReading level{.up_in_base = Eigen::Vector3d::UnitZ(), .sigma = 0.002};
+  // The first reading: the filter knows nothing of the tilt yet, so it takes gravity's almost whole.
+  Eigen::Isometry3d pose = pose_with(0.1, 0.0, 0.0);
+  pose.linear() = leveling.level(pose, level) * pose.linear();
+  EXPECT_LT(tilt(pose.linear()), 0.001);
+  // Settled, a reading that disagrees by 0.05 rad moves the pose part of the way, not all of it.
+  for (int i = 0; i < 50; ++i)
+    (void)leveling.level(pose_with(0.0, 0.0, 0.0), level);
+  pose = pose_with(0.0, 0.05, 0.0);
+  pose.linear() = leveling.level(pose, level) * pose.linear();
+  EXPECT_GT(tilt(pose.linear()), 0.005);
+  EXPECT_LT(tilt(pose.linear()), 0.045);
+}
+
+TEST(GravityLeveling, ANoisyReadingMovesThePoseLessThanASureOne) {
+  GravityLeveling sure_filter;
+  GravityLeveling noisy_filter;
+  const Eigen::Isometry3d pose = pose_with(0.04, 0.0, 0.3);
+  const Eigen::Matrix3d sure =
+      sure_filter.level(pose, {.up_in_base = Eigen::Vector3d::UnitZ(), .sigma = 0.001}) * pose.linear();
+  const Eigen::Matrix3d noisy =
+      noisy_filter.level(pose, {.up_in_base = Eigen::Vector3d::UnitZ(), .sigma = 0.5}) * pose.linear();
+  EXPECT_LT(tilt(sure), tilt(noisy));
+}
+
+TEST(GravityLeveling, AReadingThatIsNotAUnitVectorChangesNothing) {
+  GravityLeveling leveling;
+  const Eigen::Isometry3d pose = pose_with(0.1, 0.1, 0.0);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double variance = leveling.variance();
+  EXPECT_TRUE(leveling.level(pose, {.up_in_base = {nan, 0.0, 1.0}, .sigma = 0.01}).isIdentity());
+  EXPECT_TRUE(leveling.level(pose, {.up_in_base = {0.0, 0.0, 3.0}, .sigma = 0.01}).isIdentity());
+  EXPECT_TRUE(leveling.level(pose, {.up_in_base = {0.0, 0.0, 1.0}, .sigma = 0.0}).isIdentity());
+  EXPECT_TRUE(leveling.align(pose, {.up_in_base = {nan, 0.0, 1.0}, .sigma = 0.01}).isIdentity());
+  EXPECT_EQ(leveling.variance(), variance);
+  EXPECT_TRUE(leveling.bias().isZero());
+}
+
+TEST(GravityLeveling, TheImusMountingErrorIsLearntAsTheRobotTurns) {
+  // The IMU is mounted 0.005 rad off about the base's x axis; scan matching keeps the pose level (the
+  // truth). Turning, the reading's error stays put in the base frame, and is learnt as such.
+  GravityLeveling leveling({}, /*start_given=*/true);
+  const Eigen::Vector3d mounting(0.005, 0.0, 0.0);
+  const GravityReading reading{
+      .up_in_base = Eigen::AngleAxisd(0.005, Eigen::Vector3d::UnitX()) * Eigen::Vector3d::UnitZ(),
+      .sigma = 0.003};
+  const Eigen::Isometry3d first = pose_with(0.0, 0.0, 0.0);
+  EXPECT_LT(tilt(leveling.level(first, reading) * first.linear()), 0.0025)
+      << "a start whose tilt is known is not thrown over by the first reading";
+  for (int i = 0; i < 400; ++i)
+    (void)leveling.level(pose_with(0.0, 0.0, 0.05 * i), reading);
+  EXPECT_NEAR((leveling.bias() - mounting).norm(), 0.0, 0.001);
+  const GravityReading corrected = leveling.corrected(reading);
+  EXPECT_NEAR((corrected.up_in_base - Eigen::Vector3d::UnitZ()).norm(), 0.0, 0.001);
+}
+
+}  // namespace
+}  // namespace strata
