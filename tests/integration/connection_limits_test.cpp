@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 #include <signal.h>
 
+#include <boost/asio/connect.hpp>
+#include <boost/asio/io_context.hpp>
+#include <boost/asio/ip/tcp.hpp>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -29,7 +32,7 @@ http::response<http::string_body> get_once_a_place_is_free(std::uint16_t port, c
 /// A TCP connection that sends nothing: an idle keep-alive or a slow client.
 std::unique_ptr<tcp::socket> idle_connection(boost::asio::io_context& io, std::uint16_t port) {
   auto socket = std::make_unique<tcp::socket>(io);
-  open_stream(*socket, port);
+  socket->connect({boost::asio::ip::make_address("127.0.0.1"), port});
   return socket;
 }
 
