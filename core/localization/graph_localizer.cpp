@@ -89,8 +89,7 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
     graph_.add_edge(chain);
   }
   // Gravity holds the graph's roll and pitch (and so its heights) where the chain would let them walk.
-  if (const std::optional<GravityReading>& gravity = update.gravity;
-      gravity && gravity->up_in_base.allFinite() && gravity->sigma > 0.0)
+  if (const std::optional<GravityReading>& gravity = update.gravity; gravity)  // only usable ones are set
     graph_.add_prior({.node = graph_.size() - 1, .up_in_body = gravity->up_in_base, .sigma = gravity->sigma});
   keyframes_.push_back(std::move(keyframe));
   last_keyframe_frontend_ = update.pose;

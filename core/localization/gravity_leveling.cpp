@@ -16,11 +16,6 @@ Eigen::Vector3d tilt_error(const Eigen::Isometry3d& pose, const Eigen::Vector3d&
   return axis / sine * std::atan2(sine, measured_up.z());
 }
 
-bool usable(const GravityReading& gravity) {
-  return gravity.up_in_base.allFinite() && std::abs(gravity.up_in_base.norm() - 1.0) < 0.01 &&
-         std::isfinite(gravity.sigma) && gravity.sigma > 0.0;
-}
-
 Eigen::Matrix3d rotation(const Eigen::Vector3d& rotation_vector) {
   const double angle = rotation_vector.norm();
   return angle > 0.0 ? Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix()
@@ -28,6 +23,11 @@ Eigen::Matrix3d rotation(const Eigen::Vector3d& rotation_vector) {
 }
 
 }  // namespace
+
+bool GravityLeveling::usable(const GravityReading& gravity) {
+  return gravity.up_in_base.allFinite() && std::abs(gravity.up_in_base.norm() - 1.0) < 0.01 &&
+         std::isfinite(gravity.sigma) && gravity.sigma > 0.0;
+}
 
 GravityLeveling::GravityLeveling(GravityLevelingOptions options, bool start_given)
     : options_(options),

@@ -33,6 +33,10 @@ class GravityLeveling {
   /// `start_given`: whether the starting pose's tilt is known (GravityLevelingOptions).
   explicit GravityLeveling(GravityLevelingOptions options = {}, bool start_given = false);
 
+  /// Whether a reading can be used at all: a finite unit vector (to 1 %) with a positive, finite sigma.
+  /// Anything else is ignored here and never reaches the pose graph.
+  [[nodiscard]] static bool usable(const GravityReading& gravity);
+
   /// The reading without the learnt mounting error; unchanged when it is not usable.
   [[nodiscard]] GravityReading corrected(const GravityReading& gravity) const;
 

@@ -85,7 +85,7 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   // height walking (a tilt error becomes height error with every metre). Not after a rejected scan: its
   // odometry is in doubt, and a scan fault control refused changes nothing.
   const bool used = update.correction != Correction::kNone || !update.registration;
-  if (gravity && used) {
+  if (gravity && used && GravityLeveling::usable(*gravity)) {
     update.pose.linear() = leveling_.level(update.pose, *gravity) * update.pose.linear();
     update.gravity = leveling_.corrected(*gravity);
   }

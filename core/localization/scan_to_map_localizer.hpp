@@ -76,8 +76,8 @@ struct LocalizationUpdate {
   /// which the position, and the axes about which the turn, came from odometry. Empty otherwise.
   std::vector<Eigen::Vector3d> odometry_directions;
   std::vector<Eigen::Vector3d> odometry_axes;
-  /// The scan's gravity reading without the IMU's learnt mounting error (none without a reading): what
-  /// the pose graph's attitude prior takes.
+  /// The scan's gravity reading without the IMU's learnt mounting error (none without a reading
+  /// GravityLeveling::usable takes): what the pose graph's attitude prior takes.
   std::optional<GravityReading> gravity;
 };
 

@@ -72,6 +72,9 @@ TEST(GravityLeveling, AReadingThatIsNotAUnitVectorChangesNothing) {
   const Eigen::Isometry3d pose = pose_with(0.1, 0.1, 0.0);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const double variance = leveling.variance();
+  EXPECT_FALSE(GravityLeveling::usable({.up_in_base = {nan, 0.0, 1.0}, .sigma = 0.01}));
+  EXPECT_FALSE(GravityLeveling::usable({.up_in_base = {0.0, 0.0, 1.0}, .sigma = -0.01}));
+  EXPECT_TRUE(GravityLeveling::usable({.up_in_base = {0.0, 0.0, 1.0}, .sigma = 0.01}));
   EXPECT_TRUE(leveling.level(pose, {.up_in_base = {nan, 0.0, 1.0}, .sigma = 0.01}).isIdentity());
   EXPECT_TRUE(leveling.level(pose, {.up_in_base = {0.0, 0.0, 3.0}, .sigma = 0.01}).isIdentity());
   EXPECT_TRUE(leveling.level(pose, {.up_in_base = {0.0, 0.0, 1.0}, .sigma = 0.0}).isIdentity());

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <memory>
 
 #include "drivers/sim/simulator.hpp"
@@ -24,6 +25,22 @@ TEST(ScanToMapLocalizer, FirstScanKeepsTheGivenStart) {
   EXPECT_FALSE(update.registration);
   EXPECT_EQ(update.correction, Correction::kNone);
   EXPECT_TRUE(update.pose.isApprox(start));
+}
+
+TEST(ScanToMapLocalizer, AGravityReadingItCannotUseIsNotPassedOn) {
+  const PointCloud points = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const GravityReading level{.up_in_base = Eigen::Vector3d::UnitZ(), .sigma = 0.01};
+  EXPECT_TRUE(
+      ScanToMapLocalizer({}, Eigen::Isometry3d::Identity()).add_scan(points, {0, 0, 0}, level).gravity);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  for (const GravityReading& bad : {GravityReading{.up_in_base = {nan, 0.0, 1.0}, .sigma = 0.01},
+                                    GravityReading{.up_in_base = {0.0, 0.0, 2.0}, .sigma = 0.01},
+                                    GravityReading{.up_in_base = Eigen::Vector3d::UnitZ(), .sigma = 0.0}}) {
+    ScanToMapLocalizer localizer({}, Eigen::Isometry3d::Identity());
+    const LocalizationUpdate update = localizer.add_scan(points, {0, 0, 0}, bad);
+    EXPECT_FALSE(update.gravity) << "the pose graph would take it as an attitude prior";
+    EXPECT_TRUE(update.pose.linear().allFinite());
+  }
 }
 
 // Drives the yard with stop-and-go scans and localizes them: the corrected pose must end closer to the
