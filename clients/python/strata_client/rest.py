@@ -47,8 +47,9 @@ class RestClient:
         self.timeout = timeout
         self._token = token
         self._session = requests.Session()
-        # A CA file verifies a server with its own certificate (https); otherwise the system's CAs.
-        self._session.verify = ca_file if ca_file else True
+        # A CA file verifies a server with its own certificate (https); otherwise the system's CAs. Given per
+        # request: requests lets REQUESTS_CA_BUNDLE override the session's setting, but not the request's.
+        self._verify = ca_file if ca_file else None
         self._observers: list[ResponseObserver] = []
         self._observers_lock = threading.Lock()
 
@@ -67,7 +68,7 @@ class RestClient:
         if operator and self._token:
             headers["Authorization"] = f"Bearer {self._token}"
         response = self._session.request(method, self.base_url + path, json=json_body, params=params,
-                                         headers=headers, timeout=self.timeout)
+                                         headers=headers, timeout=self.timeout, verify=self._verify)
         body = _json_or_none(response)
         with self._observers_lock:
             observers = list(self._observers)
