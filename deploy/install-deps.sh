@@ -24,6 +24,8 @@ apt_packages=(
   # The .deb (cmake/StrataPackaging.cmake, tests/deploy/): dpkg-shlibdeps for its dependencies; the deploy
   # test's HTTP client; systemd-analyze to verify the unit (the package works without systemd running).
   dpkg-dev curl systemd
+  # The Python client (clients/python/) and its pytest kit, which checks messages against proto/schemas/.
+  python3 python3-websocket python3-requests python3-pytest python3-jsonschema python3-setuptools
 )
 
 missing=()
