@@ -35,10 +35,13 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
                                                 const std::optional<GravityReading>& gravity) {
   // Guess: the last correction carried forward by the odometry since (docs/architecture.md 3, step 2).
   // Its tilt is the last scan's; gravity, where there is a reading, knows the tilt now (a ramp begun).
+  // A reading GravityLeveling cannot use (not a unit vector, no sigma) is as good as none.
+  const std::optional<GravityReading> up =
+      gravity && GravityLeveling::usable(*gravity) ? gravity : std::nullopt;
   const Eigen::Isometry3d odometry_guess = global_.pose_isometry(odometry);
   Eigen::Isometry3d guess = odometry_guess;
-  if (gravity)
-    guess.linear() = leveling_.align(guess, *gravity) * guess.linear();
+  if (up)
+    guess.linear() = leveling_.align(guess, *up) * guess.linear();
   LocalizationUpdate update;
   update.pose = guess;
   if (!local_map_.empty()) {
@@ -85,11 +88,11 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   // height walking (a tilt error becomes height error with every metre). Not after a rejected scan: its
   // odometry is in doubt, and a scan fault control refused changes nothing.
   const bool used = update.correction != Correction::kNone || !update.registration;
-  if (gravity && used && GravityLeveling::usable(*gravity)) {
-    update.pose.linear() = leveling_.level(update.pose, *gravity) * update.pose.linear();
-    update.gravity = leveling_.corrected(*gravity);
+  if (up && used) {
+    update.pose.linear() = leveling_.level(update.pose, *up) * update.pose.linear();
+    update.gravity = leveling_.corrected(*up);
   }
-  if (used && (update.correction != Correction::kNone || gravity))
+  if (used && (update.correction != Correction::kNone || up))
     global_.apply_correction(update.pose * odometry_guess.inverse());
   update.map_from_odom = global_.correction();
 
