@@ -3,6 +3,7 @@
 #include <optional>
 #include <string>
 
+#include "core/geometry/gravity.hpp"
 #include "core/geometry/pose.hpp"
 
 namespace strata {
@@ -22,6 +23,9 @@ struct RobotSample {
   /// display and evaluation only, never for control.
   std::optional<Pose3> truth;
   VelocityCommand velocity;
+  /// Which way is up, where the base has an accelerometer (the simulator's IMU): with the odometry it
+  /// gives the height and tilt between scans (PoseExtrapolator). None where the driver has no IMU.
+  std::optional<GravityReading> gravity;
   bool scanning = false;   ///< standing still for a stop-and-go scan
   std::string blocked_by;  ///< why the last step could not move ("step", "slope", ...), or empty
   /// A scan is due from the sensor: always for a spinning lidar and the replay and lidar drivers, for the

@@ -14,7 +14,9 @@ double draw(std::mt19937_64& rng, double stddev) {
 }  // namespace
 
 SimulatedImu::SimulatedImu(ImuNoise noise, std::uint64_t seed)
-    : noise_(noise), rng_(seed ^ 0x1f3d5b79a4c6e821ULL) {  // not the wheels' sequence
+    : noise_(noise),
+      rng_(seed ^ 0x1f3d5b79a4c6e821ULL),  // not the wheels' sequence
+      stream_rng_(seed ^ 0x6a09e667f3bcc908ULL) {
   gyro_bias_ = draw(rng_, noise_.gyro_bias_stddev);
   tilt_bias_ = {draw(rng_, noise_.tilt_bias_stddev), draw(rng_, noise_.tilt_bias_stddev)};
 }
@@ -27,9 +29,17 @@ double SimulatedImu::measure_turn(double true_turn, double dt) {
 }
 
 GravityReading SimulatedImu::measure_gravity(const Pose3& truth, bool standing) {
+  return read_gravity(truth, standing, rng_);
+}
+
+GravityReading SimulatedImu::stream_gravity(const Pose3& truth, bool standing) {
+  return read_gravity(truth, standing, stream_rng_);
+}
+
+GravityReading SimulatedImu::read_gravity(const Pose3& truth, bool standing, std::mt19937_64& rng) const {
   const double noise = standing ? noise_.tilt_noise_standing : noise_.tilt_noise_moving;
   const Eigen::Vector3d true_up = truth.to_isometry().linear().transpose() * Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d error(tilt_bias_.x() + draw(rng_, noise), tilt_bias_.y() + draw(rng_, noise), 0.0);
+  const Eigen::Vector3d error(tilt_bias_.x() + draw(rng, noise), tilt_bias_.y() + draw(rng, noise), 0.0);
   const double angle = error.norm();
   GravityReading reading;
   reading.up_in_base = true_up;

@@ -32,12 +32,18 @@ class SimulatedImu {
 
   /// The gyro's measure of a turn about the base's vertical axis that took `dt` seconds.
   [[nodiscard]] double measure_turn(double true_turn, double dt);
-  /// Which way is up in the base frame of `truth`, as the accelerometer reads it.
+  /// Which way is up in the base frame of `truth`, as the accelerometer reads it with a scan.
   [[nodiscard]] GravityReading measure_gravity(const Pose3& truth, bool standing);
+  /// The same accelerometer as the base controller streams it with every sample (same bias). Its noise
+  /// comes from a sequence of its own, so streaming it leaves the readings with the scans as they were.
+  [[nodiscard]] GravityReading stream_gravity(const Pose3& truth, bool standing);
 
  private:
+  [[nodiscard]] GravityReading read_gravity(const Pose3& truth, bool standing, std::mt19937_64& rng) const;
+
   ImuNoise noise_;
   std::mt19937_64 rng_;
+  std::mt19937_64 stream_rng_;
   double gyro_bias_ = 0.0;
   Eigen::Vector2d tilt_bias_ = Eigen::Vector2d::Zero();  ///< about the base's x and y axes, rad
 };

@@ -50,6 +50,9 @@ void Simulator::step(double dt) {
     blocked_by_ = placed.blocked_by;
   }
 
+  if (imu_)
+    streamed_gravity_ = imu_->stream_gravity(stance_.pose, standing);
+
   const Eigen::Isometry3d base_in_world = stance_.pose.to_isometry();
   if (stop_and_go) {
     if (auto scan = tilting_.advance(*world_, base_in_world, time_, time_ + dt); scan && !sensor_out()) {
@@ -89,6 +92,7 @@ RobotSample Simulator::sample() const {
   sample.truth = stance_.pose;
   sample.odometry = Pose3::from_pose2(odometry_.pose());
   sample.velocity = base_.velocity();
+  sample.gravity = streamed_gravity_;
   sample.scanning = tilting_.scanning();
   sample.blocked_by = blocked_by_;
   sample.awaiting_scan = config_.scanner == ScannerKind::kLidar ||

@@ -80,6 +80,7 @@ class Simulator {
   Stance stance_;
   WheelOdometry odometry_;
   std::optional<SimulatedImu> imu_;
+  std::optional<GravityReading> streamed_gravity_;  ///< the IMU's reading at the last step
   RouteDriver driver_;
   bool commanded_ = false;
   VelocityCommand command_;

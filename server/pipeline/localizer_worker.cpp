@@ -133,6 +133,7 @@ void LocalizerWorker::classify(const ScanEvent& scan, const LocalizationUpdate& 
 void LocalizerWorker::process(ScanEvent event) {
   PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
   const ScanEvent& scan = preprocessed.event;
+  const double stamp = scan.stamp;  // `scan` is handed on below
   const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
   const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, scan.stamp,
                                                         scan.sensor_to_base.translation(), scan.gravity);
@@ -166,7 +167,7 @@ void LocalizerWorker::process(ScanEvent event) {
   }
   // Published after the scan is handed on: whoever sees the count can queue a map command (a save) knowing
   // it runs after this scan is mapped.
-  state_.set_correction(update.map_from_odom, true);
+  state_.set_correction(update.map_from_odom, true, stamp);
   status_.graph = localizer_.status();
   state_.set_registration(status_);
   {

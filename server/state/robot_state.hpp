@@ -8,6 +8,7 @@
 
 #include "core/geometry/pose.hpp"
 #include "core/localization/localization_health.hpp"
+#include "core/localization/pose_extrapolator.hpp"
 #include "core/localization/pose_graph_status.hpp"
 #include "drivers/robot_sample.hpp"
 #include "server/state/sensor_watch.hpp"
@@ -51,7 +52,7 @@ struct DriverStatus {
 /// The robot's live state at one instant: the driver's sample and the localized estimate.
 struct RobotSnapshot {
   RobotSample sample;
-  Pose3 estimate;          ///< odometry carried into the map by the latest correction
+  Pose3 estimate;          ///< odometry carried into the map by the latest correction (PoseExtrapolator)
   bool localized = false;  ///< at least one scan registered: the estimate is no longer bare odometry
 };
 
@@ -63,6 +64,7 @@ class RobotState {
     const auto now = SensorWatch::Clock::now();
     std::lock_guard lock(mutex_);
     latest_ = sample;
+    extrapolator_.add_sample(sample.stamp, sample.odometry, sample.gravity);
     sensor_.sample(sample.awaiting_scan, now);
   }
   /// The driver delivered a scan (whether or not the pipeline takes it).
@@ -76,9 +78,11 @@ class RobotState {
     std::lock_guard lock(mutex_);
     sensor_.set_timeout(seconds);
   }
-  void set_correction(const Eigen::Isometry3d& map_from_odom, bool localized) {
+  /// The localizer's correction, computed from the scan taken at `scan_stamp` (none: a given start).
+  void set_correction(const Eigen::Isometry3d& map_from_odom, bool localized,
+                      std::optional<double> scan_stamp = std::nullopt) {
     std::lock_guard lock(mutex_);
-    map_from_odom_ = map_from_odom;
+    extrapolator_.set_correction(map_from_odom, scan_stamp);
     localized_ = localized;
   }
   void set_registration(const RegistrationStatus& status) {
@@ -98,7 +102,7 @@ class RobotState {
     if (!latest_)
       return std::nullopt;
     RobotSnapshot snapshot{*latest_, {}, localized_};
-    snapshot.estimate = Pose3::from_isometry(map_from_odom_ * latest_->odometry.to_isometry());
+    snapshot.estimate = extrapolator_.estimate();
     return snapshot;
   }
   [[nodiscard]] RegistrationStatus registration() const {
@@ -118,7 +122,7 @@ class RobotState {
  private:
   mutable std::mutex mutex_;
   std::optional<RobotSample> latest_;
-  Eigen::Isometry3d map_from_odom_ = Eigen::Isometry3d::Identity();
+  PoseExtrapolator extrapolator_;
   bool localized_ = false;
   RegistrationStatus registration_;
   DriverStatus driver_;

@@ -1,6 +1,8 @@
 // The demo's second lap lands on its first (issue #20): the real server with the simulated robot in the
 // yard, faster than real time, watched over REST as a user would. The pose graph closes the loop when
-// the robot comes round again; from then on the estimate stays on the truth. (That the map is rebuilt
+// the robot comes round again; from then on the estimate stays on the truth, between scans too: over the
+// platform and down its far ramp the height follows the ground (PoseExtrapolator), where the last scan's
+// tilt carried on would climb 0.4 m above it. (That the map is rebuilt
 // from the moved keyframes is tested in the mapping worker's unit tests: no client surface reports it yet.)
 #include <gtest/gtest.h>
 
@@ -42,7 +44,7 @@ TEST(Localization, TheSecondLapLandsOnTheFirst) {
     const double z = std::abs(pose["z"].get<double>() - truth["z"].get<double>());
     worst_after_loop = std::max(worst_after_loop, xy);
     EXPECT_LT(xy, 0.3) << "at t=" << pose["stamp"] << ": " << pose.dump();
-    EXPECT_LT(z, 0.3) << "at t=" << pose["stamp"] << ": " << pose.dump();
+    EXPECT_LT(z, 0.15) << "at t=" << pose["stamp"] << ": " << pose.dump();
     ++checked;
   }
   RecordProperty("worst_xy_error_after_loop_m", std::to_string(worst_after_loop));
