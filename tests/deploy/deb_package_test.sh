@@ -117,6 +117,10 @@ exec_start="$(sed -n 's/^ExecStart=//p' /lib/systemd/system/strata.service)"
 [ -n "$exec_start" ] || fail "no ExecStart in the unit"
 read -r -a command <<<"$exec_start"
 umask 0027
+# The output files exist before the server starts: the wait below reads them at once, and under `set -e` a
+# sed on a file the server's shell has not yet opened ends the test.
+: >"$work/stdout"
+: >"$work/stderr"
 # As the unit: user and group strata, no privileges to gain, systemd's environment for User=. The port is
 # the only change (0: a free one), on loopback, so the test does not clash with a server on 8080.
 (cd / && exec setpriv --reuid=strata --regid=strata --init-groups --no-new-privs \
