@@ -19,6 +19,9 @@ struct ScanEvent {
   std::vector<Eigen::Vector3f> points;  ///< in the sensor frame, as measured (no motion compensation)
   Eigen::Isometry3d sensor_to_base = Eigen::Isometry3d::Identity();  ///< the sensor's mounting
   Pose3 odometry;                                                    ///< the base's odometry pose at `stamp`
+  /// False for a base without odometry (a lidar alone): `odometry` is then a constant, and the localizer
+  /// predicts the motion from the last scans instead (ConstantVelocityPrediction).
+  bool has_odometry = true;
   std::optional<Pose3> truth;  ///< the base's true pose at `stamp`, when simulated
   /// Which way was up while the scan was taken, from the base's IMU: none without one.
   std::optional<GravityReading> gravity;

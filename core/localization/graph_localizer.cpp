@@ -9,11 +9,14 @@
 namespace strata {
 
 GraphLocalizer::GraphLocalizer(GraphLocalizerOptions options, const Eigen::Isometry3d& initial_map_from_odom)
-    : options_(std::move(options)), scan_matching_(options_.scan_matching, initial_map_from_odom) {}
+    : options_(std::move(options)),
+      scan_matching_(options_.scan_matching, initial_map_from_odom),
+      motion_(options_.motion) {}
 
-LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const Pose2& odometry, double stamp,
-                                            const Eigen::Vector3d& sensor_origin,
+LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std::optional<Pose2>& odometry,
+                                            double stamp, const Eigen::Vector3d& sensor_origin,
                                             const std::optional<GravityReading>& gravity) {
+  bool map_moved = false;
   if (options_.pose_graph) {
     std::optional<Eigen::Isometry3d> correction;
     {
@@ -24,8 +27,20 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const Pose
     }
     if (correction)
       scan_matching_.correct(*correction);
+    map_moved = correction.has_value();
   }
-  LocalizationUpdate update = scan_matching_.add_scan(points, odometry, gravity);
+  LocalizationUpdate update;
+  if (odometry) {
+    update = scan_matching_.add_scan(points, *odometry, gravity);
+  } else {
+    const Pose2 predicted = motion_.predict(stamp);
+    update = scan_matching_.add_scan(points, predicted, gravity, motion_.uncertainty(stamp));
+    motion_.update(stamp, predicted, update.pose,
+                   update.registration && update.correction != Correction::kNone, map_moved);
+    // The correction is against the prediction's frame, which no one else has: to whoever carries the
+    // base's missing (constant, identity) odometry with it, it must give the scan's pose.
+    update.map_from_odom = update.pose;
+  }
   const bool registered = !update.registration || update.correction != Correction::kNone;
   if (options_.pose_graph && registered)
     add_keyframe(points, update, stamp, sensor_origin);

@@ -16,6 +16,8 @@ namespace strata {
 
 struct GraphLocalizerOptions {
   LocalizerOptions scan_matching;
+  /// The prediction for scans without odometry (a lidar alone).
+  ConstantVelocityOptions motion;
   /// Off: the scan-to-map localizer alone (what the benchmark compares against).
   bool pose_graph = true;
   /// A registered scan becomes a keyframe when the robot moved this far, metres, or turned this much,
@@ -47,11 +49,14 @@ class GraphLocalizer {
   explicit GraphLocalizer(GraphLocalizerOptions options = {},
                           const Eigen::Isometry3d& initial_map_from_odom = Eigen::Isometry3d::Identity());
 
-  /// The scan path: `points` in the base frame, cleaned; `odometry` the wheel odometry at the scan;
+  /// The scan path: `points` in the base frame, cleaned; `odometry` the wheel odometry at the scan, none
+  /// for a base without (a lidar alone: the motion since the last scans is carried on instead, and the
+  /// update's map_from_odom is the pose: the correction of an odometry that stays at the origin);
   /// `sensor_origin` where the sensor was in the base frame (the rays of a map rebuild start there);
   /// `gravity` which way was up, from the base's IMU: it levels the scan path and, as an attitude prior
   /// on the keyframe, the pose graph.
-  LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry, double stamp = 0.0,
+  LocalizationUpdate add_scan(const PointCloud& points, const std::optional<Pose2>& odometry,
+                              double stamp = 0.0,
                               const Eigen::Vector3d& sensor_origin = Eigen::Vector3d::Zero(),
                               const std::optional<GravityReading>& gravity = std::nullopt);
 
@@ -71,7 +76,8 @@ class GraphLocalizer {
                     const Eigen::Vector3d& sensor_origin);
 
   GraphLocalizerOptions options_;
-  ScanToMapLocalizer scan_matching_;  // scan path only
+  ScanToMapLocalizer scan_matching_;   // scan path only
+  ConstantVelocityPrediction motion_;  // scan path only: the odometry of scans that come without
 
   /// Everything below. The scan path writes keyframes_ and last_keyframe_frontend_ under it and may read
   /// them without it (it is their only writer); other threads read them under it.

@@ -32,7 +32,8 @@ void ScanToMapLocalizer::correct(const Eigen::Isometry3d& correction) {
 }
 
 LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const Pose2& odometry,
-                                                const std::optional<GravityReading>& gravity) {
+                                                const std::optional<GravityReading>& gravity,
+                                                const std::optional<GuessUncertainty>& uncertainty) {
   // Guess: the last correction carried forward by the odometry since (docs/architecture.md 3, step 2).
   // Its tilt is the last scan's; gravity, where there is a reading, knows the tilt now (a ramp begun).
   // A reading GravityLeveling cannot use (not a unit vector, no sigma) is as good as none.
@@ -46,7 +47,12 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   update.pose = guess;
   if (!local_map_.empty()) {
     registration_.set_thinned_target(local_map_.points(), local_map_.take_normals());
-    RegistrationResult result = registration_.register_scan(points, guess);
+    FaultLimits limits = options_.registration.limits;
+    if (uncertainty) {
+      limits.max_translation_jump += uncertainty->translation;
+      limits.max_rotation_jump += uncertainty->rotation;
+    }
+    RegistrationResult result = registration_.register_scan(points, guess, limits);
     local_map_.keep_normals(registration_.take_normals());
     const bool weak = result.constraint.weakest < options_.weak_direction_guard ||
                       result.constraint.rotation_eigenvalues[0] < options_.weak_rotation_guard;

@@ -8,6 +8,7 @@
 
 #include "core/geometry/gravity.hpp"
 #include "core/geometry/pose.hpp"
+#include "core/localization/constant_velocity.hpp"
 #include "core/localization/global_pose.hpp"
 #include "core/localization/gravity_leveling.hpp"
 #include "core/localization/local_map.hpp"
@@ -93,9 +94,12 @@ class ScanToMapLocalizer {
 
   /// `points` in the robot's base frame, already cleaned (no max-range readings, no self-returns);
   /// `odometry` the wheel odometry pose when the scan was taken; `gravity` which way was up meanwhile,
-  /// when the base has an IMU: it sets the guess's tilt and levels the result (GravityLeveling).
+  /// when the base has an IMU: it sets the guess's tilt and levels the result (GravityLeveling);
+  /// `uncertainty` how much farther than usual the guess may be off (a lidar alone before its speed is
+  /// known): the jump limits widen by it.
   LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry,
-                              const std::optional<GravityReading>& gravity = std::nullopt);
+                              const std::optional<GravityReading>& gravity = std::nullopt,
+                              const std::optional<GuessUncertainty>& uncertainty = std::nullopt);
 
   /// The current estimate for an odometry pose: the latest correction applied to it.
   [[nodiscard]] Eigen::Isometry3d pose(const Pose2& odometry) const {

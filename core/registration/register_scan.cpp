@@ -88,6 +88,11 @@ LazyNormals::Estimates ScanRegistration::take_normals() {
 }
 
 RegistrationResult ScanRegistration::register_scan(const PointCloud& source, const Eigen::Isometry3d& guess) {
+  return register_scan(source, guess, options_.limits);
+}
+
+RegistrationResult ScanRegistration::register_scan(const PointCloud& source, const Eigen::Isometry3d& guess,
+                                                   const FaultLimits& limits) {
   if (!target_)
     throw std::logic_error("ScanRegistration::register_scan called before set_target");
   if (options_.stages.empty())
@@ -127,7 +132,7 @@ RegistrationResult ScanRegistration::register_scan(const PointCloud& source, con
                               .guess = guess,
                               .result = icp.transform,
                               .constraint = result.constraint},
-                             options_.limits);
+                             limits);
   result.transform = result.accepted() ? icp.transform : guess;
   result.seconds = seconds_since(start);
   return result;

@@ -86,6 +86,9 @@ class ScanRegistration {
   [[nodiscard]] LazyNormals::Estimates take_normals();
   /// Registers `source` onto the target, starting from `guess` (source -> target). Needs set_target.
   [[nodiscard]] RegistrationResult register_scan(const PointCloud& source, const Eigen::Isometry3d& guess);
+  /// The same, judged by `limits` instead of the options' (a guess less certain than usual).
+  [[nodiscard]] RegistrationResult register_scan(const PointCloud& source, const Eigen::Isometry3d& guess,
+                                                 const FaultLimits& limits);
 
   [[nodiscard]] const RegistrationOptions& options() const { return options_; }
 

@@ -20,6 +20,7 @@ RobotSample sample_at(double stamp) {
 void prepare(ScanEvent& scan, const LidarDriverOptions& options) {
   scan.sensor_to_base = options.sensor_to_base;
   scan.odometry = Pose3{};
+  scan.has_odometry = false;
 }
 
 }  // namespace

@@ -18,9 +18,8 @@
 
 namespace strata::lidar {
 
-/// A lidar alone has no wheel odometry: both drivers hand on a constant (identity) odometry with every scan,
-/// so the localizer predicts each scan at the pose it found for the one before and ICP alone tracks the
-/// motion.
+/// A lidar alone has no wheel odometry: both drivers hand on scans without (ScanEvent::has_odometry
+/// false), and the localizer predicts each from the motion between the scans before it.
 struct LidarDriverOptions {
   LidarSetup setup;
   /// The sensor's mounting on the base (--lidar-mount): where the map puts the ground relative to it.

@@ -134,7 +134,10 @@ void LocalizerWorker::process(ScanEvent event) {
   PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
   const ScanEvent& scan = preprocessed.event;
   const double stamp = scan.stamp;  // `scan` is handed on below
-  const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
+  const std::optional<Pose2> odometry =
+      scan.has_odometry ? std::optional<Pose2>(Pose2{scan.odometry.position.x(), scan.odometry.position.y(),
+                                                     scan.odometry.yaw})
+                        : std::nullopt;
   const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, scan.stamp,
                                                         scan.sensor_to_base.translation(), scan.gravity);
   ++status_.scans;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/localization/graph_localizer.hpp"
+#include "core/localization/pose_extrapolator.hpp"
 #include "core/points/voxel_downsample.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
@@ -103,6 +104,9 @@ int main(int argc, char** argv) {
       std::getenv("STRATA_BENCH_IMU") == nullptr || std::string(std::getenv("STRATA_BENCH_IMU")) != "0";
   if (!imu)
     config.imu.reset();
+  // STRATA_BENCH_ODOMETRY=0: the localizer gets no odometry (a lidar alone: the constant velocity model).
+  const bool with_odometry = std::getenv("STRATA_BENCH_ODOMETRY") == nullptr ||
+                             std::string(std::getenv("STRATA_BENCH_ODOMETRY")) != "0";
   // STRATA_BENCH_GRAVITY=0: the gyro still turns the odometry, but the localizer gets no gravity.
   const bool gravity = std::getenv("STRATA_BENCH_GRAVITY") == nullptr ||
                        std::string(std::getenv("STRATA_BENCH_GRAVITY")) != "0";
@@ -133,6 +137,13 @@ int main(int argc, char** argv) {
     options.weak_rotation_guard = std::atof(guard);
   GraphLocalizer localizer(graph_options, map_from_odom);
   double loop_seconds = 0.0;
+  // The pose the server streams between scans (RobotState): STRATA_BENCH_EXTRAPOLATE=0 measures the
+  // odometry carried by the latest correction alone, without the base's gravity stream.
+  const bool extrapolate = gravity && (std::getenv("STRATA_BENCH_EXTRAPOLATE") == nullptr ||
+                                       std::string(std::getenv("STRATA_BENCH_EXTRAPOLATE")) != "0");
+  PoseExtrapolator streamed;
+  streamed.set_correction(map_from_odom, std::nullopt);
+  double max_height_error = 0.0;
 
   double travelled = 0.0, max_odometry_error = 0.0, max_corrected_error = 0.0, registration_seconds = 0.0;
   std::vector<double> times;
@@ -147,13 +158,16 @@ int main(int argc, char** argv) {
     const RobotSample s = simulator.sample();
     travelled += (s.truth->position - last).norm();
     last = s.truth->position;
+    streamed.add_sample(s.stamp, with_odometry ? s.odometry : Pose3{},
+                        extrapolate ? s.gravity : std::nullopt);
     for (const ScanEvent& scan : simulator.take_scans()) {
       const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
       const PointCloud points = pipeline::points_in_base(scan);
       const auto start = std::chrono::steady_clock::now();
-      const LocalizationUpdate update =
-          localizer.add_scan(points, odometry, scan.stamp, scan.sensor_to_base.translation(),
-                             gravity ? scan.gravity : std::nullopt);
+      const LocalizationUpdate update = localizer.add_scan(
+          points, with_odometry ? std::optional<Pose2>(odometry) : std::nullopt, scan.stamp,
+          scan.sensor_to_base.translation(), gravity ? scan.gravity : std::nullopt);
+      streamed.set_correction(update.map_from_odom, scan.stamp);
       truth_at[scan.stamp] = scan.truth->to_isometry();
       if (!update.registration || update.correction != Correction::kNone)
         mapped.push_back({scan.truth->to_isometry(), update.pose, voxel_downsample(points, 0.5), travelled});
@@ -190,13 +204,14 @@ int main(int argc, char** argv) {
                      update.registration ? update.registration->rmse : 0.0);
       }
     }
-    // Error of the pose the server would stream now: odometry carried by the latest correction.
-    const Eigen::Isometry3d estimate =
-        localizer.pose({s.odometry.position.x(), s.odometry.position.y(), s.odometry.yaw});
+    // Error of the pose the server would stream now.
+    const Eigen::Isometry3d estimate = streamed.estimate().to_isometry();
     const Eigen::Isometry3d raw = map_from_odom * s.odometry.to_isometry();
     corrected_error = (estimate.translation() - s.truth->position).norm();
     odometry_error = (raw.translation() - s.truth->position).head<2>().norm();  // odometry has no height
     max_corrected_error = std::max(max_corrected_error, corrected_error);
+    max_height_error =
+        std::max(max_height_error, std::abs(estimate.translation().z() - s.truth->position.z()));
     max_odometry_error = std::max(max_odometry_error, odometry_error);
   }
   std::sort(times.begin(), times.end());
@@ -236,7 +251,7 @@ int main(int argc, char** argv) {
       "\"scans\":%zu,\"full\":%zu,\"partial\":%zu,\"none\":%zu,"
       "\"final_error_m\":{\"corrected\":%.3f,\"odometry_xy\":%.3f},"
       "\"final_error_pct_of_distance\":{\"corrected\":%.2f,\"odometry_xy\":%.2f},"
-      "\"max_error_m\":{\"corrected\":%.3f,\"odometry_xy\":%.3f},"
+      "\"max_error_m\":{\"corrected\":%.3f,\"odometry_xy\":%.3f},\"max_height_error_m\":%.3f,"
       "\"registration_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f,\"mean\":%.1f},"
       "\"add_scan_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f},"
       "\"pose_graph\":{\"on\":%s,\"keyframes\":%zu,\"loops\":%zu,\"loops_dropped\":%zu,\"optimizations\":%zu,"
@@ -247,8 +262,8 @@ int main(int argc, char** argv) {
       "\"rebuilt_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}}}\n",
       world_name.c_str(), scanner.c_str(), duration, travelled, scans, full, partial, none, corrected_error,
       odometry_error, 100.0 * corrected_error / travelled, 100.0 * odometry_error / travelled,
-      max_corrected_error, max_odometry_error, 1000 * pct(0.5), 1000 * pct(0.95), 1000 * pct(1.0),
-      times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
+      max_corrected_error, max_odometry_error, max_height_error, 1000 * pct(0.5), 1000 * pct(0.95),
+      1000 * pct(1.0), times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
       graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops, graph.loops_dropped,
       graph.optimizations, loop_seconds, keyframe_points, keyframe_mb_per_km, keyframe_map_points,

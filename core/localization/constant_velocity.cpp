@@ -1,0 +1,35 @@
+#include "core/localization/constant_velocity.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace strata {
+
+Pose2 ConstantVelocityPrediction::predict(double stamp) const {
+  if (!last_)
+    return {};
+  if (!velocity_)
+    return last_->odometry;
+  const double dt = std::max(0.0, stamp - last_->stamp);
+  return last_->odometry.compose({velocity_->x * dt, velocity_->y * dt, velocity_->theta * dt});
+}
+
+std::optional<GuessUncertainty> ConstantVelocityPrediction::uncertainty(double stamp) const {
+  if (velocity_)
+    return std::nullopt;
+  const double dt = last_ ? std::max(0.0, stamp - last_->stamp) : 0.0;
+  return GuessUncertainty{options_.max_speed * dt, options_.max_turn_rate * dt};
+}
+
+void ConstantVelocityPrediction::update(double stamp, const Pose2& odometry, const Eigen::Isometry3d& pose,
+                                        bool registered, bool map_moved) {
+  if (last_ && registered && !map_moved && stamp > last_->stamp) {
+    const Eigen::Isometry3d moved = last_->pose.inverse() * pose;
+    const double dt = stamp - last_->stamp;
+    const double turn = std::atan2(moved.linear()(1, 0), moved.linear()(0, 0));
+    velocity_ = Pose2{moved.translation().x() / dt, moved.translation().y() / dt, turn / dt};
+  }
+  last_ = Scan{stamp, odometry, pose};
+}
+
+}  // namespace strata
