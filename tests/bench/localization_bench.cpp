@@ -135,14 +135,18 @@ int main(int argc, char** argv) {
     options.gravity.bias_rate = std::atof(rate);
   if (const char* guard = std::getenv("STRATA_BENCH_ROTATION_GUARD"))
     options.weak_rotation_guard = std::atof(guard);
-  GraphLocalizer localizer(graph_options, map_from_odom);
+  // Without odometry the localizer's odometry frame is its prediction's, which starts at the origin: the
+  // map's start is then the true start itself.
+  const Eigen::Isometry3d initial_correction =
+      with_odometry ? map_from_odom : simulator.sample().truth->to_isometry();
+  GraphLocalizer localizer(graph_options, initial_correction);
   double loop_seconds = 0.0;
   // The pose the server streams between scans (RobotState): STRATA_BENCH_EXTRAPOLATE=0 measures the
   // odometry carried by the latest correction alone, without the base's gravity stream.
   const bool extrapolate = gravity && (std::getenv("STRATA_BENCH_EXTRAPOLATE") == nullptr ||
                                        std::string(std::getenv("STRATA_BENCH_EXTRAPOLATE")) != "0");
   PoseExtrapolator streamed;
-  streamed.set_correction(map_from_odom, std::nullopt);
+  streamed.set_correction(initial_correction, std::nullopt);
   double max_height_error = 0.0;
 
   double travelled = 0.0, max_odometry_error = 0.0, max_corrected_error = 0.0, registration_seconds = 0.0;
