@@ -167,14 +167,6 @@ bool GraphLocalizer::close_loops() {
   return true;
 }
 
-Eigen::Isometry3d GraphLocalizer::pose(const Pose2& odometry) const {
-  return scan_matching_.pose(odometry);
-}
-
-Eigen::Isometry3d GraphLocalizer::map_from_odom() const {
-  return scan_matching_.map_from_odom();
-}
-
 PoseGraphStatus GraphLocalizer::status() const {
   std::lock_guard lock(mutex_);
   return status_;

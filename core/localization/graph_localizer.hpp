@@ -65,8 +65,6 @@ class GraphLocalizer {
   /// thread than add_scan.
   bool close_loops();
 
-  [[nodiscard]] Eigen::Isometry3d pose(const Pose2& odometry) const;
-  [[nodiscard]] Eigen::Isometry3d map_from_odom() const;
   [[nodiscard]] PoseGraphStatus status() const;
   /// The keyframes and their current pose estimates (map frame), oldest first, for rebuilding the map.
   [[nodiscard]] std::vector<KeyframePose> keyframes() const;

@@ -138,7 +138,7 @@ void LocalizerWorker::process(ScanEvent event) {
       scan.has_odometry ? std::optional<Pose2>(Pose2{scan.odometry.position.x(), scan.odometry.position.y(),
                                                      scan.odometry.yaw})
                         : std::nullopt;
-  const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, scan.stamp,
+  const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, stamp,
                                                         scan.sensor_to_base.translation(), scan.gravity);
   ++status_.scans;
   classify(scan, update);
