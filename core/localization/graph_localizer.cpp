@@ -34,7 +34,8 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
     update = scan_matching_.add_scan(points, *odometry, gravity);
   } else {
     const Pose2 predicted = motion_.predict(stamp);
-    update = scan_matching_.add_scan(points, predicted, gravity, motion_.uncertainty(stamp));
+    update = scan_matching_.add_scan(points, predicted, gravity, GuessSource::kPrediction,
+                                     motion_.uncertainty(stamp));
     motion_.update(stamp, predicted, update.pose,
                    update.registration && update.correction != Correction::kNone, map_moved);
     // The correction is against the prediction's frame, which no one else has: to whoever carries the

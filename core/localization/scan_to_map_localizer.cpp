@@ -1,5 +1,7 @@
 #include "core/localization/scan_to_map_localizer.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace strata {
@@ -33,6 +35,7 @@ void ScanToMapLocalizer::correct(const Eigen::Isometry3d& correction) {
 
 LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const Pose2& odometry,
                                                 const std::optional<GravityReading>& gravity,
+                                                GuessSource source,
                                                 const std::optional<GuessUncertainty>& uncertainty) {
   // Guess: the last correction carried forward by the odometry since (docs/architecture.md 3, step 2).
   // Its tilt is the last scan's; gravity, where there is a reading, knows the tilt now (a ramp begun).
@@ -70,6 +73,16 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
         const Eigen::Vector3d axis = result.constraint.rotation_axes.col(k);
         turn -= axis * axis.dot(turn);
         update.odometry_axes.push_back(axis);
+      }
+      // A scan that slides has too few surfaces for its yaw to be better than measured odometry's.
+      const bool sliding = result.constraint.weakest < options_.weak_direction_guard;
+      if (sliding && source == GuessSource::kOdometry && options_.yaw_from_odometry_when_sliding) {
+        const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+        const bool taken = std::ranges::any_of(
+            update.odometry_axes, [&](const Eigen::Vector3d& a) { return std::abs(a.dot(up)) > 0.9; });
+        turn -= up * up.dot(turn);
+        if (!taken)
+          update.odometry_axes.push_back(up);
       }
       const double angle = turn.norm();
       const Eigen::Matrix3d kept = angle > 0.0 ? Eigen::AngleAxisd(angle, turn / angle).toRotationMatrix()

@@ -17,6 +17,12 @@
 
 namespace strata {
 
+/// What the scan's guess came from.
+enum class GuessSource {
+  kOdometry,    ///< the base's own odometry (wheels, gyro): measured, independent of the scan
+  kPrediction,  ///< a motion model over earlier scans (ConstantVelocityPrediction): nothing independent
+};
+
 struct LocalizerOptions {
   RegistrationOptions registration = default_registration();
   std::size_t local_map_scans = 10;  ///< the model set: what this many recent registered scans reached
@@ -28,6 +34,10 @@ struct LocalizerOptions {
   /// Likewise for rotation (normalised eigenvalues): about an axis no surface resists (the vertical, over
   /// open ground), the turn is taken from odometry.
   double weak_rotation_guard = 0.02;
+  /// Where the translation is degenerate (a partial scan over open ground), its yaw is taken from measured
+  /// odometry too, even when the rotation eigenvalue passes its guard: ICP's yaw on such scans steps
+  /// 0.3-2.5 degrees where the gyro drifts 0.03 (docs/benchmarks.md, "Heading on open ground").
+  bool yaw_from_odometry_when_sliding = true;
   /// Gravity readings against scan matching's tilt (GravityLeveling).
   GravityLevelingOptions gravity;
 
@@ -95,10 +105,12 @@ class ScanToMapLocalizer {
   /// `points` in the robot's base frame, already cleaned (no max-range readings, no self-returns);
   /// `odometry` the wheel odometry pose when the scan was taken; `gravity` which way was up meanwhile,
   /// when the base has an IMU: it sets the guess's tilt and levels the result (GravityLeveling);
-  /// `uncertainty` how much farther than usual the guess may be off (a lidar alone before its speed is
-  /// known): the jump limits widen by it.
+  /// `source` whether `odometry` was measured or predicted from the scans alone (a lidar without a base),
+  /// which knows nothing the scan does not; `uncertainty` how much farther than usual the guess may be
+  /// off (a lidar alone before its speed is known): the jump limits widen by it.
   LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry,
                               const std::optional<GravityReading>& gravity = std::nullopt,
+                              GuessSource source = GuessSource::kOdometry,
                               const std::optional<GuessUncertainty>& uncertainty = std::nullopt);
 
   /// The current estimate for an odometry pose: the latest correction applied to it.

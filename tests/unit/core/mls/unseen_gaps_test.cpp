@@ -1,0 +1,186 @@
+// Gaps a scanner leaves in drivable ground (core/mls/unseen_gaps.hpp) and the end of the known
+// map (core/navigation/patch_graph.hpp): unseen is unknown, not an obstacle.
+#include "core/mls/unseen_gaps.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "core/navigation/patch_graph_planner.hpp"
+#include "drivers/sim/simulator.hpp"
+#include "drivers/sim/world/world_file.hpp"
+#include "tests/support/navigation_scenes.hpp"
+#include "tests/support/seen_goals.hpp"
+
+namespace strata {
+namespace {
+
+using test::add_plane;
+using test::add_vertical_face;
+
+constexpr double kSpacing = 0.07;  // every 0.1 m cell of a plane gets a point
+
+/// Ground at z seen only in east-west stripes one cell wide, `period` apart (from y0 to y1), as a scanner's
+/// rings cover open ground further out.
+void add_rings(PointCloud& points, double x0, double x1, double y0, double y1, double z, double period) {
+  for (double y = y0; y < y1; y += period)
+    add_plane(points, x0, x1, y + 0.02, y + 0.08, z, kSpacing);
+}
+
+PatchGraphConfig without_gap_filling() {
+  PatchGraphConfig config;
+  config.traversability.unseen_gaps.max_gap = 0.0;
+  return config;
+}
+
+TEST(UnseenGaps, RingsOfOpenGroundAreFilledAndPlannedAcross) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_rings(points, -3, 3, -4, 4, 0.0, 1.0);
+  map.insert_scan(points, {0, 0, 1});
+  // Unseen is not an obstacle, so each ring is a place with room; without filling they are islands.
+  const PatchGraph islands = test::graph_of(map, without_gap_filling());
+  EXPECT_EQ(plan_on_patches(islands, {0.05, -3.95, 0}, {.x = 0.05, .y = 3.05}).status,
+            PatchPlanStatus::no_path);
+
+  const PatchGraph graph = test::graph_of(map);
+  const PatchPath path = plan_on_patches(graph, {0.05, -3.95, 0}, {.x = 0.05, .y = 3.05});
+  ASSERT_TRUE(path.found()) << describe(path.status);
+  EXPECT_NEAR(path.length, 7.0, 0.05);
+  const auto between = graph.locate(0.05, 0.55, 0.0, 0.05);
+  ASSERT_TRUE(between.has_value());
+  EXPECT_TRUE(graph.inferred(*between));
+  EXPECT_NEAR(graph.position(*between).z(), 0.0, 0.02);
+}
+
+TEST(UnseenGaps, GapsLongerThanTheLimitStayUnseen) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_rings(points, -3, 3, -4, 4, 0.0, 2.0);  // 1.9 m gaps
+  map.insert_scan(points, {0, 0, 1});
+  const PatchGraph graph = test::graph_of(map);
+  EXPECT_FALSE(graph.mapped(0.05, -2.95));
+  EXPECT_EQ(plan_on_patches(graph, {0.05, -3.95, 0}, {.x = 0.05, .y = 2.05}).status,
+            PatchPlanStatus::no_path);
+}
+
+TEST(UnseenGaps, AGoalJustOffSeenGroundGoesToIt) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_rings(points, -3, 3, -4, 4, 0.0, 2.0);  // 1.9 m gaps: not inferred
+  map.insert_scan(points, {0, 0, 1});
+  const PatchGraph graph = test::graph_of(map);
+  const PatchPath near = plan_on_patches(graph, {-2.05, -3.95, 0}, {.x = 2.05, .y = -3.75});
+  ASSERT_TRUE(near.found()) << describe(near.status);
+  EXPECT_NEAR(near.points.back().y(), -3.75, 1e-9) << "it ends where the operator asked";
+  EXPECT_EQ(plan_on_patches(graph, {-2.05, -3.95, 0}, {.x = 2.05, .y = -3.0}).status,
+            PatchPlanStatus::goal_off_map);
+}
+
+TEST(UnseenGaps, AGoalWhereOnlyTheCeilingWasSeenStaysOnTheFloor) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_plane(points, -3, 0, -2, 2, 0.0, kSpacing);  // the floor, seen up to x = 0
+  map.insert_scan(points, {-1, 0, 1});
+  PointCloud ceiling;
+  add_plane(ceiling, -3, 3, -2, 2, 3.0, kSpacing);  // seen from below, all the way
+  map.insert_scan(ceiling, {-1, 0, 1});
+  const PatchGraph graph = test::graph_of(map);
+  const PatchPath path = plan_on_patches(graph, {-2.05, 0.05, 0}, {.x = 0.15, .y = 0.05});
+  ASSERT_TRUE(path.found()) << describe(path.status);
+  EXPECT_LT(path.points.back().z(), 0.1);
+}
+
+TEST(UnseenGaps, AWallInTheGapIsNotPlannedThrough) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_rings(points, -3, 3, -4, 4, 0.0, 1.0);
+  add_vertical_face(points, -3, 0.42, 3, 0.42, 0.0, 1.5, kSpacing);
+  map.insert_scan(points, {0, 0, 3});
+  const PatchGraph graph = test::graph_of(map);
+  EXPECT_EQ(plan_on_patches(graph, {0.05, -3.95, 0}, {.x = 0.05, .y = 3.05}).status,
+            PatchPlanStatus::no_path);
+  // The wall is an edge for the robot's body, seen across the unseen ground in front of it (0.35 m away
+  // from the ring's centre), while unseen ground alone is no edge.
+  const auto near_wall = graph.locate(0.05, 0.05, 0.0, 0.05);
+  const auto farther = graph.locate(0.05, -0.95, 0.0, 0.05);
+  ASSERT_TRUE(near_wall.has_value() && farther.has_value());
+  EXPECT_FALSE(graph.passable(*near_wall));
+  EXPECT_NEAR(graph.clearance(*near_wall), 0.35F, 1e-4F);
+  EXPECT_TRUE(graph.passable(*farther));
+}
+
+TEST(UnseenGaps, ADropIsNotFilledButGentleGroundIs) {
+  for (const double far_height : {0.4, 0.1}) {
+    MlsMap map(test::scene_config());
+    PointCloud points;
+    add_plane(points, -3, 3, -3, 0, 0.0, kSpacing);
+    add_plane(points, -3, 3, 1, 3, far_height, kSpacing);  // beyond 1 m of unseen ground
+    map.insert_scan(points, {0, 0, 2});
+    const PatchGraph graph = test::graph_of(map);
+    const PatchPath path = plan_on_patches(graph, {0.05, -2.05, 0}, {.x = 0.05, .y = 2.05});
+    if (far_height > 0.3) {
+      EXPECT_EQ(path.status, PatchPlanStatus::no_path) << "a 0.4 m drop over 1 m is not inferred";
+    } else {
+      ASSERT_TRUE(path.found()) << describe(path.status);
+      EXPECT_NEAR(graph.position(*graph.locate(0.05, 0.55, 0.05, 0.1)).z(), 0.055, 0.02);
+    }
+  }
+}
+
+TEST(UnseenGaps, TheRoadUnderADeckIsFilledUnderIt) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_rings(points, -1.5, 1.5, -6, 6, 0.0, 0.5);  // the road, seen in rings
+  map.insert_scan(points, {0, -8, 1});
+  PointCloud deck;
+  add_plane(deck, -1.5, 1.5, -2, 2, 2.0, kSpacing);
+  map.insert_scan(deck, {0, 0, 5});
+  const PatchGraph graph = test::graph_of(map);
+  const PatchPath path = plan_on_patches(graph, {0.05, -5.45, 0}, {.x = 0.05, .y = 5.55, .z = 0.0});
+  ASSERT_TRUE(path.found()) << describe(path.status);
+  const double highest =
+      std::max_element(path.points.begin(), path.points.end(), [](const auto& a, const auto& b) {
+        return a.z() < b.z();
+      })->z();
+  EXPECT_LT(highest, 0.1) << "the path stays on the road";
+}
+
+TEST(UnseenGaps, TheEndOfTheKnownMapIsNotAnEdge) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_plane(points, -3, 3, -0.3, 0.3, 0.0, kSpacing);  // a strip 0.6 m wide, unseen on both sides
+  map.insert_scan(points, {0, 0, 1});
+  const PatchGraph graph = test::graph_of(map);
+  const auto centre = graph.locate(0.05, 0.05, 0.0, 0.05);
+  ASSERT_TRUE(centre.has_value());
+  EXPECT_TRUE(graph.passable(*centre));
+  EXPECT_LT(graph.margin(*centre), 0.45F) << "near unseen ground: costs more, but is allowed";
+  EXPECT_TRUE(plan_on_patches(graph, {-2.55, 0.05, 0}, {.x = 2.55, .y = 0.05}).found());
+}
+
+TEST(UnseenGaps, AfterOneTiltingScanTheSeenYardIsReachable) {
+  // The yard after the first stop-and-go scan of the tilting laser: rings of seen ground with unseen gaps
+  // growing with the range. Without inferring gaps, 45 % of these goals are reachable.
+  auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
+  sim::Simulator simulator(world, sim::SimulatorConfig{});
+  MlsMap live{MlsConfig{}};
+  while (live.patch_count() == 0) {
+    simulator.step(0.1);
+    for (const ScanEvent& scan : simulator.take_scans())
+      test::map_at_truth(live, scan);
+    ASSERT_LT(simulator.sample().stamp, 30.0) << "no scan";
+  }
+  const PatchGraph seen = test::graph_of(live, PatchGraphConfig{.clearance_weight = 2.0});
+  const auto goals = test::plan_to_seen_goals(*world, seen, simulator.sample().truth->position);
+  ASSERT_GT(goals.size(), 100U);
+  const auto reached =
+      std::count_if(goals.begin(), goals.end(), [](const auto& g) { return g.path.found(); });
+  EXPECT_GE(static_cast<double>(reached), 0.9 * static_cast<double>(goals.size()))
+      << reached << " of " << goals.size() << " seen goals reached";
+}
+
+}  // namespace
+}  // namespace strata
