@@ -10,6 +10,16 @@
 
 namespace strata {
 
+struct UnseenGapConfig {
+  /// Longest unseen stretch bridged, metres; 0 bridges none. A tilting laser's slices meet flat ground in
+  /// rings about d^2 * step / h apart (1 degree steps from 1.05 m up: 0.4 m at 5 m, 1.4 m at 9 m); a
+  /// spinning lidar's rings spread the same way.
+  double max_gap = 1.5;
+  /// Steepest grade assumed across a gap, rise per metre, on top of the max_step any two cells may differ.
+  /// Kept below ramps' grades on purpose: a steep unseen stretch may as well be a drop.
+  double max_grade = 0.1;
+};
+
 /// What the robot can drive on (docs/architecture.md 4.3). Defaults: the thesis's wheelchair.
 struct TraversabilityConfig {
   double max_step = 0.08;     ///< highest step between neighbouring cells, metres
@@ -20,6 +30,9 @@ struct TraversabilityConfig {
   /// If the robot's own cell has no such patch (scanners rarely see the ground under the robot), the
   /// nearest cell within this radius that has one, metres.
   double start_search_radius = 1.0;
+  /// Gaps the scanner left in drivable ground, bridged by inferred surfaces (core/mls/unseen_gaps.hpp) for
+  /// the drivable map and the planner alike.
+  UnseenGapConfig unseen_gaps;
 };
 
 /// A rectangle of cells in global cell indices.
@@ -47,7 +60,7 @@ class SurfaceGrid {
     float bottom = 0.0F;
     bool vertical = false;
     bool traversable = false;
-    /// Not measured: inferred where the scanner left a gap (core/navigation/unseen_gaps.hpp).
+    /// Not measured: inferred where the scanner left a gap (core/mls/unseen_gaps.hpp).
     bool inferred = false;
   };
 

@@ -17,9 +17,9 @@ constexpr int kDirections[8][2] = {{1, 0}, {1, 1}, {0, 1}, {-1, 1}, {-1, 0}, {-1
 PatchGraph::PatchGraph(std::shared_ptr<const SurfaceGrid> surfaces, double resolution,
                        const PatchGraphConfig& config)
     : surfaces_(std::move(surfaces)), resolution_(resolution), config_(config) {
-  if (config.unseen_gaps.max_gap > 0.0)
-    surfaces_ = std::make_shared<const SurfaceGrid>(
-        fill_unseen_gaps(*surfaces_, resolution, config.traversability, config.unseen_gaps));
+  if (config.traversability.unseen_gaps.max_gap > 0.0)
+    surfaces_ =
+        std::make_shared<const SurfaceGrid>(fill_unseen_gaps(*surfaces_, resolution, config.traversability));
   const SurfaceGrid& grid = *surfaces_;
   const std::size_t count = grid.surface_count();
   cell_of_.resize(count);

@@ -7,14 +7,12 @@
 #include <vector>
 
 #include "core/mls/traversability.hpp"
-#include "core/navigation/unseen_gaps.hpp"
+#include "core/mls/unseen_gaps.hpp"
 
 namespace strata {
 
 struct PatchGraphConfig {
   TraversabilityConfig traversability;
-  /// Gaps the scanner left in drivable ground are bridged by inferred surfaces (unseen_gaps.hpp).
-  UnseenGapConfig unseen_gaps;
   /// Patches whose centre is nearer than this to the edge of their level (a wall, a drop, a step: something
   /// seen) are no place for the robot's centre, metres. The end of the known map is not an edge: unseen
   /// ground is unknown, not an obstacle, and the scans on the way show what it is. The wheelchair's body is

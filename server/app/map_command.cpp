@@ -146,6 +146,7 @@ int run_map_export(const MapExportOptions& options) {
     const std::filesystem::path pgm = write_ros_map(drivable.grid, options.pgm_yaml);
     summary += ",\"yaml\":\"" + options.pgm_yaml + "\",\"pgm\":\"" + pgm.string() +
                "\",\"free_cells\":" + std::to_string(drivable.free_cells) +
+               ",\"connected_cells\":" + std::to_string(drivable.connected_cells) +
                ",\"width\":" + std::to_string(drivable.grid.width) +
                ",\"height\":" + std::to_string(drivable.grid.height);
   }

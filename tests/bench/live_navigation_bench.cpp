@@ -130,7 +130,7 @@ int main(int argc, char** argv) {
   const Eigen::Vector3d robot = options.map.empty() ? simulator.sample().truth->position : options.at;
 
   PatchGraphConfig graph_config{.clearance_weight = 2.0};  // the navigator's
-  graph_config.unseen_gaps.max_gap = options.max_gap;
+  graph_config.traversability.unseen_gaps.max_gap = options.max_gap;
   const auto build_start = std::chrono::steady_clock::now();
   const PatchGraph seen(std::make_shared<const SurfaceGrid>(live, CellRegion::of_tiles(live.tile_indices()),
                                                             graph_config.traversability),

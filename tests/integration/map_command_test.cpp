@@ -54,8 +54,10 @@ TEST_F(MapCommand, BuildsAMapThenExportsPlyAndRosMap) {
   ASSERT_EQ(exported.exit_code, 0) << exported.output;
   const nlohmann::json out = json_of(exported);
   ASSERT_TRUE(out.is_object()) << exported.output;
-  // Free: the floor in front of the wall, 55 x 40 cells; the wall and the floor behind it are occupied.
-  EXPECT_EQ(out["free_cells"].get<int>(), 55 * 40);
+  // The wall is occupied; the floor on both sides of it free (59 x 40 cells), and the 55 x 40 in front of
+  // it connected to the robot.
+  EXPECT_EQ(out["free_cells"].get<int>(), 59 * 40);
+  EXPECT_EQ(out["connected_cells"].get<int>(), 55 * 40);
   EXPECT_EQ(read_bytes(directory_ / "site.ply").rfind("ply\n", 0), 0U);
   EXPECT_EQ(read_bytes(directory_ / "site.pgm").rfind("P5\n", 0), 0U);
   EXPECT_NE(read_bytes(directory_ / "site.yaml").find("image: site.pgm"), std::string::npos);

@@ -172,8 +172,8 @@ TEST_F(MlsFileTest, ExportsRosMapAndPly) {
   ASSERT_EQ(image.size(), header.size() + 140U * 100U);
   // (0.05, 0.05) is free: column 70, row 50 from the bottom, so image row 100 - 1 - 50.
   EXPECT_EQ(static_cast<unsigned char>(image[header.size() + 49U * 140U + 70U]), 254);
-  // (0.05, 4.05) is the deck: occupied at the road's level.
-  EXPECT_EQ(static_cast<unsigned char>(image[header.size() + 9U * 140U + 70U]), 0);
+  // (0.05, 4.05) is only the deck, overhead: at the road's level nothing is known there.
+  EXPECT_EQ(static_cast<unsigned char>(image[header.size() + 9U * 140U + 70U]), 205);
   const std::string yaml = read_bytes(directory_ / "drivable.yaml");
   EXPECT_NE(yaml.find("image: drivable.pgm"), std::string::npos);
   EXPECT_NE(yaml.find("resolution: 0.1"), std::string::npos);

@@ -21,7 +21,7 @@ TEST(SurfaceGridRules, TheDrivableMapFillsWhatThePatchGraphLinks) {
   const auto surfaces = test::surfaces_of(map, traversability);
   PatchGraphConfig graph_config;
   graph_config.traversability = traversability;
-  graph_config.unseen_gaps.max_gap = 0.0;  // the same surfaces for both
+  graph_config.traversability.unseen_gaps.max_gap = 0.0;  // the same surfaces for both
   const PatchGraph graph(surfaces, map.resolution(), graph_config);
 
   for (const Eigen::Vector3d& robot : {Eigen::Vector3d(0, 22, 0), Eigen::Vector3d(-5, 0, 0)}) {
@@ -50,12 +50,12 @@ TEST(SurfaceGridRules, TheDrivableMapFillsWhatThePatchGraphLinks) {
     std::size_t free = 0;
     for (int row = 0; row < drivable.grid.height; ++row)
       for (int col = 0; col < drivable.grid.width; ++col) {
-        const bool is_free = drivable.grid.at(col, row) == Occupancy::free;
-        free += is_free ? 1 : 0;
-        EXPECT_EQ(is_free, linked_cells.count({col, row}) == 1)
+        const bool is_connected = drivable.connected[drivable.grid.index({col, row})] != 0;
+        free += is_connected ? 1 : 0;
+        EXPECT_EQ(is_connected, linked_cells.count({col, row}) == 1)
             << "cell " << col << "," << row << " from the robot at " << robot.transpose();
       }
-    EXPECT_EQ(free, drivable.free_cells);
+    EXPECT_EQ(free, drivable.connected_cells);
   }
 }
 
@@ -72,7 +72,7 @@ TEST(SurfaceGridRules, TheRampsEndUnderTheDeckIsASeamBothDriveOver) {
   EXPECT_NEAR(drivable.grid.surface_height_at(0.05, 8.05), 1.2, 0.05);
 
   PatchGraphConfig graph_config;
-  graph_config.unseen_gaps.max_gap = 0.0;
+  graph_config.traversability.unseen_gaps.max_gap = 0.0;
   const PatchGraph graph(std::make_shared<const SurfaceGrid>(map, deck_and_ramp, traversability),
                          map.resolution(), graph_config);
   const auto seam = graph.locate(0.05, 5.05, 1.5, 0.1);

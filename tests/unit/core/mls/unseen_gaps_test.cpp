@@ -1,5 +1,6 @@
 // Gaps a scanner leaves in drivable ground (core/mls/unseen_gaps.hpp) and the end of the known
-// map (core/navigation/patch_graph.hpp): unseen is unknown, not an obstacle.
+// map (core/navigation/patch_graph.hpp): unseen is unknown, not an obstacle; the drivable map sees the same
+// ground as the planner.
 #include "core/mls/unseen_gaps.hpp"
 
 #include <gtest/gtest.h>
@@ -8,6 +9,7 @@
 #include <cmath>
 #include <memory>
 
+#include "core/mls/drivable_map.hpp"
 #include "core/navigation/patch_graph_planner.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
@@ -180,6 +182,54 @@ TEST(UnseenGaps, AfterOneTiltingScanTheSeenYardIsReachable) {
       std::count_if(goals.begin(), goals.end(), [](const auto& g) { return g.path.found(); });
   EXPECT_GE(static_cast<double>(reached), 0.9 * static_cast<double>(goals.size()))
       << reached << " of " << goals.size() << " seen goals reached";
+}
+
+// The drivable map (the UI's view, the PNG, the ROS map) sees the same ground as the planner.
+Occupancy occupancy_at(const DrivableMap& drivable, double x, double y) {
+  return drivable.grid.at_position(x, y);
+}
+bool connected_at(const DrivableMap& drivable, double x, double y) {
+  return drivable.connected[drivable.grid.index(drivable.grid.cell_of({x, y}))] != 0;
+}
+
+TEST(DrivableMapOnRings, RingsOfFloorAreFreeAndJoinedAcrossTheirGaps) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_rings(points, -3, 3, -4, 4, 0.0, 1.0);    // 0.9 m gaps: joined
+  add_rings(points, -3, 3, 5.5, 12, 0.0, 2.5);  // 2.4 m on and apart: too far to join
+  map.insert_scan(points, {0, 0, 1});
+  const DrivableMap drivable = compute_drivable_map(map, TraversabilityConfig{}, {0.05, -3.95, 0},
+                                                    CellRegion::of_tiles(map.tile_indices()));
+  ASSERT_TRUE(drivable.start_found);
+  EXPECT_EQ(occupancy_at(drivable, 0.05, 3.05), Occupancy::free) << "the far ring of the near rings";
+  EXPECT_TRUE(connected_at(drivable, 0.05, 3.05));
+  EXPECT_EQ(occupancy_at(drivable, 0.05, 0.55), Occupancy::free) << "between two rings";
+  EXPECT_TRUE(connected_at(drivable, 0.05, 0.55));
+  // Beyond the gap too long to bridge: seen floor at the robot's level, not known to connect. Free, not
+  // blocked (it was drawn black before); unseen between the rings.
+  EXPECT_EQ(occupancy_at(drivable, 0.05, 8.05), Occupancy::free);
+  EXPECT_FALSE(connected_at(drivable, 0.05, 8.05));
+  EXPECT_EQ(occupancy_at(drivable, 0.05, 9.35), Occupancy::unknown);
+  // Everything the fill reached, the planner plans to.
+  const PatchGraph graph = test::graph_of(map);
+  EXPECT_TRUE(plan_on_patches(graph, {0.05, -3.95, 0}, {.x = 0.05, .y = 3.05}).found());
+  EXPECT_EQ(plan_on_patches(graph, {0.05, -3.95, 0}, {.x = 0.05, .y = 8.05}).status,
+            PatchPlanStatus::no_path);
+}
+
+TEST(DrivableMapOnRings, StepsLandingsAndDropsBeyondTheRingsStayBlocked) {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  add_rings(points, -3, 3, -4, 0, 0.0, 1.0);
+  add_rings(points, -3, 3, 4, 12, 0.8, 2.5);     // a landing 0.8 m up, 5 m on: too steep to climb
+  add_rings(points, -3, 3, -12, -7, -2.0, 2.5);  // ground 2 m down, seen over an edge
+  map.insert_scan(points, {0, 0, 1});
+  const DrivableMap drivable = compute_drivable_map(map, TraversabilityConfig{}, {0.05, -1.95, 0},
+                                                    CellRegion::of_tiles(map.tile_indices()));
+  ASSERT_TRUE(drivable.start_found);
+  EXPECT_EQ(occupancy_at(drivable, 0.05, -0.95), Occupancy::free);
+  EXPECT_EQ(occupancy_at(drivable, 0.05, 4.05), Occupancy::occupied) << "the landing";
+  EXPECT_EQ(occupancy_at(drivable, 0.05, -9.45), Occupancy::occupied) << "the ground below";
 }
 
 }  // namespace
