@@ -83,15 +83,33 @@ protocol::HttpResponse HttpRouter::map_download(const protocol::HttpRequest& req
   for (const auto& kind : kKinds) {
     if (kind.format != format)
       continue;
-    const auto bytes = services_.maps->download(std::string(format));
-    if (bytes.empty()) {
+    std::optional<std::uint64_t> version;
+    if (const std::string_view text = query_value(query, "version"); !text.empty()) {
+      std::uint64_t value = 0;
+      const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+      if (error != std::errc() || end != text.data() + text.size()) {
+        return error_response(request, http::status::bad_request, ErrorCode::kBadParams,
+                              "version must be a map version, a whole number (X-Strata-Version)");
+      }
+      version = value;
+    }
+    const MapDownload download = services_.maps->download(std::string(format), version);
+    if (download.version_gone) {
+      return error_response(request, http::status::gone, ErrorCode::kNotFound,
+                            fmt::format("map version {} is gone (the map is at version {}): fetch the YAML "
+                                        "again and its image by the version it names",
+                                        *version, download.version));
+    }
+    if (download.bytes.empty()) {
       return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
                             "there is no map yet");
     }
     auto response =
-        make_response(request, http::status::ok, std::string(bytes.begin(), bytes.end()), kind.content_type);
+        make_response(request, http::status::ok, std::string(download.bytes.begin(), download.bytes.end()),
+                      kind.content_type);
     response.set(http::field::content_disposition, fmt::format("attachment; filename=\"{}\"", kind.file));
     response.set(http::field::cache_control, "no-store");
+    response.set("X-Strata-Version", std::to_string(download.version));
     return response;
   }
   return error_response(request, http::status::bad_request, ErrorCode::kBadParams,

@@ -2,6 +2,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,8 +52,16 @@ struct MapFileInfo {
   double modified = 0.0;  ///< seconds since the epoch
 };
 
+/// A map download and the map version it shows.
+struct MapDownload {
+  std::vector<std::uint8_t> bytes;  ///< empty: nothing to download yet, or the version asked for is gone
+  std::uint64_t version = 0;        ///< of the map the bytes show
+  bool version_gone = false;        ///< a version was asked for that the server no longer has
+};
+
 /// Saving and loading the map (pipeline::MappingWorker). Names are plain file names inside the configured
 /// maps directory, never paths.
+
 class MapCommands {
  public:
   virtual ~MapCommands() = default;
@@ -60,8 +69,11 @@ class MapCommands {
   virtual CommandResult load_map(const std::string& name) = 0;
   [[nodiscard]] virtual std::vector<MapFileInfo> list_maps() const = 0;
   /// The current map for download: "strata" (the native file), "ply" (patches as points and boxes),
-  /// "pgm" and "yaml" (the drivable map at the robot's level, ROS map_server). Empty when there is no map.
-  [[nodiscard]] virtual std::vector<std::uint8_t> download(const std::string& format) const = 0;
+  /// "pgm" and "yaml" (the drivable map at the robot's level over the whole map, ROS map_server). For
+  /// those two, `version` asks for the one of that map version (the version a YAML named), which the
+  /// server keeps until the next download of a newer one: a PGM and a YAML fetched apart then agree.
+  [[nodiscard]] virtual MapDownload download(const std::string& format,
+                                             std::optional<std::uint64_t> version) const = 0;
 };
 
 }  // namespace strata

@@ -126,4 +126,20 @@ void LiveMap::refresh(const CellRegion& region, std::uint64_t since, MappingTime
   times.snapshot_ms = ms_since(start);
 }
 
+LiveMap::WholeLevel LiveMap::whole_level(std::optional<std::uint64_t> version) const {
+  if (version && whole_level_.drivable && whole_level_.version == *version)
+    return whole_level_;
+  if (version && *version != map_.version())
+    return {.gone = true};
+  if (whole_level_.drivable && whole_level_.version == map_.version())
+    return whole_level_;
+  if (!robot_ground_)
+    return {};
+  whole_level_ = {
+      .drivable = std::make_shared<const DrivableMap>(compute_drivable_map(
+          map_, options_.traversability, *robot_ground_, CellRegion::of_tiles(map_.tile_indices()))),
+      .version = map_.version()};
+  return whole_level_;
+}
+
 }  // namespace strata::pipeline

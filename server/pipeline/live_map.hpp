@@ -60,6 +60,16 @@ class LiveMap {
   /// Null before the first scan or load.
   [[nodiscard]] const DrivableMap* drivable() const { return drivable_ ? &*drivable_ : nullptr; }
   [[nodiscard]] const std::optional<Eigen::Vector3d>& robot_ground() const { return robot_ground_; }
+
+  /// The drivable map at the robot's level over the whole map (the ROS map download), of map `version`
+  /// or, without one, the current map. Kept until one of a newer version is asked for, so that the YAML
+  /// and the PGM of one version agree however far apart they are fetched.
+  struct WholeLevel {
+    std::shared_ptr<const DrivableMap> drivable;  ///< null: no robot position yet, or `gone`
+    std::uint64_t version = 0;
+    bool gone = false;  ///< `version` was asked for and is neither kept nor current
+  };
+  [[nodiscard]] WholeLevel whole_level(std::optional<std::uint64_t> version) const;
   /// The state to publish; a new object after every change.
   [[nodiscard]] std::shared_ptr<const MapSnapshot> snapshot() const { return snapshot_; }
 
@@ -75,7 +85,8 @@ class LiveMap {
   std::shared_ptr<const EncodedOccupancy> occupancy_;
   std::shared_ptr<const MapSnapshot> snapshot_;
   std::size_t rebuilds_ = 0;
-  double received_at_ = 0.0;  // of the scan being added: stamped on the tiles and image it changes
+  mutable WholeLevel whole_level_;  ///< the last one made: a cache, so whole_level() stays const
+  double received_at_ = 0.0;        // of the scan being added: stamped on the tiles and image it changes
 };
 
 }  // namespace strata::pipeline

@@ -82,7 +82,7 @@ std::vector<MapFileInfo> MapStore::list() const {
 }
 
 std::vector<std::uint8_t> MapStore::download(const std::string& format, const MlsMap& map,
-                                             const DrivableMap* drivable) {
+                                             const DrivableMap* drivable, std::uint64_t version) {
   std::string bytes;
   if (format == "strata" || format == "ply") {
     if (map.patch_count() == 0)
@@ -91,8 +91,13 @@ std::vector<std::uint8_t> MapStore::download(const std::string& format, const Ml
   } else if (format == "pgm" || format == "yaml") {
     if (drivable == nullptr || drivable->grid.cells.empty())
       return {};
-    // The YAML names the image as a download saves it next to it (map.pgm).
-    bytes = format == "pgm" ? ros_map_pgm(drivable->grid) : ros_map_yaml(drivable->grid, "map.pgm");
+    // The YAML names the image as a download saves it next to it (map.pgm), and the version whose image
+    // it is: the map changes with every scan, and a PGM fetched later must be asked for by it.
+    bytes = format == "pgm"
+                ? ros_map_pgm(drivable->grid)
+                : "# strata map version " + std::to_string(version) +
+                      "; its image: GET /api/v1/map?format=pgm&version=" + std::to_string(version) + "\n" +
+                      ros_map_yaml(drivable->grid, "map.pgm");
   }
   return {bytes.begin(), bytes.end()};
 }

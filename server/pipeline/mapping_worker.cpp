@@ -276,17 +276,27 @@ std::vector<MapFileInfo> MappingWorker::list_maps() const {
   return store_.list();
 }
 
-std::vector<std::uint8_t> MappingWorker::download(const std::string& format) const {
-  std::vector<std::uint8_t> bytes;
+MapDownload MappingWorker::download(const std::string& format, std::optional<std::uint64_t> version) const {
+  MapDownload result;
   run_on_mapping_thread([&] {
     try {
-      bytes = MapStore::download(format, live_.map(), live_.drivable());
+      result.version = live_.map().version();
+      if (format != "pgm" && format != "yaml") {
+        result.bytes = MapStore::download(format, live_.map(), nullptr, result.version);
+        return;
+      }
+      const LiveMap::WholeLevel level = live_.whole_level(version);
+      result.version_gone = level.gone;
+      if (level.drivable) {
+        result.version = level.version;
+        result.bytes = MapStore::download(format, live_.map(), level.drivable.get(), level.version);
+      }
     } catch (const std::exception& error) {
       spdlog::error("map download as {} failed: {}", format, error.what());
-      bytes.clear();
+      result.bytes.clear();
     }
   });
-  return bytes;
+  return result;
 }
 
 }  // namespace strata::pipeline

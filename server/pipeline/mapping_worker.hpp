@@ -86,7 +86,8 @@ class MappingWorker final : public MapCommands {
   CommandResult save_map(const std::string& name) override;
   CommandResult load_map(const std::string& name) override;
   [[nodiscard]] std::vector<MapFileInfo> list_maps() const override;
-  [[nodiscard]] std::vector<std::uint8_t> download(const std::string& format) const override;
+  [[nodiscard]] MapDownload download(const std::string& format,
+                                     std::optional<std::uint64_t> version) const override;
 
   [[nodiscard]] const std::filesystem::path& maps_dir() const { return store_.directory(); }
 

@@ -4,12 +4,16 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <thread>
 
+#include "core/mls/mls_tile.hpp"
 #include "integration/clients.hpp"
 #include "integration/server_process.hpp"
 
@@ -319,6 +323,33 @@ TEST_F(Mission, SavesLoadsAndDownloadsTheMap) {
   }
   EXPECT_EQ(http_get(port(), "/api/v1/map?format=ply").body().substr(0, 3), "ply");
   EXPECT_EQ(http_get(port(), "/api/v1/map?format=pgm").body().substr(0, 2), "P5");
+
+  // The ROS map is the whole level, and a YAML's image is fetched by the version it names, however the
+  // map moves on meanwhile.
+  const auto tiles = nlohmann::json::parse(http_get(port(), "/api/v1/tiles").body())["tiles"];
+  ASSERT_FALSE(tiles.empty());
+  int min_x = tiles[0]["x"], max_x = min_x, min_y = tiles[0]["y"], max_y = min_y;
+  for (const auto& tile : tiles) {
+    min_x = std::min(min_x, tile["x"].get<int>());
+    max_x = std::max(max_x, tile["x"].get<int>());
+    min_y = std::min(min_y, tile["y"].get<int>());
+    max_y = std::max(max_y, tile["y"].get<int>());
+  }
+  const auto yaml = http_get(port(), "/api/v1/map?format=yaml");
+  ASSERT_EQ(yaml.result(), http::status::ok);
+  const std::string version(yaml["X-Strata-Version"]);
+  ASSERT_FALSE(version.empty());
+  EXPECT_NE(yaml.body().find("format=pgm&version=" + version), std::string::npos) << yaml.body();
+  const auto pgm = http_get(port(), "/api/v1/map?format=pgm&version=" + version);
+  ASSERT_EQ(pgm.result(), http::status::ok) << pgm.body();
+  int width = 0;
+  int height = 0;
+  ASSERT_EQ(std::sscanf(pgm.body().c_str(), "P5\n# strata drivable map\n%d %d", &width, &height), 2);
+  EXPECT_GE(width, (max_x - min_x + 1) * kMlsTileSize) << "every tile of the map, not a window";
+  EXPECT_GE(height, (max_y - min_y + 1) * kMlsTileSize);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  EXPECT_EQ(http_get(port(), "/api/v1/map?format=pgm&version=" + version).body(), pgm.body());
+  EXPECT_EQ(http_get(port(), "/api/v1/map?format=pgm&version=abc").result(), http::status::bad_request);
 }
 
 }  // namespace

@@ -55,8 +55,12 @@ class RecordingMaps : public MapCommands {
     return CommandResult::success();
   }
   [[nodiscard]] std::vector<MapFileInfo> list_maps() const override { return {{"known", 10, 1.0}}; }
-  [[nodiscard]] std::vector<std::uint8_t> download(const std::string& format) const override {
-    return {format.begin(), format.end()};
+  /// The format's name as the bytes, at map version 7, which is also the only one kept.
+  [[nodiscard]] MapDownload download(const std::string& format,
+                                     std::optional<std::uint64_t> version) const override {
+    if (version && *version != 7)
+      return {.version = 7, .version_gone = true};
+    return {.bytes = {format.begin(), format.end()}, .version = 7};
   }
   std::vector<std::string> saved;
   std::vector<std::string> loaded;
@@ -262,6 +266,18 @@ TEST_F(Router, MapDownloadsAndSavedMaps) {
   EXPECT_NE(std::string(ply[http::field::content_disposition]).find("map.ply"), std::string::npos);
   EXPECT_EQ(router_.handle(request(http::verb::get, "/api/v1/map")).body(), "strata");
   EXPECT_EQ(router_.handle(request(http::verb::get, "/api/v1/map?format=exe")).result(),
+            http::status::bad_request);
+  // The ROS map by the version its YAML named; another is gone; a version that is no number is refused.
+  auto yaml = router_.handle(request(http::verb::get, "/api/v1/map?format=yaml"));
+  EXPECT_EQ(yaml["X-Strata-Version"], "7");
+  auto pgm = router_.handle(request(http::verb::get, "/api/v1/map?format=pgm&version=7"));
+  ASSERT_EQ(pgm.result(), http::status::ok);
+  EXPECT_EQ(pgm.body(), "pgm");
+  auto gone = router_.handle(request(http::verb::get, "/api/v1/map?format=pgm&version=6"));
+  EXPECT_EQ(gone.result(), http::status::gone);
+  EXPECT_NE(gone.body().find("map version 6 is gone (the map is at version 7)"), std::string::npos)
+      << gone.body();
+  EXPECT_EQ(router_.handle(request(http::verb::get, "/api/v1/map?format=pgm&version=7x")).result(),
             http::status::bad_request);
 
   EXPECT_EQ(router_.handle(request(http::verb::get, "/api/v1/maps")).result(), http::status::unauthorized);

@@ -78,19 +78,21 @@ TEST_F(MapStoreTest, DownloadsAreTheBytesTheFilesWouldHold) {
   const MapStore store(directory_);
   const MlsMap map = scene_map();
   ASSERT_TRUE(store.save(map, "site.smls").ok);
-  EXPECT_EQ(text_of(MapStore::download("strata", map, nullptr)), read_bytes(directory_ / "site.smls"));
-  EXPECT_EQ(text_of(MapStore::download("ply", map, nullptr)), mls_ply(map));
+  EXPECT_EQ(text_of(MapStore::download("strata", map, nullptr, 3)), read_bytes(directory_ / "site.smls"));
+  EXPECT_EQ(text_of(MapStore::download("ply", map, nullptr, 3)), mls_ply(map));
 
   const CellRegion region{map.cell_of(-3, -2), 60, 40};
   const DrivableMap drivable = compute_drivable_map(map, TraversabilityConfig{}, {0, 0, 0}, region);
-  const std::string pgm = text_of(MapStore::download("pgm", map, &drivable));
+  const std::string pgm = text_of(MapStore::download("pgm", map, &drivable, 3));
   EXPECT_EQ(pgm.rfind("P5\n# strata drivable map\n60 40\n255\n", 0), 0U);
-  const std::string yaml = text_of(MapStore::download("yaml", map, &drivable));
+  const std::string yaml = text_of(MapStore::download("yaml", map, &drivable, 3));
   EXPECT_NE(yaml.find("image: map.pgm"), std::string::npos) << yaml;
+  EXPECT_EQ(yaml.rfind("# strata map version 3; its image: GET /api/v1/map?format=pgm&version=3\n", 0), 0U)
+      << yaml;
 
-  EXPECT_TRUE(MapStore::download("zip", map, &drivable).empty());
-  EXPECT_TRUE(MapStore::download("pgm", map, nullptr).empty());
-  EXPECT_TRUE(MapStore::download("strata", MlsMap(), nullptr).empty());
+  EXPECT_TRUE(MapStore::download("zip", map, &drivable, 3).empty());
+  EXPECT_TRUE(MapStore::download("pgm", map, nullptr, 3).empty());
+  EXPECT_TRUE(MapStore::download("strata", MlsMap(), nullptr, 3).empty());
   EXPECT_EQ(std::distance(fs::directory_iterator(directory_), fs::directory_iterator()), 1)
       << "a download writes no file";
 }

@@ -147,17 +147,27 @@ TEST(MappingWorker, SavesListsLoadsAndDownloads) {
   EXPECT_EQ(maps[0].bytes, fs::file_size(dir.path() / "campus.smls"));
   EXPECT_GT(maps[0].modified, 1.6e9);
 
-  EXPECT_EQ(text_of(worker.download("strata")).substr(0, 8), "STRATMLS");
-  EXPECT_EQ(text_of(worker.download("ply")).substr(0, 3), "ply");
-  EXPECT_EQ(text_of(worker.download("pgm")).substr(0, 2), "P5");
-  EXPECT_NE(text_of(worker.download("yaml")).find("resolution"), std::string::npos);
-  EXPECT_TRUE(worker.download("zip").empty());
+  EXPECT_EQ(text_of(worker.download("strata", std::nullopt).bytes).substr(0, 8), "STRATMLS");
+  EXPECT_EQ(text_of(worker.download("ply", std::nullopt).bytes).substr(0, 3), "ply");
+  const MapDownload yaml = worker.download("yaml", std::nullopt);
+  EXPECT_NE(text_of(yaml.bytes).find("resolution"), std::string::npos);
+  EXPECT_EQ(yaml.version, mapped->version);
+  EXPECT_NE(text_of(yaml.bytes).find("format=pgm&version=" + std::to_string(yaml.version)),
+            std::string::npos);
+  const MapDownload pgm = worker.download("pgm", yaml.version);
+  EXPECT_EQ(text_of(pgm.bytes).substr(0, 2), "P5");
+  EXPECT_EQ(pgm.version, yaml.version);
+  EXPECT_TRUE(worker.download("zip", std::nullopt).bytes.empty());
 
   // Another scan, then back to the saved map: its patches again, under a newer version.
   const ScanEvent& second = campus_scans()[1];
   worker.submit(second, map_from_sensor(second));
   worker.flush();
   const auto grown = state.snapshot();
+  // The ROS map of the first version is kept for its YAML's reader, though the map has moved on; a
+  // version never downloaded is gone.
+  EXPECT_EQ(text_of(worker.download("pgm", yaml.version).bytes), text_of(pgm.bytes));
+  EXPECT_TRUE(worker.download("pgm", yaml.version + 100).version_gone);
   EXPECT_GT(grown->patches, mapped->patches);
   const CommandResult loaded = worker.load_map("campus.smls");
   ASSERT_TRUE(loaded.ok) << loaded.message;
@@ -219,7 +229,7 @@ TEST(MappingWorker, FullQueueDropsTheOldestScanAndStoppedWorkerRefusesCommands) 
   MapState state;
   MappingWorker worker(state, dir.path(), {.queue_capacity = 2});
   EXPECT_EQ(worker.save_map("x.smls").code, ErrorCode::kUnavailable) << "not started";
-  EXPECT_TRUE(worker.download("strata").empty());
+  EXPECT_TRUE(worker.download("strata", std::nullopt).bytes.empty());
   for (int i = 0; i < 3; ++i) {
     const ScanEvent& scan = campus_scans()[static_cast<std::size_t>(i)];
     worker.submit(scan, map_from_sensor(scan));
