@@ -1,6 +1,8 @@
 #include "core/localization/gravity_leveling.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace strata {
 namespace {
@@ -50,7 +52,11 @@ Eigen::Matrix3d GravityLeveling::level(const Eigen::Isometry3d& pose, const Grav
   // reading tilted by b about the base's axes asks for a turn of about -b).
   Eigen::Vector3d in_base = pose.linear().transpose() * error;
   in_base.z() = 0.0;
-  bias_ -= options_.bias_rate * in_base;
+  const double heading = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+  const double turned =
+      last_heading_ ? std::abs(std::remainder(heading - *last_heading_, 2.0 * std::numbers::pi)) : 0.0;
+  last_heading_ = heading;
+  bias_ -= std::min(1.0, options_.bias_rate_per_radian * turned) * in_base;
   variance_ += options_.drift_per_scan * options_.drift_per_scan;
   const double gain = variance_ / (variance_ + gravity.sigma * gravity.sigma);
   variance_ *= 1.0 - gain;

@@ -77,12 +77,12 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
       // A scan that slides has too few surfaces for its yaw to be better than measured odometry's.
       const bool sliding = result.constraint.weakest < options_.weak_direction_guard;
       if (sliding && source == GuessSource::kOdometry && options_.yaw_from_odometry_when_sliding) {
-        const Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
+        const Eigen::Vector3d vertical = Eigen::Vector3d::UnitZ();
         const bool taken = std::ranges::any_of(
-            update.odometry_axes, [&](const Eigen::Vector3d& a) { return std::abs(a.dot(up)) > 0.9; });
-        turn -= up * up.dot(turn);
+            update.odometry_axes, [&](const Eigen::Vector3d& a) { return std::abs(a.dot(vertical)) > 0.9; });
+        turn -= vertical * vertical.dot(turn);
         if (!taken)
-          update.odometry_axes.push_back(up);
+          update.odometry_axes.push_back(vertical);
       }
       const double angle = turn.norm();
       const Eigen::Matrix3d kept = angle > 0.0 ? Eigen::AngleAxisd(angle, turn / angle).toRotationMatrix()

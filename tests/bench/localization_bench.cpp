@@ -132,7 +132,7 @@ int main(int argc, char** argv) {
   if (const char* drift = std::getenv("STRATA_BENCH_TILT_DRIFT"))
     options.gravity.drift_per_scan = std::atof(drift);
   if (const char* rate = std::getenv("STRATA_BENCH_BIAS_RATE"))
-    options.gravity.bias_rate = std::atof(rate);
+    options.gravity.bias_rate_per_radian = std::atof(rate);
   if (const char* guard = std::getenv("STRATA_BENCH_ROTATION_GUARD"))
     options.weak_rotation_guard = std::atof(guard);
   // Without odometry the localizer's odometry frame is its prediction's, which starts at the origin: the
