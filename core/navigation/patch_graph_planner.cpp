@@ -122,4 +122,41 @@ PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_
   return result;
 }
 
+std::optional<Eigen::Vector3d> nearest_reachable(const PatchGraph& graph, const Eigen::Vector3d& robot_ground,
+                                                 const PatchGoal& goal, double radius) {
+  const TraversabilityConfig& traversability = graph.config().traversability;
+  const std::optional<PatchGraph::Node> start =
+      graph.locate(robot_ground.x(), robot_ground.y(), robot_ground.z(), traversability.start_tolerance,
+                   traversability.start_search_radius);
+  if (!start || !graph.passable(*start))
+    return std::nullopt;
+  const std::uint32_t component = graph.component(*start);
+  const double reference = goal.z.value_or(robot_ground.z());
+  const SurfaceGrid& grid = graph.surfaces();
+  const double resolution = graph.resolution();
+  const auto [centre_col, centre_row] = grid.local(
+      {static_cast<int>(std::floor(goal.x / resolution)), static_cast<int>(std::floor(goal.y / resolution))});
+  const int rings = static_cast<int>(std::ceil(radius / resolution));
+  std::optional<Eigen::Vector3d> best;
+  double best_distance = radius;
+  for (int row = centre_row - rings; row <= centre_row + rings; ++row)
+    for (int col = centre_col - rings; col <= centre_col + rings; ++col) {
+      if (!grid.contains_local(col, row))
+        continue;
+      const std::size_t c = grid.cell(col, row);
+      for (std::uint32_t i = 0; i < grid.surfaces(c).size(); ++i) {
+        const PatchGraph::Node node = grid.first_surface(c) + i;
+        if (!graph.passable(node) || graph.component(node) != component)
+          continue;
+        const Eigen::Vector3d position = graph.position(node);
+        const double distance = std::hypot(position.x() - goal.x, position.y() - goal.y);
+        if (std::abs(position.z() - reference) <= 2.0 * goal.level_tolerance && distance < best_distance) {
+          best_distance = distance;
+          best = position;
+        }
+      }
+    }
+  return best;
+}
+
 }  // namespace strata

@@ -49,4 +49,11 @@ struct PatchGoal {
 [[nodiscard]] PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_ground,
                                         const PatchGoal& goal);
 
+/// Where to send the robot instead of a goal that is no place for it (a wall, a step, too near an edge):
+/// the nearest patch within `radius` metres of (x, y) in the plane, near the goal's level, with room for the
+/// robot and connected to the patch it stands on. None when there is none or the robot has no room itself.
+[[nodiscard]] std::optional<Eigen::Vector3d> nearest_reachable(const PatchGraph& graph,
+                                                               const Eigen::Vector3d& robot_ground,
+                                                               const PatchGoal& goal, double radius);
+
 }  // namespace strata

@@ -1,5 +1,6 @@
 #include "server/pipeline/navigator.hpp"
 
+#include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
 #include <algorithm>
@@ -15,19 +16,32 @@ namespace {
 /// Metres the robot must move to count as making progress towards its goal.
 constexpr double kProgress = 0.25;
 
-/// The goal's failure reason when no path was found: what the status stream reports (goal_state.hpp).
-std::string reason_for(PatchPlanStatus status, bool replanning) {
-  if (replanning && status != PatchPlanStatus::start_off_map)
-    return "blocked";  // it was reachable; a new scan closed the way
+/// Why a goal failed, for programs and in words (goal_state.hpp): one wording for the log, REST, the
+/// WebSocket and the web UI.
+struct Failure {
+  std::string reason;
+  std::string message;
+};
+
+Failure failure_for(PatchPlanStatus status, bool replanning) {
   switch (status) {
     case PatchPlanStatus::start_off_map:
-      return "robot_off_map";
+      return {"robot_off_map", std::string(describe(status))};
     case PatchPlanStatus::goal_off_map:
-      return "off_map";
-    default:
-      return "unreachable";
+      return {"off_map", std::string(describe(status))};
+    case PatchPlanStatus::goal_blocked:
+      return {"goal_not_drivable", std::string(describe(status))};
+    case PatchPlanStatus::no_path:
+    case PatchPlanStatus::found:
+      break;
   }
+  if (replanning)  // there was a way, and a new scan closed it
+    return {"blocked", "the way to the goal is blocked: no drivable connection is left"};
+  return {"no_connection", std::string(describe(status))};
 }
+
+/// How far around a goal that is no place for the robot the nearest one is looked for, metres.
+constexpr double kNearestSearchRadius = 3.0;
 
 }  // namespace
 
@@ -96,7 +110,9 @@ bool Navigator::cancel_goal_if_active(std::uint64_t goal_id, const std::string& 
   std::lock_guard lock(mutex_);
   if (!tracker_.is_active(goal_id))
     return false;
-  tracker_.cancel(stamp_, reason);
+  tracker_.cancel(
+      stamp_, reason,
+      reason == "operator_disconnected" ? "the operator connection that set the goal closed" : reason);
   drop_path();
   goal_waiting_ = false;
   return true;  // drive() now answers a stop: commanded_ was set with the goal
@@ -160,7 +176,10 @@ std::optional<DriveCommand> Navigator::drive(const Pose3& estimate, double stamp
       progress_position_ = estimate.position;
       progress_stamp_ = stamp;
     } else if (stamp - progress_stamp_ > config_.stuck_after) {
-      tracker_.fail(tracker_.status().id, "stuck", stamp);
+      const std::string message =
+          fmt::format("the robot made no progress toward the goal for {:.0f} s", config_.stuck_after);
+      spdlog::info("goal {} failed (stuck): {}", tracker_.status().id, message);
+      tracker_.fail(tracker_.status().id, "stuck", message, stamp);
       drop_path();
       return DriveCommand{};
     }
@@ -209,7 +228,8 @@ bool Navigator::plan_pending() {
     resolution = resolution_;
     map_version = map_version_;
     if (!surfaces) {
-      tracker_.fail(id, "no_map", stamp_);
+      spdlog::info("goal {}: there is no map yet", id);
+      tracker_.fail(id, "no_map", "there is no map yet", stamp_);
       return true;
     }
   }
@@ -217,15 +237,27 @@ bool Navigator::plan_pending() {
     graph_ = std::make_shared<const PatchGraph>(surfaces, resolution, config_.graph);
     graph_version_ = map_version;
   }
-  const PatchPath planned = plan_on_patches(*graph_, pose.position,
-                                            {.x = goal.x, .y = goal.y, .z = goal.z, .level_tolerance = 0.5});
+  const PatchGoal target{.x = goal.x, .y = goal.y, .z = goal.z, .level_tolerance = 0.5};
+  const PatchPath planned = plan_on_patches(*graph_, pose.position, target);
+  Failure failure;
+  if (!planned.found()) {
+    failure = failure_for(planned.status, replanning);
+    if (planned.status == PatchPlanStatus::goal_blocked) {
+      if (const auto nearest = nearest_reachable(*graph_, pose.position, target, kNearestSearchRadius)) {
+        failure.message +=
+            fmt::format("; the nearest place the robot can reach is ({:.2f}, {:.2f}, {:.2f}), {:.1f} m away",
+                        nearest->x(), nearest->y(), nearest->z(),
+                        std::hypot(nearest->x() - goal.x, nearest->y() - goal.y));
+      }
+    }
+  }
 
   std::lock_guard lock(mutex_);
   if (!tracker_.is_active(id))
     return true;  // cancelled or replaced while planning
   if (!planned.found()) {
-    spdlog::info("goal {}: {} ({})", id, describe(planned.status), replanning ? "replan" : "plan");
-    tracker_.fail(id, reason_for(planned.status, replanning), stamp_);
+    spdlog::info("goal {} failed ({}): {}", id, failure.reason, failure.message);
+    tracker_.fail(id, failure.reason, failure.message, stamp_);
     drop_path();
     return true;
   }

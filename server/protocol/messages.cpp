@@ -97,6 +97,8 @@ nlohmann::json goal_fields(const GoalStatus& goal) {
     fields["z"] = *goal.target.z;
   if (!goal.reason.empty())
     fields["reason"] = goal.reason;
+  if (!goal.message.empty())
+    fields["message"] = goal.message;
   return fields;
 }
 

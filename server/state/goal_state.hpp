@@ -42,9 +42,14 @@ struct GoalStatus {
   std::uint64_t id = 0;  ///< 0: there has never been a goal
   GoalRequest target;
   GoalPhase phase = GoalPhase::kCancelled;
-  /// For failed: "unreachable", "blocked", "no_map", "off_map", ...; for cancelled, when not by a command:
+  /// For failed, a code for programs: "goal_not_drivable" (the goal spot is a wall, a step, too narrow),
+  /// "off_map" (never seen), "no_connection" (no drivable way there), "blocked" (the way was closed while
+  /// driving), "robot_off_map", "stuck", "no_map"; for cancelled, when not by a command:
   /// "operator_disconnected" (the operator connection that set the goal closed); else empty.
   std::string reason;
+  /// The same in words for people, as the log says it (for goal_not_drivable with the nearest place the
+  /// robot can reach); empty when `reason` is.
+  std::string message;
   double stamp = 0.0;  ///< simulated/robot seconds when the phase last changed
 };
 

@@ -5,7 +5,7 @@
 namespace strata {
 
 std::uint64_t GoalTracker::accept(const GoalRequest& request, double stamp) {
-  status_ = GoalStatus{next_id_++, request, GoalPhase::kAccepted, {}, stamp};
+  status_ = GoalStatus{.id = next_id_++, .target = request, .phase = GoalPhase::kAccepted, .stamp = stamp};
   return status_.id;
 }
 
@@ -35,19 +35,21 @@ bool GoalTracker::reached(std::uint64_t id, double stamp) {
   return move(id, GoalPhase::kDriving, GoalPhase::kReached, stamp);
 }
 
-bool GoalTracker::fail(std::uint64_t id, std::string reason, double stamp) {
+bool GoalTracker::fail(std::uint64_t id, std::string reason, std::string message, double stamp) {
   if (!move(id, GoalPhase::kAccepted, GoalPhase::kFailed, stamp))
     return false;
   status_.reason = std::move(reason);
+  status_.message = std::move(message);
   return true;
 }
 
-bool GoalTracker::cancel(double stamp, std::string reason) {
+bool GoalTracker::cancel(double stamp, std::string reason, std::string message) {
   if (!active())
     return false;
   status_.phase = GoalPhase::kCancelled;
   status_.stamp = stamp;
   status_.reason = std::move(reason);
+  status_.message = std::move(message);
   return true;
 }
 

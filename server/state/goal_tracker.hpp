@@ -18,9 +18,10 @@ class GoalTracker {
   bool planning(std::uint64_t id, double stamp);
   bool driving(std::uint64_t id, double stamp);
   bool reached(std::uint64_t id, double stamp);
-  bool fail(std::uint64_t id, std::string reason, double stamp);
-  /// Cancels the active goal, if there is one; `reason` says why when no command did (empty: one did).
-  bool cancel(double stamp, std::string reason = {});
+  bool fail(std::uint64_t id, std::string reason, std::string message, double stamp);
+  /// Cancels the active goal, if there is one; `reason` says why when no command did (empty: one did),
+  /// `message` the same in words.
+  bool cancel(double stamp, std::string reason = {}, std::string message = {});
 
   [[nodiscard]] const GoalStatus& status() const { return status_; }
   /// accepted, planning or driving.

@@ -163,7 +163,15 @@ TEST_F(Mission, DrivesToGoalsOnScannedGroundAndRefusesAnUnreachableOne) {
   op->read_op("ack");
   const auto fence = wait_for_goal(*op, id + 2, {"reached", "failed", "cancelled"});
   EXPECT_EQ(fence["phase"], "failed");
-  EXPECT_EQ(fence["reason"], "unreachable");
+  EXPECT_EQ(fence["reason"], "goal_not_drivable");
+  EXPECT_EQ(fence["message"].get<std::string>().rfind(
+                "the goal is not a drivable place with room for the robot", 0),
+            0U)
+      << fence.dump();
+  // REST says the same.
+  const auto rest_goal = nlohmann::json::parse(http_get(port(), "/api/v1/goal").body());
+  EXPECT_EQ(rest_goal["reason"], fence["reason"]);
+  EXPECT_EQ(rest_goal["message"], fence["message"]);
 }
 
 TEST_F(Mission, CancelStopsTheRobot) {

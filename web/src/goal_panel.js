@@ -46,8 +46,10 @@ export class GoalPanel {
     const element = $('goal-state');
     element.dataset.phase = goal.phase;
     let text = phaseText[goal.phase] ?? goal.phase;
-    if ((goal.phase === 'failed' || goal.phase === 'cancelled') && goal.reason) text += ` (${goal.reason.replaceAll('_', ' ')})`;
     if (goal.x !== undefined && goal.phase !== 'none') text += ` · ${goal.x.toFixed(1)}, ${goal.y.toFixed(1)}`;
+    // Why, in the server's words (the same as its log and REST); the code alone from an older server.
+    const why = goal.message || goal.reason?.replaceAll('_', ' ');
+    if ((goal.phase === 'failed' || goal.phase === 'cancelled') && why) text += `: ${why}`;
     element.textContent = text;
     this.view.paths.showGoal(goal);
     this.view.requestRender();

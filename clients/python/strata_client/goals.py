@@ -28,7 +28,7 @@ def check_coordinate(name: str, value: float) -> float:
 
 @dataclass(frozen=True)
 class GoalOutcome:
-    """How a goal ended: phase reached, failed (with the reason, e.g. unreachable) or cancelled."""
+    """How a goal ended: phase reached, failed (with the reason, e.g. goal_not_drivable) or cancelled."""
     goal_id: int
     phase: str
     reason: Optional[str]
@@ -37,6 +37,11 @@ class GoalOutcome:
     @property
     def reached(self) -> bool:
         return self.phase == "reached"
+
+    @property
+    def message(self) -> Optional[str]:
+        """Why it failed or was cancelled, in words (for people; `reason` is for programs)."""
+        return self.state.message
 
 
 class Goal:

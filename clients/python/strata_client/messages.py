@@ -109,7 +109,9 @@ class GoalState:
     x: Optional[float]
     y: Optional[float]
     z: Optional[float]
-    reason: Optional[str]  # failed: why (unreachable, off_map, ...); cancelled: operator_disconnected or absent
+    reason: Optional[str]  # failed: why (goal_not_drivable, off_map, no_connection, blocked, ...); cancelled:
+    # operator_disconnected or absent
+    message: Optional[str]  # the same in words, as the server logs it: for people, not for parsing
     stamp: Optional[float]
     raw: JsonObject = field(repr=False, compare=False)
 
@@ -119,7 +121,8 @@ class GoalState:
 
     @staticmethod
     def from_json(m: JsonObject) -> "GoalState":
-        return GoalState(m["id"], m["phase"], m.get("x"), m.get("y"), m.get("z"), m.get("reason"), m.get("stamp"), m)
+        return GoalState(m["id"], m["phase"], m.get("x"), m.get("y"), m.get("z"), m.get("reason"), m.get("message"),
+                         m.get("stamp"), m)
 
 
 @dataclass(frozen=True)

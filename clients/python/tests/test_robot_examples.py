@@ -39,7 +39,8 @@ def test_a_goal_in_a_wall_is_refused_with_the_right_reason(yard, strata_operator
     stop_and_wait_for_map(strata_operator)
     outcome = strata_operator.set_goal(-9.9, -6.0).wait(timeout=30)  # in the west fence
     assert outcome.phase == "failed"
-    assert outcome.reason == "unreachable"
+    assert outcome.reason == "goal_not_drivable"
+    assert outcome.message.startswith("the goal is not a drivable place with room for the robot")
 
 
 def test_a_viewer_cannot_move_the_robot(strata_viewer, strata_operator):

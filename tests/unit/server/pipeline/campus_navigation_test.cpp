@@ -167,17 +167,27 @@ TEST(CampusNavigation, GoalOnTheRoadUnderTheBridgeIsReachedUnderIt) {
   EXPECT_LT(trip.truth().position.z(), 0.3);
 }
 
-TEST(CampusNavigation, GoalsInAWallOrOnTheStairsAreUnreachable) {
+TEST(CampusNavigation, GoalsInAWallOrOnTheStairsAreNoPlaceForTheRobot) {
   Trip trip(campus_with_spawn(46.0, 5.25, 0.45, 0.0), {43, 2, 53, 10});
   const GoalStatus in_wall = trip.drive_to({44.0, 3.9, {}}, 5.0);  // hallway-wall-south
   EXPECT_EQ(in_wall.phase, GoalPhase::kFailed);
-  EXPECT_EQ(in_wall.reason, "unreachable");
+  EXPECT_EQ(in_wall.reason, "goal_not_drivable");
+  // Where to go instead: the hallway floor beside the wall, as near as the robot's radius lets it.
+  const std::string instead = "; the nearest place the robot can reach is (";
+  const std::size_t at = in_wall.message.find(instead);
+  ASSERT_NE(at, std::string::npos) << in_wall.message;
+  double x = 0.0;
+  double y = 0.0;
+  ASSERT_EQ(std::sscanf(in_wall.message.c_str() + at + instead.size(), "%lf, %lf", &x, &y), 2);
+  EXPECT_NEAR(x, 44.0, 0.3);
+  EXPECT_GT(y, 4.0 + 0.45 - 0.05) << "the wall's face plus the robot's radius";
+  EXPECT_LT(y, 4.8);
   const GoalStatus on_stairs = trip.drive_to({50.05, 7.5, {}}, 5.0);  // the middle step
   EXPECT_EQ(on_stairs.phase, GoalPhase::kFailed);
-  EXPECT_EQ(on_stairs.reason, "unreachable");
+  EXPECT_EQ(on_stairs.reason, "goal_not_drivable");
   const GoalStatus top_step = trip.drive_to({49.7, 7.5, 0.45}, 5.0);  // the top step, at the landing's height
   EXPECT_EQ(top_step.phase, GoalPhase::kFailed);
-  EXPECT_EQ(top_step.reason, "unreachable");
+  EXPECT_EQ(top_step.reason, "goal_not_drivable");
   EXPECT_LT(trip.distance_to(46.0, 5.25), 0.05);  // the robot never moved
 }
 

@@ -91,10 +91,18 @@ TEST(Navigator, UnreachableGoalFails) {
   ASSERT_TRUE(navigator.set_goal({2.45, 0.05, 0.3}).ok);  // on a stair
   EXPECT_TRUE(navigator.plan_pending());
   EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kFailed);
-  EXPECT_EQ(navigator.goal_status().reason, "unreachable");
+  EXPECT_EQ(navigator.goal_status().reason, "goal_not_drivable");
+  // In words, with where the robot could go instead: the floor before the stairs.
+  const std::string& message = navigator.goal_status().message;
+  EXPECT_EQ(message.rfind("the goal is not a drivable place with room for the robot; the nearest place the "
+                          "robot can reach is (",
+                          0),
+            0U)
+      << message;
   ASSERT_TRUE(navigator.set_goal({40.0, 0.0, {}}).ok);
   EXPECT_TRUE(navigator.plan_pending());
   EXPECT_EQ(navigator.goal_status().reason, "off_map");
+  EXPECT_EQ(navigator.goal_status().message, "the goal is outside the known map");
 }
 
 TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops) {

@@ -28,9 +28,10 @@ TEST(GoalTracker, RefusesTransitionsOutOfOrder) {
   EXPECT_FALSE(tracker.driving(id, 1.0));  // not planned yet
   EXPECT_FALSE(tracker.reached(id, 1.0));
   EXPECT_EQ(tracker.status().phase, GoalPhase::kAccepted);
-  EXPECT_TRUE(tracker.fail(id, "unreachable", 1.0));
+  EXPECT_TRUE(tracker.fail(id, "no_connection", "no drivable connection to the goal", 1.0));
   EXPECT_EQ(tracker.status().phase, GoalPhase::kFailed);
-  EXPECT_EQ(tracker.status().reason, "unreachable");
+  EXPECT_EQ(tracker.status().reason, "no_connection");
+  EXPECT_EQ(tracker.status().message, "no drivable connection to the goal");
   EXPECT_FALSE(tracker.planning(id, 2.0));  // failed is final
   EXPECT_FALSE(tracker.cancel(2.0));
   EXPECT_EQ(tracker.status().phase, GoalPhase::kFailed);
@@ -48,7 +49,7 @@ TEST(GoalTracker, ANewGoalReplacesTheOldOne) {
   EXPECT_EQ(*tracker.status().target.z, 3.0);
   // A late answer for the replaced goal changes nothing.
   EXPECT_FALSE(tracker.driving(first, 0.3));
-  EXPECT_FALSE(tracker.fail(first, "unreachable", 0.3));
+  EXPECT_FALSE(tracker.fail(first, "no_connection", "no drivable connection to the goal", 0.3));
   EXPECT_EQ(tracker.status().phase, GoalPhase::kAccepted);
 }
 
