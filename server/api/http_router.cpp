@@ -97,12 +97,14 @@ std::optional<protocol::HttpResponse> HttpRouter::route_api(const protocol::Http
 
 std::optional<protocol::HttpResponse> HttpRouter::require_operator(
     const protocol::HttpRequest& request) const {
-  switch (auth::authenticate(request, services_.network.operator_token)) {
+  const auth::AuthOutcome outcome = auth::authenticate(request, services_.network.operator_token);
+  switch (outcome) {
     case auth::AuthOutcome::kOperator:
       return std::nullopt;
     case auth::AuthOutcome::kBadToken:
+    case auth::AuthOutcome::kWrongScheme:
       return error_response(request, http::status::unauthorized, ErrorCode::kUnauthorized,
-                            "the operator token is wrong");
+                            std::string(auth::refusal_reason(outcome)));
     case auth::AuthOutcome::kViewer:
       break;
   }

@@ -8,6 +8,7 @@
 
 #include "server/api/http_router.hpp"
 #include "server/api/responses.hpp"
+#include "server/auth/request_auth.hpp"
 #include "server/protocol/binary_frames.hpp"
 #include "server/protocol/client_messages.hpp"
 
@@ -180,8 +181,18 @@ protocol::HttpResponse HttpRouter::tile(const protocol::HttpRequest& request,
 }
 
 protocol::HttpResponse HttpRouter::maps(const protocol::HttpRequest& request, std::string_view rest) const {
-  if (auto refusal = require_operator(request))
-    return std::move(*refusal);
+  // Anyone may see which maps there are (a viewer, too); saving and loading need the operator. A token
+  // offered and wrong is refused either way: the page checks a token by listing.
+  const bool listing = rest.empty() && is_read(request);
+  const auth::AuthOutcome outcome = auth::authenticate(request, services_.network.operator_token);
+  if (listing && (outcome == auth::AuthOutcome::kBadToken || outcome == auth::AuthOutcome::kWrongScheme)) {
+    return error_response(request, http::status::unauthorized, ErrorCode::kUnauthorized,
+                          std::string(auth::refusal_reason(outcome)));
+  }
+  if (!listing) {
+    if (auto refusal = require_operator(request))
+      return std::move(*refusal);
+  }
   MapCommands* maps = services_.maps;
   if (maps == nullptr) {
     return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,

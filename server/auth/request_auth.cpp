@@ -20,15 +20,21 @@ bool iequals(std::string_view a, std::string_view b) {
   });
 }
 
-/// The token in an `Authorization: Bearer <token>` header, if there is such a header.
-std::optional<std::string_view> bearer_token(const protocol::HttpRequest& request) {
+/// The `Authorization` header's value, if there is one.
+std::optional<std::string_view> authorization(const protocol::HttpRequest& request) {
   const auto found = request.find(http::field::authorization);
   if (found == request.end())
     return std::nullopt;
-  const std::string_view value = trimmed(found->value());
+  return trimmed(found->value());
+}
+
+/// The token of an `Authorization: Bearer <token>` value; none for another scheme.
+std::optional<std::string_view> bearer_token(std::string_view value) {
   constexpr std::string_view kScheme = "bearer ";
+  if (iequals(value, kScheme.substr(0, kScheme.size() - 1)))
+    return std::string_view();  // the scheme with an empty token (the header's blanks are trimmed)
   if (value.size() < kScheme.size() || !iequals(value.substr(0, kScheme.size()), kScheme))
-    return std::string_view();  // another scheme: a token offered in a way we do not take counts as wrong
+    return std::nullopt;
   return trimmed(value.substr(kScheme.size()));
 }
 
@@ -121,13 +127,23 @@ bool is_valid_origin_pattern(std::string_view origin) {
   });
 }
 
+std::string_view refusal_reason(AuthOutcome outcome) {
+  if (outcome == AuthOutcome::kWrongScheme)
+    return "the operator token goes in an Authorization header of the Bearer scheme: Authorization: Bearer "
+           "<token>";
+  return "the operator token is wrong";
+}
+
 AuthOutcome authenticate(const protocol::HttpRequest& request, std::string_view operator_token) {
   const auto check = [operator_token](std::string_view token) {
     return !operator_token.empty() && constant_time_equal(token, operator_token) ? AuthOutcome::kOperator
                                                                                  : AuthOutcome::kBadToken;
   };
-  if (const auto token = bearer_token(request))
-    return check(*token);
+  if (const auto header = authorization(request)) {
+    // Another scheme is a token offered in a way we do not take: refused, never downgraded to watching.
+    const auto token = bearer_token(*header);
+    return token ? check(*token) : AuthOutcome::kWrongScheme;
+  }
   if (const auto token = subprotocol_token(request))
     return check(*token);
   // A stale cookie (the token changed since) should not lock a page out of watching: it only ever adds.

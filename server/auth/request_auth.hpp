@@ -14,7 +14,13 @@ enum class AuthOutcome {
   kViewer,    ///< no token offered (or only a cookie that does not match): may watch
   kOperator,  ///< the operator token, offered in one of the accepted ways
   kBadToken,  ///< a token was offered explicitly and it is wrong: refuse, do not silently downgrade
+  /// An Authorization header with another scheme than Bearer (`Token x`, `Basic ...`): refused like a
+  /// wrong token, with a reason that says which scheme to use.
+  kWrongScheme,
 };
+
+/// Why a request with `outcome` kBadToken or kWrongScheme is refused, in words for the client.
+[[nodiscard]] std::string_view refusal_reason(AuthOutcome outcome);
 
 /// The subprotocol prefix that carries a token on a WebSocket upgrade: browsers cannot set headers on a
 /// WebSocket, so the page offers "strata.v1, strata.token.<token>" (the server echoes only strata.v1).

@@ -111,11 +111,12 @@ void HttpSession<Stream>::upgrade_to_websocket() {
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kForbidden,
                                           "WebSocket connections from this page's origin are not allowed "
                                           "(the server's allowed-origins option)");
-  } else if (auth == auth::AuthOutcome::kBadToken) {
+  } else if (auth == auth::AuthOutcome::kBadToken || auth == auth::AuthOutcome::kWrongScheme) {
     // Refused rather than downgraded to watching: the client meant to operate and should know why it can't.
     context_->metrics.auth_failures.fetch_add(1, std::memory_order_relaxed);
     refusal = protocol::HttpResponse{http::status::unauthorized, request.version()};
-    refusal.body() = protocol::rest_error(protocol::ErrorCode::kUnauthorized, "the operator token is wrong");
+    refusal.body() =
+        protocol::rest_error(protocol::ErrorCode::kUnauthorized, std::string(auth::refusal_reason(auth)));
   } else if (auto slot = context_->websocket_clients.try_acquire()) {
     beast::get_lowest_layer(stream_).expires_never();  // the WebSocket stream has its own timeouts
     const auto role = auth == auth::AuthOutcome::kOperator ? auth::Role::kOperator : auth::Role::kViewer;

@@ -280,10 +280,24 @@ TEST_F(Router, MapDownloadsAndSavedMaps) {
   EXPECT_EQ(router_.handle(request(http::verb::get, "/api/v1/map?format=pgm&version=7x")).result(),
             http::status::bad_request);
 
-  EXPECT_EQ(router_.handle(request(http::verb::get, "/api/v1/maps")).result(), http::status::unauthorized);
+  // Anyone may list the saved maps; a token offered and wrong is refused (the page checks tokens so).
+  auto viewer_list = router_.handle(request(http::verb::get, "/api/v1/maps"));
+  ASSERT_EQ(viewer_list.result(), http::status::ok);
+  EXPECT_EQ(nlohmann::json::parse(viewer_list.body())["maps"][0]["name"], "known");
   auto list = router_.handle(operator_request(http::verb::get, "/api/v1/maps"));
   ASSERT_EQ(list.result(), http::status::ok);
-  EXPECT_EQ(nlohmann::json::parse(list.body())["maps"][0]["name"], "known");
+  auto wrong = request(http::verb::get, "/api/v1/maps");
+  wrong.set(http::field::authorization, "Bearer not-the-token");
+  EXPECT_EQ(router_.handle(wrong).result(), http::status::unauthorized);
+  // Saving and loading stay the operator's.
+  EXPECT_EQ(router_.handle(request(http::verb::post, "/api/v1/maps/known/load")).result(),
+            http::status::unauthorized);
+  // Another scheme than Bearer is told which to use.
+  auto scheme = request(http::verb::post, "/api/v1/goal");
+  scheme.set(http::field::authorization, std::string("Token ") + kToken);
+  const auto refused = router_.handle(scheme);
+  EXPECT_EQ(refused.result(), http::status::unauthorized);
+  EXPECT_NE(refused.body().find("Authorization: Bearer <token>"), std::string::npos) << refused.body();
 
   EXPECT_EQ(router_.handle(operator_request(http::verb::post, "/api/v1/maps", R"({"name":"../etc/passwd"})"))
                 .result(),

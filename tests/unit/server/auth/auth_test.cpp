@@ -57,8 +57,14 @@ TEST(RequestAuth, BearerHeader) {
   EXPECT_EQ(authenticate(request, kToken), AuthOutcome::kOperator);
   request.set(http::field::authorization, "Bearer nope");
   EXPECT_EQ(authenticate(request, kToken), AuthOutcome::kBadToken);
+  // Another scheme is refused too, and says which to use.
   request.set(http::field::authorization, "Basic dXNlcjpwYXNz");
-  EXPECT_EQ(authenticate(request, kToken), AuthOutcome::kBadToken);
+  EXPECT_EQ(authenticate(request, kToken), AuthOutcome::kWrongScheme);
+  request.set(http::field::authorization, "Token " + std::string(kToken));
+  EXPECT_EQ(authenticate(request, kToken), AuthOutcome::kWrongScheme);
+  EXPECT_NE(refusal_reason(AuthOutcome::kWrongScheme).find("Authorization: Bearer <token>"),
+            std::string_view::npos);
+  EXPECT_EQ(refusal_reason(AuthOutcome::kBadToken), "the operator token is wrong");
 }
 
 TEST(RequestAuth, SubprotocolCarriesTheTokenForBrowsers) {
