@@ -1,5 +1,7 @@
 #include "server/protocol/client_messages.hpp"
 
+#include <spdlog/fmt/fmt.h>
+
 #include <array>
 #include <cmath>
 #include <initializer_list>
@@ -48,7 +50,7 @@ double number(const json& message, const char* name, double limit, bool required
     throw Invalid{std::string("\"") + name + "\" must be a number"};
   const double value = found->get<double>();
   if (!std::isfinite(value) || std::abs(value) > limit)
-    throw Invalid{std::string("\"") + name + "\" must be a finite number within +-" + std::to_string(limit)};
+    throw Invalid{fmt::format("\"{}\" must be a finite number from -{:g} to {:g}", name, limit, limit)};
   return value;
 }
 

@@ -72,6 +72,14 @@ TEST(ClientMessages, EveryBadMessageGetsItsCode) {
   }
 }
 
+TEST(ClientMessages, ALimitIsSaidAsPeopleWriteIt) {
+  const auto parsed = parse_client_message(R"({"op":"teleop","v":10,"w":0})");
+  EXPECT_NE(parsed.error_message.find("\"v\" must be a finite number from -"), std::string::npos)
+      << parsed.error_message;
+  EXPECT_EQ(parsed.error_message.find("000000"), std::string::npos) << parsed.error_message;
+  EXPECT_EQ(parsed.error_message.find("+-"), std::string::npos) << parsed.error_message;
+}
+
 TEST(ClientMessages, MapNames) {
   EXPECT_TRUE(is_valid_map_name("a"));
   EXPECT_TRUE(is_valid_map_name("campus_2026-11-21.strata"));
