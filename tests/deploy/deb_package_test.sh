@@ -145,8 +145,8 @@ index="$(curl -fsS "$url/")"
 grep -qi '<!doctype html>' <<<"$index" || fail "the web app's index.html is not served"
 info="$(curl -fsS "$url/api/v1/info")"
 grep -q '"name":"strata"' <<<"$info" || fail "/api/v1/info: $info"
-[ "$(curl -s -o /dev/null -w '%{http_code}' "$url/api/v1/maps")" = 401 ] ||
-  fail "GET /api/v1/maps without the token is not refused"
+[ "$(curl -s -o /dev/null -w '%{http_code}' -d '{"name":"x.strata"}' "$url/api/v1/maps")" = 401 ] ||
+  fail "POST /api/v1/maps (a save) without the token is not refused"
 # Saving a map writes into the state directory as the strata user.
 status="$(curl -s -o "$work/save" -w '%{http_code}' -H "Authorization: Bearer $token" \
   -d '{"name":"deploy-test.strata"}' "$url/api/v1/maps")"

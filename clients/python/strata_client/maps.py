@@ -1,4 +1,4 @@
-"""Saving, loading, listing and downloading maps over REST (operator: save, load, list)."""
+"""Saving, loading, listing and downloading maps over REST (operator: save, load; anyone: list, download)."""
 
 from __future__ import annotations
 
@@ -27,7 +27,7 @@ class Maps:
 
     def list(self) -> list[SavedMap]:
         """The maps directory's maps that can be loaded."""
-        return [SavedMap.from_json(m) for m in self._rest.get_json("/api/v1/maps", operator=True)["maps"]]
+        return [SavedMap.from_json(m) for m in self._rest.get_json("/api/v1/maps")["maps"]]
 
     def save(self, name: str) -> None:
         """Saves the current map under `name` in the server's maps directory (atomic on the server)."""

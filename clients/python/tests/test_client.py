@@ -210,9 +210,10 @@ def test_rest_reads_match_the_schemas(strata_viewer):
     assert robot.rest.status().driver == "simulator"
     assert robot.rest.path().length >= 0
     assert "strata_ws_clients" in robot.rest.metrics()
-    with pytest.raises(StrataError) as listing:
-        robot.maps.list()  # a viewer may not list the saved maps
-    assert listing.value.code == "unauthorized"
+    assert isinstance(robot.maps.list(), list)  # a viewer may list the saved maps
+    with pytest.raises(StrataError) as loading:
+        robot.maps.load("none.strata")  # but not load one
+    assert loading.value.code == "unauthorized"
 
 
 def test_the_schema_checker_catches_a_message_that_breaks_its_schema(strata_protocol_checker):
