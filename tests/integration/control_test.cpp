@@ -67,8 +67,11 @@ TEST_F(Control, RestControlNeedsTheBearerToken) {
   auto wrong =
       http_request(port(), http::verb::post, "/api/v1/goal", R"({"x":1,"y":1})", "wrong-token-0000000");
   EXPECT_EQ(wrong.result(), http::status::unauthorized);
+  // Anyone may list the saved maps; loading one needs the token.
   auto maps = http_request(port(), http::verb::get, "/api/v1/maps");
-  EXPECT_EQ(maps.result(), http::status::unauthorized);
+  EXPECT_EQ(maps.result(), http::status::ok);
+  auto load = http_request(port(), http::verb::post, "/api/v1/maps/any.strata/load", "");
+  EXPECT_EQ(load.result(), http::status::unauthorized);
   auto bad =
       http_request(port(), http::verb::post, "/api/v1/goal", R"({"x":"far","y":1})", kTestOperatorToken);
   EXPECT_EQ(bad.result(), http::status::bad_request);
