@@ -5,6 +5,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -34,8 +35,11 @@ class AcceptingMaps : public strata::MapCommands {
   strata::CommandResult save_map(const std::string&) override { return strata::CommandResult::success(); }
   strata::CommandResult load_map(const std::string&) override { return strata::CommandResult::success(); }
   [[nodiscard]] std::vector<strata::MapFileInfo> list_maps() const override { return {{"known", 10, 1.0}}; }
-  [[nodiscard]] std::vector<std::uint8_t> download(const std::string& format) const override {
-    return {format.begin(), format.end()};
+  [[nodiscard]] strata::MapDownload download(const std::string& format,
+                                             std::optional<std::uint64_t> version) const override {
+    if (version && *version != 1)
+      return {.version = 1, .version_gone = true};
+    return {.bytes = {format.begin(), format.end()}, .version = 1};
   }
 };
 
