@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "core/mls/drivable_map.hpp"
-#include "core/mls/unseen_gaps.hpp"
 #include "core/mls/mls_map.hpp"
+#include "core/mls/unseen_gaps.hpp"
 #include "drivers/io/threedtk_reader.hpp"
 
 namespace strata {
