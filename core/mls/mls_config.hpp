@@ -30,6 +30,14 @@ struct MlsConfig {
   /// A horizontal patch is cleared only by rays that end at least this far above or below it: a ray that
   /// grazes a floor and lands on it a little further on did not see through the floor.
   double free_space_height_margin = 0.1;
+
+  // The ground the robot drives over (MlsMap::mark_driven). Not stored in map files: the marks are.
+  /// Radius around the robot's ground point marked as driven, metres: the ground under its body, inside
+  /// its wheels (small enough for the thesis's wheelchair, on the safe side for a car).
+  double driven_radius = 0.3;
+  /// A surface within this height of the robot's ground is the one it stands on, metres: localization's
+  /// height error plus the floor's noise.
+  double driven_tolerance = 0.15;
 };
 
 }  // namespace strata

@@ -19,7 +19,9 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "the native map format is written little-endian");
 
 constexpr char kMagic[8] = {'S', 'T', 'R', 'A', 'T', 'M', 'L', 'S'};
-constexpr std::uint32_t kFormatVersion = 1;
+/// 2: a flags byte per patch (MlsPatch::kDriven). Version 1 files (no flags) are still read.
+constexpr std::uint32_t kFormatVersion = 2;
+constexpr std::uint32_t kOldestFormatVersion = 1;
 constexpr std::size_t kHeaderBytes = sizeof(kMagic) + sizeof(std::uint32_t) + sizeof(std::uint64_t);
 constexpr std::size_t kChecksumBytes = sizeof(std::uint64_t);
 
@@ -102,6 +104,7 @@ std::string encode(const MlsMap& map) {
         put(patches, p.variance);
         put(patches, p.depth);
         put(patches, p.evidence);
+        put(patches, p.flags);
         ++count;
       });
       if (count > 255)
@@ -128,9 +131,9 @@ MlsMap decode(std::string_view data, const std::string& name) {
     reader.fail("not a Strata MLS map (bad magic)");
   reader.seek(sizeof(kMagic));
   const auto format = reader.get<std::uint32_t>();
-  if (format != kFormatVersion)
+  if (format < kOldestFormatVersion || format > kFormatVersion)
     reader.fail("unsupported format version " + std::to_string(format) + " (this build reads " +
-                std::to_string(kFormatVersion) + ")");
+                std::to_string(kOldestFormatVersion) + " to " + std::to_string(kFormatVersion) + ")");
   const auto declared = reader.get<std::uint64_t>();
   if (data.size() < declared)
     reader.fail("truncated: " + std::to_string(data.size()) + " bytes of " + std::to_string(declared));
@@ -196,8 +199,10 @@ MlsMap decode(std::string_view data, const std::string& name) {
         patch.variance = fields.get<float>();
         patch.depth = fields.get<float>();
         patch.evidence = fields.get<std::uint8_t>();
+        patch.flags = format >= 2 ? fields.get<std::uint8_t>() : std::uint8_t{0};
         if (!std::isfinite(patch.mean) || !std::isfinite(patch.variance) || !std::isfinite(patch.depth) ||
-            patch.depth < 0.0F || patch.variance < 0.0F || patch.evidence == 0 || patch.mean <= previous_top)
+            patch.depth < 0.0F || patch.variance < 0.0F || patch.evidence == 0 ||
+            patch.mean <= previous_top || (patch.flags & ~MlsPatch::kKnownFlags) != 0)
           fields.fail("invalid patch in tile (" + std::to_string(index.x) + ", " + std::to_string(index.y) +
                       ")");
         previous_top = patch.mean;

@@ -98,7 +98,8 @@ const MlsTile* MlsMap::find_tile(TileIndex tile) const {
   return it == tiles_.end() ? nullptr : it->second.get();
 }
 
-MlsInsertStats MlsMap::insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin) {
+MlsInsertStats MlsMap::insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
+                                   const std::optional<Eigen::Vector3d>& robot_ground) {
   ++version_;
   MlsInsertStats stats;
   stats.points = points.size();
@@ -135,6 +136,8 @@ MlsInsertStats MlsMap::insert_scan(const PointCloud& points, const Eigen::Vector
     if (!add_point(tile, local_index(cell), static_cast<float>(p.z()), static_cast<float>(sigma * sigma)))
       ++stats.points_dropped;
   }
+  if (robot_ground && stats.points_dropped < stats.points)  // a scan of nothing usable changes nothing
+    stats.driven_cells = mark_ground(*robot_ground, version_, static_cast<float>(sensor_origin.z()));
   return stats;
 }
 
@@ -210,6 +213,7 @@ void MlsMap::merge_into(MlsTile& tile, MlsTile::Handle lower, MlsTile::Handle up
   low.mean = top;
   low.depth = top - bottom;
   low.evidence = std::max(low.evidence, high.evidence);
+  low.flags |= high.flags;
   low.next = high.next;
   tile.release(upper);
 }
@@ -284,6 +288,107 @@ void MlsMap::trace_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end
       t_max_y += t_delta_y;
     }
   }
+}
+
+std::size_t MlsMap::mark_driven(const Eigen::Vector3d& ground) {
+  const std::size_t changed = mark_ground(ground, version_ + 1);
+  if (changed > 0)
+    ++version_;
+  return changed;
+}
+
+std::size_t MlsMap::mark_ground(const Eigen::Vector3d& ground, std::uint64_t version,
+                                std::optional<float> body_top) {
+  if (!usable(ground) || !(config_.driven_radius > 0.0))
+    return 0;
+  const auto z = static_cast<float>(ground.z());
+  const auto tolerance = static_cast<float>(config_.driven_tolerance);
+  const auto gamma = static_cast<float>(config_.gap);
+  const int reach = static_cast<int>(std::ceil(config_.driven_radius * inverse_resolution_));
+  const CellIndex centre = cell_of(ground.x(), ground.y());
+  const double radius_squared = config_.driven_radius * config_.driven_radius;
+  std::vector<CellIndex> footprint;
+  for (int dy = -reach; dy <= reach; ++dy)
+    for (int dx = -reach; dx <= reach; ++dx) {
+      const CellIndex cell{centre.x + dx, centre.y + dy};
+      if ((cell_center(cell) - ground.head<2>()).squaredNorm() <= radius_squared)
+        footprint.push_back(cell);
+    }
+  // The ground where the scanner did not see it is as high as where it did: the median of the surfaces
+  // found at the robot's ground, else the robot's own estimate. Measured heights are the better ones (the
+  // pose's height drifts), and one footprint at two heights would be a step the robot cannot climb.
+  std::vector<float> seen;
+  for (const CellIndex& cell : footprint) {
+    const MlsTile* tile = find_tile(tile_of(cell));
+    if (tile != nullptr)
+      tile->for_each_patch(local_index(cell), [&](const MlsPatch& patch) {
+        if (!patch.vertical() && std::abs(patch.top() - z) <= tolerance)
+          seen.push_back(patch.top());
+      });
+  }
+  float fill = z;
+  if (!seen.empty()) {
+    const auto middle = seen.begin() + static_cast<std::ptrdiff_t>(seen.size() / 2);
+    std::nth_element(seen.begin(), middle, seen.end());
+    fill = *middle;
+  }
+  std::size_t changed = 0;
+  for (const CellIndex& cell : footprint) {
+    MlsTile& tile = tile_for(tile_of(cell));  // a new tile always gets the patch below
+    MlsTile::Handle& head = tile.first[static_cast<std::size_t>(local_index(cell))];
+    bool cell_changed = false;
+    if (body_top) {
+      // Where the robot stands nothing else is: what lies wholly between its ground and its sensor is
+      // its own body (a car's bonnet, seen by the lidar on its roof) or something that has moved away.
+      for (MlsTile::Handle* link = &head; *link != 0;) {
+        const MlsPatch& patch = tile.at(*link);
+        if (patch.bottom() > z + tolerance && patch.top() <= *body_top && !patch.driven()) {
+          const MlsTile::Handle gone = *link;
+          *link = patch.next;
+          tile.release(gone);
+          cell_changed = true;
+          continue;
+        }
+        link = &tile.at(*link).next;
+      }
+    }
+    MlsTile::Handle standing = 0;
+    MlsTile::Handle insert_after = 0;
+    bool in_the_way = false;
+    for (MlsTile::Handle h = head; h != 0; h = tile.at(h).next) {
+      const MlsPatch& patch = tile.at(h);
+      if (std::abs(patch.top() - z) <= tolerance)
+        standing = h;
+      else if (patch.top() < fill)
+        insert_after = h;
+      else if (patch.bottom() - fill < gamma)
+        in_the_way = true;  // a surface just above the ground, or reaching through it
+    }
+    if (standing != 0) {
+      MlsPatch& patch = tile.at(standing);
+      cell_changed = cell_changed || !patch.driven();
+      patch.flags |= MlsPatch::kDriven;
+    } else if (!in_the_way && (insert_after == 0 || fill - tile.at(insert_after).top() >= gamma)) {
+      // A gap the robot's ground can sit in (elsewhere the measurements are left be): a new patch.
+      MlsPatch fresh;
+      fresh.mean = fill;
+      fresh.variance = tolerance * tolerance;
+      fresh.evidence = static_cast<std::uint8_t>(config_.max_evidence);  // the wheels are on it
+      fresh.flags = MlsPatch::kDriven;
+      const MlsTile::Handle handle = tile.allocate(fresh);
+      if (handle != 0) {
+        MlsTile::Handle& link = insert_after == 0 ? head : tile.at(insert_after).next;
+        tile.at(handle).next = link;
+        link = handle;
+        cell_changed = true;
+      }
+    }
+    if (cell_changed) {
+      ++changed;
+      tile.version = version;
+    }
+  }
+  return changed;
 }
 
 std::vector<MlsPatch> MlsMap::patches(CellIndex cell) const {
@@ -364,7 +469,8 @@ bool MlsMap::same_content(const MlsMap& other) const {
         const MlsPatch& q = theirs.at(g);
         if (std::memcmp(&p.mean, &q.mean, sizeof(float)) != 0 ||
             std::memcmp(&p.variance, &q.variance, sizeof(float)) != 0 ||
-            std::memcmp(&p.depth, &q.depth, sizeof(float)) != 0 || p.evidence != q.evidence)
+            std::memcmp(&p.depth, &q.depth, sizeof(float)) != 0 || p.evidence != q.evidence ||
+            p.flags != q.flags)
           return false;
       }
       if (h != 0 || g != 0)

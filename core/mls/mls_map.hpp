@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <unordered_map>
 #include <vector>
 
@@ -34,6 +35,7 @@ struct MlsInsertStats {
   std::size_t cells_visited_by_rays = 0;
   std::size_t patches_cleared = 0;  ///< removed because rays passed through them
   std::size_t points_dropped = 0;   ///< not finite, too near, too far, or a tile's pool was full
+  std::size_t driven_cells = 0;     ///< cells newly marked as ground the robot stood on
 };
 
 /// Multi-Level Surface map (Triebel, Pfaff, Burgard 2006): an unbounded 2D grid of cells in tiles kept in
@@ -52,11 +54,24 @@ class MlsMap {
   /// measured from (map frame). First traces a subsample of the rays to fade surfaces they pass through,
   /// then updates the patches with every point. Increments version() once; every tile it changes gets
   /// the new version.
-  MlsInsertStats insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin);
+  /// `robot_ground`, if given: where the robot stood when it took the scan; the ground under it is marked
+  /// driven (mark_driven) under the scan's version, unless the scan had no usable point, and what the scan
+  /// put between that ground and the sensor within the robot's footprint (its own body) is removed.
+  MlsInsertStats insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
+                             const std::optional<Eigen::Vector3d>& robot_ground = std::nullopt);
+
+  /// The robot stands at `ground` (map frame, the point between its wheels): the cells within
+  /// MlsConfig::driven_radius of it are ground it drove over. Each gets its surface at that height marked
+  /// MlsPatch::kDriven: the horizontal patch (or the top of a low vertical one) within driven_tolerance,
+  /// else a new horizontal patch there, since scanners rarely see the ground under the robot. A cell whose
+  /// patches leave no room for one (something within `gap` of the ground that is not ground) is left as
+  /// it is. Returns the cells changed; when any, version() increments once and their tiles get it.
+  std::size_t mark_driven(const Eigen::Vector3d& ground);
 
   [[nodiscard]] const MlsConfig& config() const { return config_; }
   [[nodiscard]] double resolution() const { return config_.resolution; }
-  /// Incremented by every insert_scan; tile versions are values of it.
+  /// Incremented by every insert_scan (and mark_driven that changed something); tile versions are values
+  /// of it.
   [[nodiscard]] std::uint64_t version() const { return version_; }
 
   [[nodiscard]] CellIndex cell_of(double x, double y) const;
@@ -98,6 +113,10 @@ class MlsMap {
   MlsTile& tile_for(TileIndex tile);
 
   bool add_point(MlsTile& tile, int local, float z, float variance);
+  /// mark_driven's work; the tiles it changes get `version`. With `body_top`, the patches in the footprint
+  /// wholly between the ground and that height are removed first: the robot's own body.
+  std::size_t mark_ground(const Eigen::Vector3d& ground, std::uint64_t version,
+                          std::optional<float> body_top = std::nullopt);
   void trace_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end, MlsInsertStats& stats);
   void merge_into(MlsTile& tile, MlsTile::Handle lower, MlsTile::Handle upper);
 

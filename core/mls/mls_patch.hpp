@@ -13,9 +13,15 @@ struct MlsPatch {
   float depth = 0.0F;         ///< 0: horizontal; > 0: vertical, reaching this far below `mean`
   std::uint16_t next = 0;     ///< handle of the next higher patch in the cell, 0 = none (pool-internal)
   std::uint8_t evidence = 0;  ///< hits minus pass-through rays, saturating; removed at 0
-  std::uint8_t reserved = 0;
+  std::uint8_t flags = 0;     ///< kDriven, ...
+
+  /// The robot stood on this surface (MlsMap::mark_driven): ground its wheels found, whether or not a
+  /// scanner saw it. Traversable whatever the neighbours suggest.
+  static constexpr std::uint8_t kDriven = 1U;
+  static constexpr std::uint8_t kKnownFlags = kDriven;
 
   [[nodiscard]] bool vertical() const { return depth > 0.0F; }
+  [[nodiscard]] bool driven() const { return (flags & kDriven) != 0; }
   [[nodiscard]] float top() const { return mean; }
   [[nodiscard]] float bottom() const { return mean - depth; }
 };

@@ -44,7 +44,10 @@ SurfaceGrid::SurfaceGrid(const MlsMap& map, const CellRegion& region, const Trav
       begin_.push_back(static_cast<std::uint32_t>(surfaces_.size()));
       if (tile != nullptr)
         tile->for_each_patch(MlsMap::local_index(index), [&](const MlsPatch& patch) {
-          surfaces_.push_back({patch.top(), patch.bottom(), patch.vertical(), false});
+          surfaces_.push_back({.top = patch.top(),
+                               .bottom = patch.bottom(),
+                               .vertical = patch.vertical(),
+                               .driven = patch.driven()});
         });
     }
   }
@@ -221,6 +224,10 @@ void SurfaceGrid::classify() {
         Surface& s = surfaces_[i];
         if (s.vertical)
           continue;
+        if (s.driven) {
+          s.traversable = true;
+          continue;
+        }
         if (i + 1 < end && surfaces_[i + 1].bottom - s.top < robot_height)
           continue;  // the patch above leaves too little room
         const double gx = axis_gradient(col, row, 1, 0, s.top);

@@ -52,7 +52,7 @@ struct CellRegion {
 
 /// The patches of a region flattened into arrays (one hash lookup per tile, then plain indexing), each
 /// classified as traversable or not: horizontal, clearance to the patch above at least robot_height, and
-/// the local slope, from the patches two cells away on each axis, at most max_slope.
+/// the local slope, from the patches two cells away on each axis, at most max_slope; or driven over.
 class SurfaceGrid {
  public:
   struct Surface {
@@ -62,6 +62,9 @@ class SurfaceGrid {
     bool traversable = false;
     /// Not measured: inferred where the scanner left a gap (core/mls/unseen_gaps.hpp).
     bool inferred = false;
+    /// The robot stood on it (MlsPatch::kDriven): traversable whatever the slope estimate or the patch above
+    /// say, so the robot never strands itself on a map that misreads the ground it is on.
+    bool driven = false;
   };
 
   SurfaceGrid(const MlsMap& map, const CellRegion& region, const TraversabilityConfig& config);

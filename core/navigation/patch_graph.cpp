@@ -132,8 +132,10 @@ void PatchGraph::link(const TraversabilityConfig& config) {
           for (int j = 1; j <= look_ahead; ++j) {
             const int c2 = col + j * kDirections[d][0];
             const int r2 = row + j * kDirections[d][1];
-            if (j > 1 && meet(c2, r2, top) != kNone)
-              break;  // the ground goes on past the gap
+            // The ground goes on past the gap; or, a step away, diagonally across a corner the robot may not
+            // cut: the ground a corner cell holds is no edge (the sides say whether something is there).
+            if (meet(c2, r2, top) != kNone)
+              break;
             if (seen_at(c2, r2, top)) {
               const float distance = side + static_cast<float>((j - 1) * step_length(d) * resolution_);
               edge_seed_[node] = std::min(edge_seed_[node], distance);

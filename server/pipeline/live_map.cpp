@@ -45,7 +45,8 @@ MappingTimes LiveMap::add_scan(const PointCloud& points, const Eigen::Vector3d& 
   received_at_ = received_at;
   const std::uint64_t before = map_.version();
   const auto start = Clock::now();
-  map_.insert_scan(points, sensor_origin);
+  // With the ground under the robot marked driven: it never strands itself (issue 21).
+  map_.insert_scan(points, sensor_origin, robot_ground);
   times.insert_ms = ms_since(start);
   robot_ground_ = robot_ground;
   refresh(changed_region(map_, before, robot_ground), before, times);

@@ -35,7 +35,8 @@ MlsMap MapRebuilder::build(const std::vector<KeyframePose>& keyframes) const {
     points.reserve(keyframe->map_points.size());
     for (const Eigen::Vector3f& p : keyframe->map_points)
       points.push_back(pose * p.cast<double>());
-    map.insert_scan(points, pose * keyframe->sensor_origin);
+    // The base frame's origin is the ground under the robot.
+    map.insert_scan(points, pose * keyframe->sensor_origin, pose.translation());
   }
   return map;
 }

@@ -144,6 +144,41 @@ std::string resealed(std::string bytes, std::size_t offset, const std::string& c
   return bytes;
 }
 
+TEST_F(MlsFileTest, DrivenMarksSurviveTheFileAndVersion1FilesStillLoad) {
+  MlsMap map;
+  map.mark_driven({0.05, 0.05, 0.0});
+  ASSERT_GT(map.patch_count(), 1U);
+  const MlsMap loaded = deserialize_mls_map(serialize_mls_map(map), "driven.smls");
+  EXPECT_TRUE(loaded.same_content(map));
+  EXPECT_TRUE(loaded.patches(loaded.cell_of(0.05, 0.05))[0].driven());
+
+  // One patch in one tile, written in format 2, then rewritten as format 1 (no flags byte): it loads,
+  // unmarked. Patches start after the header (112), the tile's x, y, version, total (20) and counts.
+  MlsMap one;
+  one.insert_scan({{0.05, 0.05, 0.0}}, {0, 0, 1});
+  std::string bytes = serialize_mls_map(one);
+  constexpr std::size_t kFlags = 112 + 20 + kMlsTileCells + 13;
+  ASSERT_EQ(bytes.size(), kFlags + 1 + 8);
+  EXPECT_THROW(static_cast<void>(deserialize_mls_map(resealed(bytes, kFlags, "\x80"), "bad.smls")),
+               MlsFileError)
+      << "a flag this build does not know";
+  bytes.erase(kFlags, 1);
+  const std::uint32_t version1 = 1;
+  const std::uint64_t size = bytes.size();
+  bytes.replace(8, 4, std::string(reinterpret_cast<const char*>(&version1), 4));
+  bytes.replace(12, 8, std::string(reinterpret_cast<const char*>(&size), 8));
+  const MlsMap old = deserialize_mls_map(resealed(bytes, 0, ""), "old.smls");
+  EXPECT_TRUE(old.same_content(one));
+  const std::uint32_t version3 = 3;
+  bytes.replace(8, 4, std::string(reinterpret_cast<const char*>(&version3), 4));
+  try {
+    static_cast<void>(deserialize_mls_map(resealed(bytes, 0, ""), "new.smls"));
+    ADD_FAILURE() << "loaded a format from the future";
+  } catch (const MlsFileError& error) {
+    EXPECT_NE(std::string(error.what()).find("reads 1 to 2"), std::string::npos) << error.what();
+  }
+}
+
 // Found by fuzzing: a tile index whose cells overflow int (undefined behaviour computing the cell index).
 TEST_F(MlsFileTest, TileIndexOutOfRangeIsRejected) {
   const std::string bytes = serialize_mls_map(scene_map());

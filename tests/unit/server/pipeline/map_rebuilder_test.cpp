@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include "tests/support/wall_keyframes.hpp"
 
 namespace strata::pipeline {
@@ -55,6 +57,22 @@ TEST(MapRebuilder, TheRebuiltMapHasOneWallWhereTheLiveMapHadTwo) {
   EXPECT_EQ(rebuilder.moves(corrected).moved, 1U);
   rebuilder.landed(corrected);
   EXPECT_EQ(rebuilder.moves(corrected).moved, 0U) << "the map has them where they are now";
+}
+
+TEST(MapRebuilder, TheGroundTheRobotDroveIsMarkedWhereTheKeyframesAreNow) {
+  // The robot stood at each keyframe's base origin: that ground goes into the rebuilt map at the corrected
+  // pose, so the robot is never left on a map without ground under it after a rebuild.
+  const KeyframePtr first = room_keyframe(Eigen::Isometry3d::Identity(), 1.0);
+  const KeyframePtr second = room_keyframe(shifted(0.3), 2.0);
+  const MlsMap map =
+      MapRebuilder(MlsConfig{}).build({{first, Eigen::Isometry3d::Identity()}, {second, shifted(-1.0)}});
+  const auto driven_at = [&](double x) {
+    const std::vector<MlsPatch> patches = map.patches(map.cell_of(x, 0.05));
+    return std::ranges::any_of(patches, [](const MlsPatch& p) { return p.driven(); });
+  };
+  EXPECT_TRUE(driven_at(0.05));
+  EXPECT_TRUE(driven_at(-0.95));
+  EXPECT_FALSE(driven_at(0.35)) << "where the drifted pose had it";
 }
 
 }  // namespace

@@ -1,0 +1,222 @@
+// The ground the robot drives over (MlsMap::mark_driven): the robot never strands itself on a map that does
+// not show the ground it stands on (issue 21).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "core/mls/drivable_map.hpp"
+#include "core/mls/mls_map.hpp"
+#include "core/navigation/patch_graph_planner.hpp"
+#include "tests/support/navigation_scenes.hpp"
+#include "tests/unit/core/mls/mls_scenes.hpp"
+
+namespace strata {
+namespace {
+
+MlsConfig scene_config() {
+  MlsConfig config;
+  config.free_space_ray_stride = 0;  // hand-made scenes have no occlusion
+  return config;
+}
+
+CellRegion around(const MlsMap& map, double half) {
+  const CellIndex lo = map.cell_of(-half, -half);
+  const CellIndex hi = map.cell_of(half, half);
+  return {lo, hi.x - lo.x + 1, hi.y - lo.y + 1};
+}
+
+Occupancy at(const DrivableMap& drivable, double x, double y) {
+  return drivable.grid.at_position(x, y);
+}
+
+bool connected_at(const DrivableMap& drivable, double x, double y) {
+  return drivable.connected[drivable.grid.index(drivable.grid.cell_of({x, y}))] != 0;
+}
+
+/// A car's lidar 2.15 m up sees flat ground only from 3.7 m out: floor in an annulus, nothing nearer.
+MlsMap blind_circle_scene() {
+  MlsMap map(scene_config());
+  PointCloud cloud;
+  for (double x = -8.0; x < 8.0; x += 0.04)
+    for (double y = -8.0; y < 8.0; y += 0.04)
+      if (std::hypot(x, y) >= 3.7)
+        cloud.emplace_back(x, y, 0.0);
+  map.insert_scan(cloud, {0, 0, 2.15});
+  return map;
+}
+
+TEST(DrivenGround, TheRobotStandsOnGroundItsScannerNeverSaw) {
+  MlsMap map = blind_circle_scene();
+  const TraversabilityConfig traversability;
+  const Eigen::Vector3d robot(0, 0, 0);
+  const DrivableMap before = compute_drivable_map(map, traversability, robot, around(map, 8));
+  EXPECT_FALSE(before.start_found);
+  EXPECT_EQ(before.free_cells, 0U) << "no level known: nothing free";
+
+  const std::uint64_t version = map.version();
+  const std::size_t marked = map.mark_driven(robot);
+  // The cells whose centres lie within 0.3 m: about pi * 3^2 of them.
+  EXPECT_GT(marked, 24U);
+  EXPECT_LT(marked, 34U);
+  EXPECT_EQ(map.version(), version + 1);
+  const std::vector<MlsPatch> under = map.patches(map.cell_of(0.05, 0.05));
+  ASSERT_EQ(under.size(), 1U);
+  EXPECT_TRUE(under[0].driven());
+  EXPECT_FALSE(under[0].vertical());
+  EXPECT_FLOAT_EQ(under[0].mean, 0.0F);
+  EXPECT_TRUE(map.patches(map.cell_of(0.45, 0.0)).empty()) << "beyond the radius: still unseen";
+
+  const DrivableMap after = compute_drivable_map(map, traversability, robot, around(map, 8));
+  ASSERT_TRUE(after.start_found);
+  EXPECT_EQ(at(after, 0.05, 0.05), Occupancy::free);
+  EXPECT_TRUE(connected_at(after, 0.05, 0.05));
+  // The level is known now, so the seen floor at that level is free (not connected: 3.4 m unseen between).
+  EXPECT_EQ(at(after, 5.0, 0.0), Occupancy::free);
+  EXPECT_FALSE(connected_at(after, 5.0, 0.0));
+  EXPECT_EQ(at(after, 2.0, 0.0), Occupancy::unknown) << "the blind circle stays unknown";
+  EXPECT_GT(after.free_cells, 15000U);
+}
+
+TEST(DrivenGround, MarksTheFloorItFindsAndChangesNothingTwice) {
+  MlsMap map(scene_config());
+  PointCloud cloud;
+  test::add_plane(cloud, -1, 1, -1, 1, 0.03);
+  map.insert_scan(cloud, {0, 0, 1});
+  const std::size_t patches = map.patch_count();
+  const std::uint64_t version = map.version();
+
+  EXPECT_GT(map.mark_driven({0, 0, 0}), 24U);
+  EXPECT_EQ(map.patch_count(), patches) << "the measured floor is what it stands on: no new patches";
+  EXPECT_EQ(map.version(), version + 1);
+  EXPECT_FALSE(map.tiles_changed_since(version).empty());
+  const std::vector<MlsPatch> under = map.patches(map.cell_of(0.05, -0.05));
+  ASSERT_EQ(under.size(), 1U);
+  EXPECT_TRUE(under[0].driven());
+  EXPECT_NEAR(under[0].mean, 0.03, 0.01) << "the measured height stays";
+  EXPECT_FALSE(map.patches(map.cell_of(0.55, 0.0))[0].driven());
+
+  EXPECT_EQ(map.mark_driven({0.01, 0, 0.02}), 0U) << "marked already";
+  EXPECT_EQ(map.version(), version + 1) << "nothing changed, no new version (no tiles to re-encode)";
+  EXPECT_EQ(map.mark_driven({0, 0, std::numeric_limits<double>::quiet_NaN()}), 0U);
+}
+
+TEST(DrivenGround, AScanMarksWhereTheRobotStoodUnderItsOwnVersion) {
+  MlsMap map(scene_config());
+  PointCloud far;
+  test::add_plane(far, 4, 6, -1, 1, 0.0);
+  const MlsInsertStats stats = map.insert_scan(far, {0, 0, 1}, Eigen::Vector3d(0, 0, 0));
+  EXPECT_EQ(map.version(), 1U) << "one scan, one version";
+  EXPECT_GT(stats.driven_cells, 24U);
+  EXPECT_EQ(map.find_tile(map.tile_of(map.cell_of(0.05, 0.05)))->version, 1U);
+
+  // A scan of nothing usable (a sensor fault) changes nothing, the ground under the robot included.
+  const std::size_t patches = map.patch_count();
+  const MlsInsertStats nothing = map.insert_scan({{std::numeric_limits<double>::quiet_NaN(), 0, 0}},
+                                                 {0, 0, 1}, Eigen::Vector3d(3, 0, 0));
+  EXPECT_EQ(nothing.driven_cells, 0U);
+  EXPECT_EQ(map.patch_count(), patches);
+}
+
+TEST(DrivenGround, TheRobotsOwnBodyIsNoObstacleWhereItStands) {
+  // A lidar on a car's roof (2.15 m) sees the bonnet 0.8 m up around it, and no ground within 3.7 m: the
+  // bonnet's patches are the car itself, gone once the ground it stands on is marked; beyond the
+  // footprint, what the scan saw stays.
+  MlsMap map(scene_config());
+  PointCloud scan;
+  test::add_plane(scan, -0.4, 0.4, -0.4, 0.4, 0.8);  // the bonnet, a little wider than the footprint
+  test::add_plane(scan, 4, 6, -1, 1, 0.0);           // the road far out
+  map.insert_scan(scan, {0, 0, 2.15}, Eigen::Vector3d(0, 0, 0));
+  const std::vector<MlsPatch> under = map.patches(map.cell_of(0.05, 0.05));
+  ASSERT_EQ(under.size(), 1U);
+  EXPECT_TRUE(under[0].driven());
+  EXPECT_FLOAT_EQ(under[0].mean, 0.0F);
+  EXPECT_EQ(map.patches(map.cell_of(0.35, 0.35)).size(), 1U) << "outside the footprint: kept";
+  EXPECT_FALSE(map.patches(map.cell_of(0.35, 0.35))[0].driven());
+}
+
+TEST(DrivenGround, TheUnseenFootprintTakesTheHeightOfTheGroundSeenInIt) {
+  // The pose's height is 12 cm above the floor the scanner saw in part of the footprint: the unseen rest
+  // is put at the floor's height, not the pose's, or the footprint would be a step the robot cannot climb.
+  MlsMap map(scene_config());
+  PointCloud floor;
+  test::add_plane(floor, 0.0, 1.0, -1.0, 1.0, -0.12);
+  map.insert_scan(floor, {0, 0, 1});
+  map.mark_driven({0, 0, 0});
+  EXPECT_NEAR(map.patches(map.cell_of(-0.15, 0.05))[0].mean, -0.12, 0.01) << "unseen, put at the floor";
+  EXPECT_NEAR(map.patches(map.cell_of(0.15, 0.05))[0].mean, -0.12, 0.01) << "seen";
+}
+
+TEST(DrivenGround, LeavesWallsAndLowOverhangsAsTheyWereMeasured) {
+  MlsMap map(scene_config());
+  PointCloud cloud;
+  test::add_plane(cloud, -1, 1, -1, 1, 0.0);
+  test::add_vertical_face(cloud, 0.21, -1, 0.21, 1, 0.0, 2.0);  // a wall 0.2 m from the robot's centre
+  test::add_plane(cloud, -1, -0.15, -0.1, 0.1, 0.6);            // a shelf 0.6 m up, its edge 0.15 m away
+  map.insert_scan(cloud, {0, 0, 1});
+  const MlsMap measured = [&] {
+    MlsMap copy(scene_config());
+    copy.insert_scan(cloud, {0, 0, 1});
+    return copy;
+  }();
+
+  map.mark_driven({0, 0, 0});
+  EXPECT_EQ(map.patch_count(), measured.patch_count());
+  const std::vector<MlsPatch> wall = map.patches(map.cell_of(0.25, 0.0));
+  ASSERT_EQ(wall.size(), 1U);
+  EXPECT_TRUE(wall[0].vertical());
+  EXPECT_FALSE(wall[0].driven()) << "a wall is no ground to stand on";
+  // Under the shelf the floor and the shelf merged into one structure (gap rule): not the robot's ground.
+  for (const MlsPatch& patch : map.patches(map.cell_of(-0.25, 0.0)))
+    EXPECT_FALSE(patch.driven());
+  EXPECT_TRUE(map.patches(map.cell_of(0.05, 0.05))[0].driven()) << "the floor between is";
+}
+
+TEST(DrivenGround, DrivenGroundIsTraversableWhereTheMeasurementsSayNot) {
+  // A low ceiling measured over the robot (a mast, a door frame seen from below at a grazing angle): the
+  // classification says too little room; the robot is there, so there is room.
+  MlsMap map(scene_config());
+  PointCloud cloud;
+  test::add_plane(cloud, -1, 1, -1, 1, 0.0);
+  test::add_plane(cloud, -0.5, 0.5, -0.5, 0.5, 1.9);
+  map.insert_scan(cloud, {0, 0, 1});
+  TraversabilityConfig traversability;
+  traversability.robot_height = 2.0;
+  const SurfaceGrid before(map, around(map, 1), traversability);
+  const auto [col, row] = before.local(map.cell_of(0.05, 0.05));
+  EXPECT_FALSE(before.surfaces(before.cell(col, row))[0].traversable);
+
+  map.mark_driven({0, 0, 0});
+  const SurfaceGrid after(map, around(map, 1), traversability);
+  const auto surfaces = after.surfaces(after.cell(col, row));
+  ASSERT_EQ(surfaces.size(), 2U);
+  EXPECT_TRUE(surfaces[0].driven);
+  EXPECT_TRUE(surfaces[0].traversable);
+  EXPECT_FALSE(surfaces[1].driven) << "the ceiling";
+  const auto [edge_col, edge_row] = after.local(map.cell_of(0.45, 0.45));
+  EXPECT_FALSE(after.surfaces(after.cell(edge_col, edge_row))[0].traversable) << "not driven there";
+}
+
+TEST(DrivenGround, TheTrackItDroveLeadsBackWhereItCameFrom) {
+  // A joystick drive over ground the scanner never showed (a lidar's blind circle, a tilting scanner looking
+  // the other way): 6 m of track, nothing else. The robot at its end can drive back along it.
+  MlsMap map(scene_config());
+  for (double x = 0.0; x <= 6.0; x += 0.1)
+    map.mark_driven({x, 0.0, 0.02 * x});  // 2 % up
+  const TraversabilityConfig traversability;
+  const Eigen::Vector3d robot(6.0, 0.0, 0.12);
+  const DrivableMap drivable = compute_drivable_map(map, traversability, robot, around(map, 7));
+  ASSERT_TRUE(drivable.start_found);
+  EXPECT_TRUE(connected_at(drivable, 0.05, 0.05));
+  EXPECT_EQ(at(drivable, 3.0, 1.0), Occupancy::unknown);
+
+  const PatchGraph graph = test::graph_of(map);
+  const PatchPath back = plan_on_patches(graph, robot, {.x = 0.0, .y = 0.0});
+  ASSERT_TRUE(back.found()) << describe(back.status);
+  EXPECT_NEAR(back.length, 6.0, 0.2);
+  EXPECT_EQ(plan_on_patches(graph, robot, {.x = 3.0, .y = 2.0}).status, PatchPlanStatus::goal_off_map)
+      << "beside the track is still unseen";
+}
+
+}  // namespace
+}  // namespace strata
