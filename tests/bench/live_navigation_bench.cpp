@@ -6,13 +6,15 @@
 // measurement, "key=value" separated by spaces.
 //
 //   strata_live_navigation_bench [--world yard|campus] [--scanner tilting|lidar] [--seconds S]
-//                                [--spacing M] [--max-gap M] [--ascii FILE] [--map FILE --at X,Y,Z]
+//                                [--spacing M] [--max-gap M] [--track 0|1] [--ascii FILE]
+//                                [--map FILE --at X,Y,Z]
 //
 //   --max-gap: the longest unseen gap inferred as ground (0: none)
+//   --track: 1 (default) marks the ground the robot drove over, as the live map does; 0 does not
 //   --map, --at: a map saved by the server, and where the robot stands on it, instead of a simulated drive
 //   map     scans mapped, cells and patches of the live map, graph nodes, ms to build the graph
 //   goals   per distance band from the robot: goals tried, reached, and why the others failed;
-//           then all bands, with the median and longest planning time
+//           then 2-20 m (issue 21's band), then all bands, with the median and longest planning time
 //   --ascii writes the live patch graph as text, north up: '.' room for the robot (':' on ground inferred
 //           across an unseen gap), ',' drivable without room, '#' not drivable, ' ' unseen,
 //           'o' goal planned, 'x' goal failed, 'R' the robot
@@ -43,6 +45,7 @@ struct Options {
   double seconds = 30.0;
   double spacing = 0.5;
   double max_gap = UnseenGapConfig{}.max_gap;
+  bool track = true;
   std::string ascii;
   std::string map;              ///< a saved map instead of a simulated drive (with `at`)
   Eigen::Vector3d at{0, 0, 0};  ///< where the robot stands on that map
@@ -63,6 +66,8 @@ Options parse(int argc, char** argv) {
       options.spacing = std::atof(value);
     else if (key == "--max-gap")
       options.max_gap = std::atof(value);
+    else if (key == "--track")
+      options.track = std::atoi(value) != 0;
     else if (key == "--ascii")
       options.ascii = value;
     else if (key == "--map")
@@ -123,7 +128,7 @@ int main(int argc, char** argv) {
   for (double t = 0.0; options.map.empty() && t < options.seconds; t += 0.1) {
     simulator.step(0.1);
     for (const ScanEvent& scan : simulator.take_scans()) {
-      test::map_at_truth(live, scan);
+      test::map_at_truth(live, scan, 0.3, options.track);
       ++scans;
     }
   }
@@ -144,7 +149,7 @@ int main(int argc, char** argv) {
       live.patch_count(), seen.node_count(), build_ms, robot.x(), robot.y(), robot.z());
 
   const std::vector<test::SeenGoal> goals = test::plan_to_seen_goals(*world, seen, robot, options.spacing);
-  constexpr std::array<double, 5> kBands{3.0, 6.0, 10.0, 15.0, 1e9};
+  constexpr std::array<double, 6> kBands{2.0, 5.0, 10.0, 15.0, 20.0, 1e9};
   std::array<Band, kBands.size()> bands;
   std::vector<double> plan_ms;
   for (const test::SeenGoal& goal : goals) {
@@ -159,6 +164,8 @@ int main(int argc, char** argv) {
   }
   int all_tried = 0;
   int all_reached = 0;
+  int near_tried = 0;  // 2-20 m: issue 21's target
+  int near_reached = 0;
   for (std::size_t b = 0; b < bands.size(); ++b) {
     std::string failed;
     for (const auto& [reason, count] : bands[b].failed)
@@ -169,7 +176,13 @@ int main(int argc, char** argv) {
                 failed.c_str());
     all_tried += bands[b].tried;
     all_reached += bands[b].reached;
+    if (b >= 1 && b <= 4) {
+      near_tried += bands[b].tried;
+      near_reached += bands[b].reached;
+    }
   }
+  std::printf("goals from_m=2 within_m=20 tried=%d reached=%d share=%.2f\n", near_tried, near_reached,
+              near_tried > 0 ? static_cast<double>(near_reached) / near_tried : 0.0);
   std::sort(plan_ms.begin(), plan_ms.end());
   std::printf("goals all tried=%d reached=%d share=%.2f plan_ms_median=%.2f plan_ms_max=%.2f\n", all_tried,
               all_reached, all_tried > 0 ? static_cast<double>(all_reached) / all_tried : 0.0,

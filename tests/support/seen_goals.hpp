@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "core/navigation/patch_graph_planner.hpp"
@@ -16,7 +17,8 @@
 namespace strata::test {
 
 /// Maps a simulated scan at its true pose, as the mapping worker maps a registered one.
-inline void map_at_truth(MlsMap& map, const ScanEvent& scan, double min_range = 0.3) {
+/// With `mark_ground`, the ground under the robot is marked driven, as the live map does.
+inline void map_at_truth(MlsMap& map, const ScanEvent& scan, double min_range = 0.3, bool mark_ground = true) {
   const Eigen::Isometry3d map_from_sensor = scan.truth->to_isometry() * scan.sensor_to_base;
   PointCloud points;
   for (const Eigen::Vector3f& p : scan.points) {
@@ -24,7 +26,8 @@ inline void map_at_truth(MlsMap& map, const ScanEvent& scan, double min_range = 
     if (range > min_range && (scan.max_range <= 0.0 || range < scan.max_range - 1e-3))
       points.push_back(map_from_sensor * p.cast<double>());
   }
-  map.insert_scan(points, map_from_sensor.translation());
+  map.insert_scan(points, map_from_sensor.translation(),
+                  mark_ground ? std::optional<Eigen::Vector3d>(scan.truth->position) : std::nullopt);
 }
 
 /// One goal an operator could pick on the live map, and what the planner made of it.

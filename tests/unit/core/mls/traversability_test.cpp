@@ -4,13 +4,17 @@
 
 #include <gtest/gtest.h>
 
+#include <Eigen/Geometry>
 #include <memory>
 #include <set>
 #include <vector>
 
 #include "core/mls/drivable_map.hpp"
 #include "core/navigation/patch_graph.hpp"
+#include "drivers/sim/simulator.hpp"
+#include "drivers/sim/world/world_file.hpp"
 #include "tests/support/navigation_scenes.hpp"
+#include "tests/support/seen_goals.hpp"
 
 namespace strata {
 namespace {
@@ -99,6 +103,55 @@ TEST(SurfaceGridRules, TheRobotStandsOnAnyHorizontalPatchThePlannerOnlyOnTravers
   EXPECT_FALSE(surfaces.surface(*beside_wall).vertical);
   EXPECT_NE(surfaces.cell_of_surface(*beside_wall), surfaces.cell(wall_col, wall_row));
   EXPECT_FALSE(surfaces.nearest_surface(col, row, std::nan(""), 0.5, 3, SurfaceGrid::Standing::kHorizontal));
+}
+
+/// Of the horizontal surfaces the map holds over a box (x, y within it, top within [z0, z1]), the share
+/// the classification calls traversable: what the colour view paints green.
+double traversable_share(const SurfaceGrid& grid, double resolution, Eigen::AlignedBox3d box,
+                         std::size_t& seen) {
+  const CellRegion& region = grid.region();
+  std::size_t traversable = 0;
+  seen = 0;
+  for (int row = 0; row < region.height; ++row)
+    for (int col = 0; col < region.width; ++col) {
+      const Eigen::Vector3d centre((region.min.x + col + 0.5) * resolution,
+                                   (region.min.y + row + 0.5) * resolution, box.center().z());
+      if (!box.contains(centre))
+        continue;
+      for (const SurfaceGrid::Surface& s : grid.surfaces(grid.cell(col, row)))
+        if (!s.vertical && s.top >= box.min().z() && s.top <= box.max().z()) {
+          ++seen;
+          traversable += s.traversable ? 1 : 0;
+          break;
+        }
+    }
+  return seen == 0 ? 0.0 : static_cast<double>(traversable) / static_cast<double>(seen);
+}
+
+TEST(SurfaceGridRules, TheLabFloorAndTheRampTheRobotDroveAreTraversable) {
+  // Issue 21: the colour view painted the flat lab floor and the 5.7 degree entrance ramp mostly amber
+  // ("too steep or low ceiling"). The demo's robot (tilting scanner) drives from the lab down the hallway
+  // and the ramp; its scans are mapped at the simulator's true poses, with the ground it drove.
+  auto world = std::make_shared<const sim::World>(sim::builtin_world("campus"));
+  sim::Simulator simulator(world, sim::SimulatorConfig{});
+  MlsMap map{MlsConfig{}};
+  for (double t = 0.0; t < 270.0; t += 0.1) {
+    simulator.step(0.1);
+    for (const ScanEvent& scan : simulator.take_scans())
+      test::map_at_truth(map, scan);
+  }
+  ASSERT_GT(simulator.sample().truth->position.x(), 55.0) << "down the ramp by now";
+  const SurfaceGrid grid(map, CellRegion::of_tiles(map.tile_indices()), TraversabilityConfig{});
+  std::size_t seen = 0;
+  // The lab's floor (0.45 m up) 0.3 m clear of its walls; the ramp between its side edges.
+  const double lab = traversable_share(
+      grid, map.resolution(), {Eigen::Vector3d(0.5, 7.0, 0.40), Eigen::Vector3d(13.7, 11.5, 0.50)}, seen);
+  EXPECT_GT(seen, 4000U);
+  EXPECT_GE(lab, 0.95);
+  const double ramp = traversable_share(
+      grid, map.resolution(), {Eigen::Vector3d(49.6, 4.35, -0.05), Eigen::Vector3d(54.8, 6.15, 0.50)}, seen);
+  EXPECT_GT(seen, 700U);
+  EXPECT_GE(ramp, 0.95);
 }
 
 }  // namespace
