@@ -104,6 +104,45 @@ test('tapping a spot on the map sets a goal there; the path appears and the robo
   await page.context().close();
 });
 
+test('a goal that is no place for the robot fails, and the panel says why in the server\'s words', { skip }, async () => {
+  // Issue 21: the panel said "no way to the goal (unreachable)" where the log said what was wrong. A goal
+  // on the face of the lab's shelf (3 m from the start, seen in the first scan) is no place for the robot:
+  // it fails as goal_not_drivable, and the panel shows the goal's message word for word (with the nearest
+  // place the robot can reach), as REST and the log do.
+  const page = await openApp(browser, server.url, { token: TOKEN });
+  await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
+  await until(page, () => window.strata.robotVisible());
+  const headers = { Authorization: `Bearer ${TOKEN}`, 'Content-Type': 'application/json' };
+  let goal;
+  for (let attempt = 0; attempt < 30; attempt += 1) { // until the map holds the shelf
+    const posted = await fetch(`${server.url}/api/v1/goal`, {
+      method: 'POST', headers, body: JSON.stringify({ x: 11.75, y: 11.35 }),
+    });
+    assert.ok(posted.ok, `the goal is taken (${posted.status})`);
+    for (let waited = 0; waited < 100; waited += 1) {
+      goal = await (await fetch(`${server.url}/api/v1/goal`)).json();
+      if (['failed', 'driving', 'reached'].includes(goal.phase)) break;
+      await new Promise((resolve) => setTimeout(resolve, 100));
+    }
+    if (goal.reason === 'goal_not_drivable') break;
+    await fetch(`${server.url}/api/v1/goal`, { method: 'DELETE', headers });
+    await new Promise((resolve) => setTimeout(resolve, 1000));
+  }
+  assert.equal(goal.phase, 'failed', JSON.stringify(goal));
+  assert.equal(goal.reason, 'goal_not_drivable', JSON.stringify(goal));
+  assert.match(goal.message, /nearest/, 'the message names the nearest place the robot can reach');
+  const panel = page.locator('#goal-state');
+  await panel.filter({ hasText: goal.message }).waitFor({ timeout: 15000 });
+  assert.ok((await panel.textContent()).includes(goal.message), await panel.textContent());
+  // And on screen: the panel scrolls the reason into view, on a screen too small for the whole panel too.
+  const box = await panel.boundingBox();
+  const viewport = page.viewportSize();
+  assert.ok(box && box.y >= 0 && box.y + box.height <= viewport.height + 1, `the reason is in view: ${JSON.stringify(box)}`);
+  await page.screenshot({ path: path.join(artifacts, 'goal_failed_reason.png') });
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('the joystick drives the robot, and letting go stops it', { skip }, async () => {
   const page = await openApp(browser, server.url, { touch: true, token: TOKEN });
   await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
