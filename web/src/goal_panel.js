@@ -50,10 +50,7 @@ export class GoalPanel {
     // Why, in the server's words (the same as its log and REST); the code alone from an older server.
     const why = goal.message || goal.reason?.replaceAll('_', ' ');
     if ((goal.phase === 'failed' || goal.phase === 'cancelled') && why) text += `: ${why}`;
-    const changed = element.textContent !== text;
     element.textContent = text;
-    // The goal section is the panel's last: on a small screen the reason would sit below the fold.
-    if (changed && goal.phase === 'failed') element.scrollIntoView({ block: 'nearest' });
     this.view.paths.showGoal(goal);
     this.view.requestRender();
   }
