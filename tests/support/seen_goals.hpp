@@ -18,7 +18,8 @@ namespace strata::test {
 
 /// Maps a simulated scan at its true pose, as the mapping worker maps a registered one.
 /// With `mark_ground`, the ground under the robot is marked driven, as the live map does.
-inline void map_at_truth(MlsMap& map, const ScanEvent& scan, double min_range = 0.3, bool mark_ground = true) {
+inline void map_at_truth(MlsMap& map, const ScanEvent& scan, double min_range = 0.3,
+                         bool mark_ground = true) {
   const Eigen::Isometry3d map_from_sensor = scan.truth->to_isometry() * scan.sensor_to_base;
   PointCloud points;
   for (const Eigen::Vector3f& p : scan.points) {
