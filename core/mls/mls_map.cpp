@@ -141,6 +141,17 @@ MlsInsertStats MlsMap::insert_scan(const PointCloud& points, const Eigen::Vector
   return stats;
 }
 
+bool MlsMap::insert_after_patch(MlsTile& tile, MlsTile::Handle& head, MlsTile::Handle after,
+                                const MlsPatch& patch) {
+  const MlsTile::Handle handle = tile.allocate(patch);
+  if (handle == 0)
+    return false;
+  MlsTile::Handle& link = after == 0 ? head : tile.at(after).next;
+  tile.at(handle).next = link;
+  link = handle;
+  return true;
+}
+
 bool MlsMap::add_point(MlsTile& tile, int local, float z, float variance) {
   const auto gamma = static_cast<float>(config_.gap);
   MlsTile::Handle& head = tile.first[static_cast<std::size_t>(local)];
@@ -168,13 +179,7 @@ bool MlsMap::add_point(MlsTile& tile, int local, float z, float variance) {
     fresh.mean = z;
     fresh.variance = variance;
     fresh.evidence = 1;
-    const MlsTile::Handle handle = tile.allocate(fresh);
-    if (handle == 0)
-      return false;
-    MlsTile::Handle& link = insert_after == 0 ? head : tile.at(insert_after).next;
-    tile.at(handle).next = link;
-    link = handle;
-    return true;
+    return insert_after_patch(tile, head, insert_after, fresh);
   }
 
   MlsPatch& patch = tile.at(best);
@@ -375,13 +380,7 @@ std::size_t MlsMap::mark_ground(const Eigen::Vector3d& ground, std::uint64_t ver
       fresh.variance = tolerance * tolerance;
       fresh.evidence = static_cast<std::uint8_t>(config_.max_evidence);  // the wheels are on it
       fresh.flags = MlsPatch::kDriven;
-      const MlsTile::Handle handle = tile.allocate(fresh);
-      if (handle != 0) {
-        MlsTile::Handle& link = insert_after == 0 ? head : tile.at(insert_after).next;
-        tile.at(handle).next = link;
-        link = handle;
-        cell_changed = true;
-      }
+      cell_changed = insert_after_patch(tile, head, insert_after, fresh) || cell_changed;
     }
     if (cell_changed) {
       ++changed;

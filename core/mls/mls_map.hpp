@@ -113,6 +113,9 @@ class MlsMap {
   MlsTile& tile_for(TileIndex tile);
 
   bool add_point(MlsTile& tile, int local, float z, float variance);
+  /// Puts `patch` into the cell whose first patch is `head`, just above patch `after` (0: lowest). False
+  /// when the tile's pool is full.
+  bool insert_after_patch(MlsTile& tile, MlsTile::Handle& head, MlsTile::Handle after, const MlsPatch& patch);
   /// mark_driven's work; the tiles it changes get `version`. With `body_top`, the patches in the footprint
   /// wholly between the ground and that height are removed first: the robot's own body.
   std::size_t mark_ground(const Eigen::Vector3d& ground, std::uint64_t version,

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "core/mls/mls_file.hpp"
+#include "drivers/io/map_server_reader.hpp"
 #include "integration/clients.hpp"
 #include "integration/server_process.hpp"
 #include "tests/unit/drivers/lidar/lidar_loopback.hpp"
@@ -63,33 +64,11 @@ struct RoadCoverage {
 
 RoadCoverage road_coverage(int port, const Eigen::Vector3d& car) {
   const MlsMap map = deserialize_mls_map(http_get(port, "/api/v1/map?format=strata").body(), "download");
-  const std::string yaml = http_get(port, "/api/v1/map?format=yaml").body();
-  const std::string pgm = http_get(port, "/api/v1/map?format=pgm").body();
-  double resolution = 0.0;
-  double origin_x = 0.0;
-  double origin_y = 0.0;
-  std::istringstream lines(yaml);
-  for (std::string line; std::getline(lines, line);) {
-    if (line.rfind("resolution:", 0) == 0)
-      resolution = std::stod(line.substr(11));
-    if (line.rfind("origin: [", 0) == 0)
-      std::sscanf(line.c_str(), "origin: [%lf, %lf", &origin_x, &origin_y);
-  }
-  std::istringstream header(pgm);
-  std::string magic;
-  std::string comment;
-  int width = 0;
-  int height = 0;
-  int max_value = 0;
-  header >> magic;
-  header.ignore();
-  std::getline(header, comment);
-  header >> width >> height >> max_value;
-  header.ignore();
-  const auto pixels = static_cast<std::size_t>(header.tellg());
-  EXPECT_EQ(magic, "P5");
-  EXPECT_GT(resolution, 0.0);
-  EXPECT_EQ(pgm.size(), pixels + static_cast<std::size_t>(width) * static_cast<std::size_t>(height));
+  // Read back as any ROS map_server user would (drivers/io/map_server_reader.hpp).
+  std::istringstream yaml(http_get(port, "/api/v1/map?format=yaml").body());
+  std::istringstream pgm(http_get(port, "/api/v1/map?format=pgm").body());
+  const io::MapServerMetadata metadata = io::read_map_server_yaml(yaml, "download.yaml");
+  const OccupancyGrid grid = io::read_map_server_image(pgm, "download.pgm", metadata);
 
   RoadCoverage road;
   const double radius = 20.0;
@@ -100,16 +79,12 @@ RoadCoverage road_coverage(int port, const Eigen::Vector3d& car) {
       const std::vector<MlsPatch> patches = map.patches(map.cell_of(x, y));
       const bool ground = std::ranges::any_of(
           patches, [&](const MlsPatch& p) { return !p.vertical() && std::abs(p.top() - car.z()) <= 0.3; });
-      const int col = static_cast<int>(std::floor((x - origin_x) / resolution));
-      const int row = height - 1 - static_cast<int>(std::floor((y - origin_y) / resolution));
-      if (!ground || col < 0 || row < 0 || col >= width || row >= height)
+      const GridCell cell = grid.cell_of({x, y});
+      if (!ground || !grid.contains(cell))
         continue;
-      const auto value = static_cast<unsigned char>(
-          pgm[pixels + static_cast<std::size_t>(row) * static_cast<std::size_t>(width) +
-              static_cast<std::size_t>(col)]);
       ++road.cells;
-      road.free += value == 254 ? 1 : 0;
-      road.occupied += value == 0 ? 1 : 0;
+      road.free += grid.at(cell) == CellState::free ? 1 : 0;
+      road.occupied += grid.at(cell) == CellState::occupied ? 1 : 0;
     }
   return road;
 }
