@@ -22,8 +22,18 @@ nlohmann::json get_json(std::uint16_t port, const std::string& target) {
   return nlohmann::json::parse(response.body());
 }
 
+// The simulation runs against the wall clock. The sanitizer build registers a scan 4-5 times slower, and at
+// time scale 20 beside another test it drops half the scans (28 of 61): the first lap then has half its
+// keyframes, a 13 m stretch of odometry-only heading, and lands 0.37 m off (CI, 2026-11-26). At 8 it keeps
+// up as the release build does at 20 (4 of 48 dropped, 0.04 m).
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr const char* kTimeScale = "8";
+#else
+constexpr const char* kTimeScale = "20";
+#endif
+
 TEST(Localization, TheSecondLapLandsOnTheFirst) {
-  ServerProcess server({"--world", "yard", "--scanner", "tilting", "--time-scale", "20"});
+  ServerProcess server({"--world", "yard", "--scanner", "tilting", "--time-scale", kTimeScale});
   // The yard's demo lap is about 200 simulated seconds; past 2.5 laps, then a few more checks.
   constexpr double kSecondLapDone = 500.0;
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(10);
