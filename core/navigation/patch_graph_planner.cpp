@@ -9,6 +9,74 @@
 
 namespace strata {
 
+namespace {
+
+/// The patch nearest (x, y) in the plane within `radius` metres, within twice the level tolerance of
+/// `reference`, with room for the robot and, unless `component` is kNone, in that component.
+std::optional<PatchGraph::Node> nearest_with_room(const PatchGraph& graph, double x, double y,
+                                                  double reference, double level_tolerance, double radius,
+                                                  std::uint32_t component) {
+  const SurfaceGrid& grid = graph.surfaces();
+  const double resolution = graph.resolution();
+  const auto [centre_col, centre_row] = grid.local(
+      {static_cast<int>(std::floor(x / resolution)), static_cast<int>(std::floor(y / resolution))});
+  const int rings = static_cast<int>(std::ceil(radius / resolution));
+  std::optional<PatchGraph::Node> best;
+  double best_distance = radius;
+  for (int row = centre_row - rings; row <= centre_row + rings; ++row)
+    for (int col = centre_col - rings; col <= centre_col + rings; ++col) {
+      if (!grid.contains_local(col, row))
+        continue;
+      const std::size_t c = grid.cell(col, row);
+      for (std::uint32_t i = 0; i < grid.surfaces(c).size(); ++i) {
+        const PatchGraph::Node node = grid.first_surface(c) + i;
+        if (!graph.passable(node) || (component != PatchGraph::kNone && graph.component(node) != component))
+          continue;
+        const Eigen::Vector3d position = graph.position(node);
+        const double distance = std::hypot(position.x() - x, position.y() - y);
+        if (std::abs(position.z() - reference) <= 2.0 * level_tolerance && distance < best_distance) {
+          best_distance = distance;
+          best = node;
+        }
+      }
+    }
+  return best;
+}
+
+/// The patch with room for the robot nearest (x, y) in the plane within `radius` metres that the ground
+/// joins to `from` (over graph edges, through patches too near an edge), in `component` unless kNone: a
+/// goal beside a wall moves along its own floor, never down a step or to another level.
+std::optional<PatchGraph::Node> room_on_same_ground(const PatchGraph& graph, PatchGraph::Node from, double x,
+                                                    double y, double radius, std::uint32_t component) {
+  std::optional<PatchGraph::Node> best;
+  double best_distance = radius;
+  std::vector<PatchGraph::Node> frontier{from};
+  std::vector<PatchGraph::Node> visited{from};
+  while (!frontier.empty()) {
+    const PatchGraph::Node node = frontier.back();
+    frontier.pop_back();
+    const Eigen::Vector3d position = graph.position(node);
+    const double distance = std::hypot(position.x() - x, position.y() - y);
+    if (graph.passable(node) && (component == PatchGraph::kNone || graph.component(node) == component) &&
+        distance < best_distance) {
+      best_distance = distance;
+      best = node;
+    }
+    for (const PatchGraph::Node next : graph.neighbours(node)) {
+      if (next == PatchGraph::kNone || std::find(visited.begin(), visited.end(), next) != visited.end())
+        continue;
+      const Eigen::Vector3d p = graph.position(next);
+      if (std::hypot(p.x() - x, p.y() - y) > radius)
+        continue;
+      visited.push_back(next);
+      frontier.push_back(next);
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
 std::string_view describe(PatchPlanStatus status) {
   switch (status) {
     case PatchPlanStatus::found:
@@ -49,8 +117,18 @@ PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_
     return result;
   }
   if (!graph.passable(*target)) {
-    result.status = PatchPlanStatus::goal_blocked;
-    return result;
+    // Ground, but too near an edge: the nearest place with room, if the goal may move that far.
+    const std::uint32_t component = graph.passable(*start) ? graph.component(*start) : PatchGraph::kNone;
+    const std::optional<Node> room =
+        goal.room_search_radius > 0.0
+            ? room_on_same_ground(graph, *target, goal.x, goal.y, goal.room_search_radius, component)
+            : std::nullopt;
+    if (!room) {
+      result.status = PatchPlanStatus::goal_blocked;
+      return result;
+    }
+    target = room;
+    result.moved_goal = graph.position(*room);
   }
 
   if (graph.passable(*start) && graph.component(*start) != graph.component(*target)) {
@@ -114,8 +192,10 @@ PatchPath plan_on_patches(const PatchGraph& graph, const Eigen::Vector3d& robot_
   for (Node node = *target; node != PatchGraph::kNone; node = parent[node])
     result.points.push_back(graph.position(node));
   std::reverse(result.points.begin(), result.points.end());
-  // End where the operator asked, not at the centre of that cell (at most half a cell away).
-  result.points.back().head<2>() = Eigen::Vector2d(goal.x, goal.y);
+  // End where the operator asked, not at the centre of that cell (at most half a cell away); a moved goal
+  // ends at the centre of the place with room.
+  if (!result.moved_goal)
+    result.points.back().head<2>() = Eigen::Vector2d(goal.x, goal.y);
   for (std::size_t i = 1; i < result.points.size(); ++i)
     result.length += (result.points[i] - result.points[i - 1]).head<2>().norm();
   result.status = PatchPlanStatus::found;
@@ -130,33 +210,12 @@ std::optional<Eigen::Vector3d> nearest_reachable(const PatchGraph& graph, const 
                    traversability.start_search_radius);
   if (!start || !graph.passable(*start))
     return std::nullopt;
-  const std::uint32_t component = graph.component(*start);
-  const double reference = goal.z.value_or(robot_ground.z());
-  const SurfaceGrid& grid = graph.surfaces();
-  const double resolution = graph.resolution();
-  const auto [centre_col, centre_row] = grid.local(
-      {static_cast<int>(std::floor(goal.x / resolution)), static_cast<int>(std::floor(goal.y / resolution))});
-  const int rings = static_cast<int>(std::ceil(radius / resolution));
-  std::optional<Eigen::Vector3d> best;
-  double best_distance = radius;
-  for (int row = centre_row - rings; row <= centre_row + rings; ++row)
-    for (int col = centre_col - rings; col <= centre_col + rings; ++col) {
-      if (!grid.contains_local(col, row))
-        continue;
-      const std::size_t c = grid.cell(col, row);
-      for (std::uint32_t i = 0; i < grid.surfaces(c).size(); ++i) {
-        const PatchGraph::Node node = grid.first_surface(c) + i;
-        if (!graph.passable(node) || graph.component(node) != component)
-          continue;
-        const Eigen::Vector3d position = graph.position(node);
-        const double distance = std::hypot(position.x() - goal.x, position.y() - goal.y);
-        if (std::abs(position.z() - reference) <= 2.0 * goal.level_tolerance && distance < best_distance) {
-          best_distance = distance;
-          best = position;
-        }
-      }
-    }
-  return best;
+  const std::optional<PatchGraph::Node> nearest =
+      nearest_with_room(graph, goal.x, goal.y, goal.z.value_or(robot_ground.z()), goal.level_tolerance,
+                        radius, graph.component(*start));
+  if (!nearest)
+    return std::nullopt;
+  return graph.position(*nearest);
 }
 
 }  // namespace strata

@@ -25,6 +25,8 @@ struct PatchPath {
   std::vector<Eigen::Vector3d> points;  ///< cell centres at their surface heights, start to goal
   double length = 0.0;                  ///< metres, in the plane
   std::size_t expanded = 0;
+  /// Where the path ends when the goal was moved to a place with room (PatchGoal::room_search_radius).
+  std::optional<Eigen::Vector3d> moved_goal;
   [[nodiscard]] bool found() const { return status == PatchPlanStatus::found; }
 };
 
@@ -39,6 +41,11 @@ struct PatchGoal {
   /// below) goes to the nearest drivable patch of that level within this, metres. A goal on something seen
   /// at its level (a wall) is never moved.
   double unseen_search_radius = 0.3;
+  /// A goal on drivable ground too near an edge for the robot (beside a wall or a shelf) goes to the
+  /// nearest place with room within this, metres (0: refused). A finger on a touch screen is that coarse,
+  /// and a wall in the live map stands a cell or two nearer than in the world. A goal on something that is
+  /// no ground at its level (a wall's face, a step) is never moved.
+  double room_search_radius = 0.0;
 };
 
 /// Shortest path (A*, steps of 1 and sqrt 2 cells, octile heuristic: optimal; with a clearance weight,

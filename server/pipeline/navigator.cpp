@@ -42,6 +42,9 @@ Failure failure_for(PatchPlanStatus status, bool replanning) {
 
 /// How far around a goal that is no place for the robot the nearest one is looked for, metres.
 constexpr double kNearestSearchRadius = 3.0;
+/// How far a goal on ground too near an edge moves to a place with room, metres (as Nav2's default goal
+/// tolerance): the goal drive bench's refusals on the yard were places 0.3-0.4 m from one.
+constexpr double kRoomSearchRadius = 0.5;
 
 }  // namespace
 
@@ -237,7 +240,8 @@ bool Navigator::plan_pending() {
     graph_ = std::make_shared<const PatchGraph>(surfaces, resolution, config_.graph);
     graph_version_ = map_version;
   }
-  const PatchGoal target{.x = goal.x, .y = goal.y, .z = goal.z, .level_tolerance = 0.5};
+  const PatchGoal target{
+      .x = goal.x, .y = goal.y, .z = goal.z, .level_tolerance = 0.5, .room_search_radius = kRoomSearchRadius};
   const PatchPath planned = plan_on_patches(*graph_, pose.position, target);
   Failure failure;
   if (!planned.found()) {
@@ -272,7 +276,17 @@ bool Navigator::plan_pending() {
     progress_position_ = pose_.position;
     progress_stamp_ = stamp_;
   }
-  tracker_.driving(id, stamp_);
+  std::string moved;
+  if (planned.moved_goal) {
+    moved = fmt::format(
+        "the spot asked for is too near an edge for the robot: driving to the nearest place "
+        "with room, ({:.2f}, {:.2f}, {:.2f}), {:.1f} m away",
+        planned.moved_goal->x(), planned.moved_goal->y(), planned.moved_goal->z(),
+        std::hypot(planned.moved_goal->x() - goal.x, planned.moved_goal->y() - goal.y));
+    if (!replanning)
+      spdlog::info("goal {}: {}", id, moved);
+  }
+  tracker_.driving(id, stamp_, std::move(moved));
   return true;
 }
 

@@ -27,8 +27,12 @@ bool GoalTracker::planning(std::uint64_t id, double stamp) {
   return move(id, GoalPhase::kAccepted, GoalPhase::kPlanning, stamp);
 }
 
-bool GoalTracker::driving(std::uint64_t id, double stamp) {
-  return move(id, GoalPhase::kPlanning, GoalPhase::kDriving, stamp);
+bool GoalTracker::driving(std::uint64_t id, double stamp, std::string message) {
+  if (!move(id, GoalPhase::kPlanning, GoalPhase::kDriving, stamp))
+    return false;
+  if (!message.empty())
+    status_.message = std::move(message);
+  return true;
 }
 
 bool GoalTracker::reached(std::uint64_t id, double stamp) {

@@ -16,7 +16,8 @@ class GoalTracker {
   /// Accepts a new goal, replacing any active one; returns its id.
   std::uint64_t accept(const GoalRequest& request, double stamp);
   bool planning(std::uint64_t id, double stamp);
-  bool driving(std::uint64_t id, double stamp);
+  /// `message`, when not empty, says what the driving goal is in words (where it was moved to).
+  bool driving(std::uint64_t id, double stamp, std::string message = {});
   bool reached(std::uint64_t id, double stamp);
   bool fail(std::uint64_t id, std::string reason, std::string message, double stamp);
   /// Cancels the active goal, if there is one; `reason` says why when no command did (empty: one did),

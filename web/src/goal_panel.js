@@ -50,6 +50,8 @@ export class GoalPanel {
     // Why, in the server's words (the same as its log and REST); the code alone from an older server.
     const why = goal.message || goal.reason?.replaceAll('_', ' ');
     if ((goal.phase === 'failed' || goal.phase === 'cancelled') && why) text += `: ${why}`;
+    // A goal moved to a place with room says where it went.
+    if (goal.phase === 'driving' && goal.message) text += `: ${goal.message}`;
     element.textContent = text;
     this.view.paths.showGoal(goal);
     this.view.requestRender();

@@ -73,6 +73,34 @@ TEST(PatchGraphPlanner, GoalInAWallIsUnreachable) {
   EXPECT_FALSE(behind_wall.found());
 }
 
+TEST(PatchGraphPlanner, AGoalBesideAWallMovesAlongItsFloorToTheNearestPlaceWithRoom) {
+  const MlsMap map = test::wall_and_stairs_scene();
+  const PatchGraph graph = test::graph_of(map);
+  const PatchPath beside_wall =
+      plan_on_patches(graph, {0, 0, 0}, {.x = -2.85, .y = 0.05, .room_search_radius = 0.5});
+  ASSERT_TRUE(beside_wall.found()) << describe(beside_wall.status);
+  ASSERT_TRUE(beside_wall.moved_goal.has_value());
+  const Eigen::Vector3d moved = *beside_wall.moved_goal;
+  EXPECT_GT(moved.x(), -2.85);  // away from the wall at x = -3
+  EXPECT_LE(std::hypot(moved.x() + 2.85, moved.y() - 0.05), 0.5);
+  EXPECT_NEAR(moved.z(), 0.0, 0.05);
+  EXPECT_EQ(beside_wall.points.back(), moved);  // the path ends there
+  const auto end = graph.locate(moved.x(), moved.y(), moved.z(), 0.1);
+  ASSERT_TRUE(end.has_value());
+  EXPECT_TRUE(graph.passable(*end));
+  // A goal with room is not moved; one in the wall or on a step is still refused.
+  EXPECT_FALSE(plan_on_patches(graph, {0, 0, 0}, {.x = 1.05, .y = 0.05, .room_search_radius = 0.5})
+                   .moved_goal.has_value());
+  EXPECT_EQ(plan_on_patches(graph, {0, 0, 0}, {.x = -2.99, .y = 0.05, .room_search_radius = 0.5}).status,
+            PatchPlanStatus::goal_blocked);
+  EXPECT_EQ(
+      plan_on_patches(graph, {0, 0, 0}, {.x = 2.45, .y = 0.05, .z = 0.3, .room_search_radius = 0.5}).status,
+      PatchPlanStatus::goal_blocked);
+  // Further than the radius from any place with room: refused.
+  EXPECT_EQ(plan_on_patches(graph, {0, 0, 0}, {.x = -2.85, .y = 0.05, .room_search_radius = 0.05}).status,
+            PatchPlanStatus::goal_blocked);
+}
+
 TEST(PatchGraphPlanner, StairsAreUnreachable) {
   const MlsMap map = test::wall_and_stairs_scene();
   const PatchGraph graph = test::graph_of(map);

@@ -105,6 +105,28 @@ TEST(Navigator, UnreachableGoalFails) {
   EXPECT_EQ(navigator.goal_status().message, "the goal is outside the known map");
 }
 
+TEST(Navigator, AGoalBesideAWallDrivesToTheNearestPlaceWithRoomAndSaysWhere) {
+  const MlsMap map = test::wall_and_stairs_scene();  // a wall at x = -3
+  Navigator navigator;
+  publish(navigator, map);
+  (void)navigator.drive(at(0.05, 0.05, 0.0), 0.0);
+  ASSERT_TRUE(navigator.set_goal({-2.85, 0.05, {}}).ok);  // 0.15 m from the wall: no room for the robot
+  EXPECT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
+  const std::string& message = navigator.goal_status().message;
+  EXPECT_EQ(
+      message.rfind("the spot asked for is too near an edge for the robot: driving to the nearest place "
+                    "with room, (",
+                    0),
+      0U)
+      << message;
+  const auto path = navigator.path();
+  ASSERT_NE(path, nullptr);
+  EXPECT_GT(path->points.back().x(), -2.85);
+  (void)navigator.drive(at(path->points.back().x(), path->points.back().y(), 0.0, M_PI), 5.0);
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kReached);
+}
+
 TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops) {
   const MlsMap map = test::bridge_scene();
   Navigator navigator;
