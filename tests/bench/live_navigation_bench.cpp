@@ -13,7 +13,8 @@
 //   --track: 1 (default) marks the ground the robot drove over, as the live map does; 0 does not
 //   --map, --at: a map saved by the server, and where the robot stands on it, instead of a simulated drive
 //   map     scans mapped, cells and patches of the live map, graph nodes, ms to build the graph
-//   goals   per distance band from the robot: goals tried, reached, and why the others failed;
+//   goals   per distance band from the robot: goals tried, planned (a way found; strata_goal_drive_bench
+//           drives them), and why the others failed;
 //           then 2-20 m (issue 21's band), then all bands, with the median and longest planning time
 //   --ascii writes the live patch graph as text, north up: '.' room for the robot (':' on ground inferred
 //           across an unseen gap), ',' drivable without room, '#' not drivable, ' ' unseen,
@@ -80,7 +81,7 @@ Options parse(int argc, char** argv) {
 
 struct Band {
   int tried = 0;
-  int reached = 0;
+  int planned = 0;
   std::map<std::string, int> failed;
 };
 
@@ -157,35 +158,35 @@ int main(int argc, char** argv) {
                                             kBands.begin());
     ++bands[b].tried;
     if (goal.path.found())
-      ++bands[b].reached;
+      ++bands[b].planned;
     else
       ++bands[b].failed[std::string(describe(goal.path.status))];
     plan_ms.push_back(goal.plan_ms);
   }
   int all_tried = 0;
-  int all_reached = 0;
+  int all_planned = 0;
   int near_tried = 0;  // 2-20 m: issue 21's target
-  int near_reached = 0;
+  int near_planned = 0;
   for (std::size_t b = 0; b < bands.size(); ++b) {
     std::string failed;
     for (const auto& [reason, count] : bands[b].failed)
       failed += " '" + reason + "'=" + std::to_string(count);
-    std::printf("goals within_m=%.0f tried=%d reached=%d share=%.2f%s\n", std::min(kBands[b], 999.0),
-                bands[b].tried, bands[b].reached,
-                bands[b].tried > 0 ? static_cast<double>(bands[b].reached) / bands[b].tried : 0.0,
+    std::printf("goals within_m=%.0f tried=%d planned=%d share=%.2f%s\n", std::min(kBands[b], 999.0),
+                bands[b].tried, bands[b].planned,
+                bands[b].tried > 0 ? static_cast<double>(bands[b].planned) / bands[b].tried : 0.0,
                 failed.c_str());
     all_tried += bands[b].tried;
-    all_reached += bands[b].reached;
+    all_planned += bands[b].planned;
     if (b >= 1 && b <= 4) {
       near_tried += bands[b].tried;
-      near_reached += bands[b].reached;
+      near_planned += bands[b].planned;
     }
   }
-  std::printf("goals from_m=2 within_m=20 tried=%d reached=%d share=%.2f\n", near_tried, near_reached,
-              near_tried > 0 ? static_cast<double>(near_reached) / near_tried : 0.0);
+  std::printf("goals from_m=2 within_m=20 tried=%d planned=%d share=%.2f\n", near_tried, near_planned,
+              near_tried > 0 ? static_cast<double>(near_planned) / near_tried : 0.0);
   std::sort(plan_ms.begin(), plan_ms.end());
-  std::printf("goals all tried=%d reached=%d share=%.2f plan_ms_median=%.2f plan_ms_max=%.2f\n", all_tried,
-              all_reached, all_tried > 0 ? static_cast<double>(all_reached) / all_tried : 0.0,
+  std::printf("goals all tried=%d planned=%d share=%.2f plan_ms_median=%.2f plan_ms_max=%.2f\n", all_tried,
+              all_planned, all_tried > 0 ? static_cast<double>(all_planned) / all_tried : 0.0,
               plan_ms.empty() ? 0.0 : plan_ms[plan_ms.size() / 2], plan_ms.empty() ? 0.0 : plan_ms.back());
   if (!options.ascii.empty())
     write_ascii(options.ascii, seen, robot, goals);

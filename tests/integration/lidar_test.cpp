@@ -62,7 +62,7 @@ struct RoadCoverage {
   }
 };
 
-RoadCoverage road_coverage(int port, const Eigen::Vector3d& car) {
+RoadCoverage road_coverage(std::uint16_t port, const Eigen::Vector3d& car) {
   const MlsMap map = deserialize_mls_map(http_get(port, "/api/v1/map?format=strata").body(), "download");
   // Read back as any ROS map_server user would (drivers/io/map_server_reader.hpp).
   std::istringstream yaml(http_get(port, "/api/v1/map?format=yaml").body());
@@ -77,8 +77,9 @@ RoadCoverage road_coverage(int port, const Eigen::Vector3d& car) {
       if (std::hypot(x - car.x(), y - car.y()) > radius)
         continue;
       const std::vector<MlsPatch> patches = map.patches(map.cell_of(x, y));
-      const bool ground = std::ranges::any_of(
-          patches, [&](const MlsPatch& p) { return !p.vertical() && std::abs(p.top() - car.z()) <= 0.3; });
+      const bool ground = std::ranges::any_of(patches, [&](const MlsPatch& p) {
+        return !p.vertical() && std::abs(static_cast<double>(p.top()) - car.z()) <= 0.3;
+      });
       const GridCell cell = grid.cell_of({x, y});
       if (!ground || !grid.contains(cell))
         continue;
@@ -121,7 +122,8 @@ TEST(Lidar, Hdl32eCaptureRunsThroughThePipelineAndItsRoadIsDrivable) {
   const Eigen::Vector3d car(pose["x"].get<double>(), pose["y"].get<double>(), pose["z"].get<double>());
   const RoadCoverage road = road_coverage(server.port(), car);
   std::printf("hdl32_example.pcap: %zu road cells within 20 m, %.1f %% free, %.1f %% occupied\n", road.cells,
-              100.0 * road.free_fraction(), 100.0 * static_cast<double>(road.occupied) / road.cells);
+              100.0 * road.free_fraction(),
+              100.0 * static_cast<double>(road.occupied) / static_cast<double>(road.cells));
   EXPECT_GT(road.cells, 10000U);
   EXPECT_GE(road.free_fraction(), 0.8);
   EXPECT_EQ(server.stop(), 0);

@@ -39,32 +39,46 @@ struct SeenGoal {
   double plan_ms = 0.0;
 };
 
-/// Every place (on a grid of `spacing`) that a survey of the world says the robot can reach with room to
-/// spare (0.2 m beyond its radius: a wall scanned from afar is a cell thicker than surveyed), and that the
-/// live map has measured at that height, planned to from `robot` on the live graph `seen`.
-inline std::vector<SeenGoal> plan_to_seen_goals(const sim::World& world, const PatchGraph& seen,
-                                                const Eigen::Vector3d& robot, double spacing = 0.5) {
+/// The world as the robot's planner would see it had it scanned every surface: what the seen goals are
+/// judged against. Built with `seen`'s configuration and resolution.
+inline PatchGraph surveyed_graph(const sim::World& world, const PatchGraph& seen) {
   const auto bounds = world.bounds();
   const MlsMap surveyed =
       survey_world(world, bounds.min.x(), bounds.min.y(), bounds.max.x(), bounds.max.y(), seen.resolution());
-  const PatchGraph truth(
+  return PatchGraph(
       std::make_shared<const SurfaceGrid>(surveyed, CellRegion::of_tiles(surveyed.tile_indices()),
                                           seen.config().traversability),
       seen.resolution(), seen.config());
+}
+
+/// Every place (on a grid of `spacing`) that the surveyed world `truth` says the robot can reach from
+/// `robot` with room to spare (0.2 m beyond its radius: a wall scanned from afar is a cell thicker than
+/// surveyed), and that the live map, as the graph `seen`, has measured at that height (not inferred).
+inline std::vector<Eigen::Vector3d> seen_goal_spots(const PatchGraph& truth, const PatchGraph& seen,
+                                                    const Eigen::Vector3d& robot, double spacing = 0.5) {
   const auto robot_node = truth.locate(robot.x(), robot.y(), robot.z(), 0.5, 1.0);
   const std::uint32_t robot_component = robot_node ? truth.component(*robot_node) : PatchGraph::kNone;
   const int step = std::max(1, static_cast<int>(std::lround(spacing / seen.resolution())));
-  std::vector<SeenGoal> goals;
+  std::vector<Eigen::Vector3d> spots;
   for (PatchGraph::Node node = 0; node < truth.node_count(); ++node) {
     const auto [col, row] = truth.cell(node);
     if (col % step != 0 || row % step != 0 || !truth.passable(node) ||
         truth.component(node) != robot_component ||
         static_cast<double>(truth.clearance(node)) < seen.config().robot_radius + 0.2)
       continue;
-    const Eigen::Vector3d goal = truth.position(node);
-    const auto measured = seen.locate(goal.x(), goal.y(), goal.z(), 0.2);
-    if (!measured || seen.inferred(*measured))
-      continue;
+    const Eigen::Vector3d spot = truth.position(node);
+    const auto measured = seen.locate(spot.x(), spot.y(), spot.z(), 0.2);
+    if (measured && !seen.inferred(*measured))
+      spots.push_back(spot);
+  }
+  return spots;
+}
+
+/// Every seen goal spot (seen_goal_spots), planned to from `robot` on the live graph `seen`.
+inline std::vector<SeenGoal> plan_to_seen_goals(const sim::World& world, const PatchGraph& seen,
+                                                const Eigen::Vector3d& robot, double spacing = 0.5) {
+  std::vector<SeenGoal> goals;
+  for (const Eigen::Vector3d& goal : seen_goal_spots(surveyed_graph(world, seen), seen, robot, spacing)) {
     const auto start = std::chrono::steady_clock::now();
     PatchPath path = plan_on_patches(seen, robot, {.x = goal.x(), .y = goal.y(), .z = goal.z()});
     const double ms =

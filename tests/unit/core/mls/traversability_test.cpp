@@ -119,7 +119,8 @@ double traversable_share(const SurfaceGrid& grid, double resolution, Eigen::Alig
       if (!box.contains(centre))
         continue;
       for (const SurfaceGrid::Surface& s : grid.surfaces(grid.cell(col, row)))
-        if (!s.vertical && s.top >= box.min().z() && s.top <= box.max().z()) {
+        if (!s.vertical && static_cast<double>(s.top) >= box.min().z() &&
+            static_cast<double>(s.top) <= box.max().z()) {
           ++seen;
           traversable += s.traversable ? 1 : 0;
           break;

@@ -1,0 +1,207 @@
+// strata_goal_drive_bench: are goals on seen ground reached? (issue 21) Starts the real `strata serve` with
+// the simulated robot and lets it drive its world's demo route for a while. Then, goal after goal, as an
+// operator would: downloads the live map over REST, picks a place 2-20 m from the robot that a survey of the
+// world says it can reach with room to spare and that the live map has measured at that height
+// (tests/support/seen_goals.hpp), sends it with POST /api/v1/goal and follows GET /api/v1/goal until the
+// goal is reached, fails or times out; the next goal starts where the robot then stands. Not a test: it
+// prints one line per goal and a summary, "key=value" separated by spaces.
+//
+//   strata_goal_drive_bench [--world yard|campus] [--scanner tilting|lidar] [--warmup S] [--goals N]
+//                           [--timeout S] [--time-scale X] [--seed K]
+//   defaults: yard, tilting, 60 simulated seconds of demo route, 20 goals, 240 simulated seconds per goal,
+//   time scale 20, seed 1 (picks the goals; the simulator's own seed is the server's default)
+//
+//   goal     i, where from and to, distance; phase it ended in (reached, failed, timeout) and the reason;
+//            accepted: the server planned a way and drove (it did not refuse the goal); simulated seconds;
+//            error_m: the robot's true distance from the goal at the end
+//   summary  goals tried, accepted and reached, and their shares; failures by reason
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <memory>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "core/mls/mls_file.hpp"
+#include "drivers/sim/world/world_file.hpp"
+#include "integration/clients.hpp"
+#include "integration/server_process.hpp"
+#include "tests/support/seen_goals.hpp"
+
+namespace {
+
+using namespace strata;
+namespace http = boost::beast::http;
+using testing::http_request;
+using testing::kTestOperatorToken;
+
+struct Options {
+  std::string world = "yard";
+  std::string scanner = "tilting";
+  double warmup = 60.0;
+  int goals = 20;
+  double timeout = 240.0;
+  std::string time_scale = "20";
+  unsigned seed = 1;
+};
+
+Options parse(int argc, char** argv) {
+  Options options;
+  for (int i = 1; i + 1 < argc; i += 2) {
+    const std::string key = argv[i];
+    const char* value = argv[i + 1];
+    if (key == "--world")
+      options.world = value;
+    else if (key == "--scanner")
+      options.scanner = value;
+    else if (key == "--warmup")
+      options.warmup = std::atof(value);
+    else if (key == "--goals")
+      options.goals = std::atoi(value);
+    else if (key == "--timeout")
+      options.timeout = std::atof(value);
+    else if (key == "--time-scale")
+      options.time_scale = value;
+    else if (key == "--seed")
+      options.seed = static_cast<unsigned>(std::atoi(value));
+  }
+  return options;
+}
+
+nlohmann::json get_json(std::uint16_t port, const std::string& target) {
+  const auto response = http_request(port, http::verb::get, target, {}, kTestOperatorToken);
+  if (response.result_int() != 200)
+    throw std::runtime_error(target + ": HTTP " + std::to_string(response.result_int()) + " " +
+                             response.body());
+  return nlohmann::json::parse(response.body());
+}
+
+Eigen::Vector3d truth_of(const nlohmann::json& pose) {
+  const nlohmann::json& truth = pose.at("truth");
+  return {truth.at("x").get<double>(), truth.at("y").get<double>(), truth.at("z").get<double>()};
+}
+
+/// The live map as a user downloads it, and its planner graph as the navigator builds it.
+PatchGraph download_graph(std::uint16_t port) {
+  const auto response =
+      http_request(port, http::verb::get, "/api/v1/map?format=strata", {}, kTestOperatorToken);
+  if (response.result_int() != 200)
+    throw std::runtime_error("map download: HTTP " + std::to_string(response.result_int()));
+  const MlsMap map = deserialize_mls_map(response.body(), "the downloaded map");
+  const PatchGraphConfig config{.clearance_weight = 2.0};  // the navigator's
+  return PatchGraph(std::make_shared<const SurfaceGrid>(map, CellRegion::of_tiles(map.tile_indices()),
+                                                        config.traversability),
+                    map.resolution(), config);
+}
+
+struct Outcome {
+  std::string phase;  ///< reached, failed, cancelled or timeout
+  std::string reason;
+  std::string message;    ///< the server's words for a failure
+  bool accepted = false;  ///< seen driving, or ended in a phase only driving leads to
+  double seconds = 0.0;   ///< simulated
+};
+
+Outcome drive_to(std::uint16_t port, const Eigen::Vector3d& goal, double timeout) {
+  const nlohmann::json body{{"x", goal.x()}, {"y", goal.y()}, {"z", goal.z()}};
+  const auto posted = http_request(port, http::verb::post, "/api/v1/goal", body.dump(), kTestOperatorToken);
+  if (posted.result_int() != 202)
+    return {.phase = "refused", .reason = "http_" + std::to_string(posted.result_int())};
+  const int id = nlohmann::json::parse(posted.body()).at("id").get<int>();
+  const double start = get_json(port, "/api/v1/pose").at("stamp").get<double>();
+  Outcome outcome;
+  while (true) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
+    const nlohmann::json state = get_json(port, "/api/v1/goal");
+    const double now = get_json(port, "/api/v1/pose").at("stamp").get<double>();
+    outcome.seconds = now - start;
+    if (state.at("id").get<int>() != id)
+      return {.phase = "replaced"};
+    const std::string phase = state.at("phase").get<std::string>();
+    if (phase == "driving")
+      outcome.accepted = true;
+    if (phase == "reached" || phase == "failed" || phase == "cancelled") {
+      outcome.phase = phase;
+      outcome.reason = state.value("reason", "");
+      outcome.message = state.value("message", "");
+      // Failures that only come after a plan: the robot was driving.
+      outcome.accepted =
+          outcome.accepted || phase == "reached" || outcome.reason == "blocked" || outcome.reason == "stuck";
+      return outcome;
+    }
+    if (outcome.seconds > timeout) {
+      http_request(port, http::verb::delete_, "/api/v1/goal", {}, kTestOperatorToken);
+      outcome.phase = "timeout";
+      return outcome;
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const Options options = parse(argc, argv);
+  const sim::World world(sim::builtin_world(options.world));
+  testing::ServerProcess server(
+      {"--world", options.world, "--scanner", options.scanner, "--time-scale", options.time_scale});
+  const std::uint16_t port = server.port();
+  while (get_json(port, "/api/v1/pose").value("stamp", 0.0) < options.warmup)
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+
+  std::mt19937 random(options.seed);
+  std::unique_ptr<PatchGraph> truth;
+  int tried = 0;
+  int accepted = 0;
+  int reached = 0;
+  std::map<std::string, int> failed;
+  for (int i = 0; i < options.goals; ++i) {
+    const Eigen::Vector3d robot = truth_of(get_json(port, "/api/v1/pose"));
+    const PatchGraph seen = download_graph(port);
+    if (!truth)
+      truth = std::make_unique<PatchGraph>(test::surveyed_graph(world, seen));
+    std::vector<Eigen::Vector3d> spots;
+    for (const Eigen::Vector3d& spot : test::seen_goal_spots(*truth, seen, robot)) {
+      const double distance = std::hypot(spot.x() - robot.x(), spot.y() - robot.y());
+      if (distance >= 2.0 && distance <= 20.0)
+        spots.push_back(spot);
+    }
+    if (spots.empty()) {
+      std::printf("goal i=%d from=%.2f,%.2f,%.2f none: no seen ground 2-20 m away\n", i, robot.x(), robot.y(),
+                  robot.z());
+      break;
+    }
+    const Eigen::Vector3d goal =
+        spots[std::uniform_int_distribution<std::size_t>(0, spots.size() - 1)(random)];
+    const Outcome outcome = drive_to(port, goal, options.timeout);
+    const Eigen::Vector3d end = truth_of(get_json(port, "/api/v1/pose"));
+    ++tried;
+    accepted += outcome.accepted ? 1 : 0;
+    reached += outcome.phase == "reached" ? 1 : 0;
+    if (outcome.phase != "reached")
+      ++failed[outcome.phase + (outcome.reason.empty() ? "" : ":" + outcome.reason)];
+    std::printf(
+        "goal i=%d from=%.2f,%.2f,%.2f to=%.2f,%.2f,%.2f distance=%.1f candidates=%zu phase=%s reason=%s "
+        "accepted=%d seconds=%.1f error_m=%.2f%s%s%s\n",
+        i, robot.x(), robot.y(), robot.z(), goal.x(), goal.y(), goal.z(),
+        std::hypot(goal.x() - robot.x(), goal.y() - robot.y()), spots.size(), outcome.phase.c_str(),
+        outcome.reason.empty() ? "-" : outcome.reason.c_str(), outcome.accepted ? 1 : 0, outcome.seconds,
+        (end - goal).head<2>().norm(), outcome.message.empty() ? "" : " message=\"", outcome.message.c_str(),
+        outcome.message.empty() ? "" : "\"");
+    std::fflush(stdout);
+  }
+  std::string reasons;
+  for (const auto& [reason, count] : failed)
+    reasons += " " + reason + "=" + std::to_string(count);
+  std::printf(
+      "summary world=%s scanner=%s warmup=%.0f tried=%d accepted=%d reached=%d accepted_share=%.2f "
+      "reached_share=%.2f%s\n",
+      options.world.c_str(), options.scanner.c_str(), options.warmup, tried, accepted, reached,
+      tried > 0 ? static_cast<double>(accepted) / tried : 0.0,
+      tried > 0 ? static_cast<double>(reached) / tried : 0.0, reasons.c_str());
+  return 0;
+}
