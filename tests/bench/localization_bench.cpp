@@ -104,6 +104,15 @@ int main(int argc, char** argv) {
       std::getenv("STRATA_BENCH_IMU") == nullptr || std::string(std::getenv("STRATA_BENCH_IMU")) != "0";
   if (!imu)
     config.imu.reset();
+  // STRATA_BENCH_IMU_TILT_NOISE=<rad>: the accelerometer's noise while driving (and no mounting error when
+  // 0): how much of the height error is the gravity readings'.
+  if (const char* noise = std::getenv("STRATA_BENCH_IMU_TILT_NOISE"); noise && config.imu) {
+    config.imu->tilt_noise_moving = std::atof(noise);
+    if (config.imu->tilt_noise_moving == 0.0) {
+      config.imu->tilt_bias_stddev = 0.0;
+      config.imu->tilt_noise_standing = 0.0;
+    }
+  }
   // STRATA_BENCH_ODOMETRY=0: the localizer gets no odometry (a lidar alone: the constant velocity model).
   const bool with_odometry = std::getenv("STRATA_BENCH_ODOMETRY") == nullptr ||
                              std::string(std::getenv("STRATA_BENCH_ODOMETRY")) != "0";
