@@ -6,8 +6,8 @@
 
 namespace strata {
 
-LocalMap::LocalMap(double voxel_size, std::size_t scans)
-    : inverse_voxel_size_(1.0 / voxel_size), scans_(scans) {}
+LocalMap::LocalMap(double voxel_size, std::size_t scans, double metres)
+    : inverse_voxel_size_(1.0 / voxel_size), scans_(scans), metres_(metres) {}
 
 void LocalMap::keep_normals(LazyNormals::Estimates normals) {
   if (normals.normals.size() == points_.size() && normals.states.size() == points_.size())
@@ -16,16 +16,21 @@ void LocalMap::keep_normals(LazyNormals::Estimates normals) {
     normals_ = {};
 }
 
-void LocalMap::add(const PointCloud& points) {
+void LocalMap::add(const PointCloud& points, const Eigen::Vector3d& sensor) {
   ++scan_;
+  if (last_sensor_)
+    travelled_ += (sensor - *last_sensor_).norm();
+  last_sensor_ = sensor;
   for (const Eigen::Vector3d& p : points) {
     const auto next = static_cast<std::uint32_t>(points_.size());
     const auto [index, added] = voxels_.try_emplace(voxel_key(voxel_cell(p, inverse_voxel_size_)), next);
     if (added) {
       points_.push_back(p);
       seen_.push_back(scan_);
+      seen_at_.push_back(travelled_);
     } else {
       seen_[index] = scan_;
+      seen_at_[index] = travelled_;
     }
   }
   if (!normals_.states.empty()) {  // the new voxels have none yet
@@ -38,8 +43,10 @@ void LocalMap::add(const PointCloud& points) {
 void LocalMap::transform(const Eigen::Isometry3d& transform) {
   const PointCloud moved = transformed(points_, transform);
   const std::vector<std::uint32_t> seen = seen_;
+  const std::vector<double> seen_at = seen_at_;
   points_.clear();
   seen_.clear();
+  seen_at_.clear();
   voxels_.clear();
   normals_ = {};
   for (std::size_t i = 0; i < moved.size(); ++i) {
@@ -49,8 +56,10 @@ void LocalMap::transform(const Eigen::Isometry3d& transform) {
     if (added) {
       points_.push_back(moved[i]);
       seen_.push_back(seen[i]);
+      seen_at_.push_back(seen_at[i]);
     } else {
       seen_[index] = std::max(seen_[index], seen[i]);
+      seen_at_[index] = std::max(seen_at_[index], seen_at[i]);
     }
   }
 }
@@ -62,9 +71,10 @@ void LocalMap::expire() {
   std::size_t kept = 0;
   const bool normals = !normals_.states.empty();
   for (std::size_t i = 0; i < points_.size(); ++i) {
-    if (seen_[i] >= oldest_kept) {
+    if (seen_[i] >= oldest_kept || (metres_ > 0.0 && travelled_ - seen_at_[i] <= metres_)) {
       points_[kept] = points_[i];
       seen_[kept] = seen_[i];
+      seen_at_[kept] = seen_at_[i];
       if (normals) {
         normals_.normals[kept] = normals_.normals[i];
         normals_.states[kept] = normals_.states[i];
@@ -76,6 +86,7 @@ void LocalMap::expire() {
     return;
   points_.resize(kept);
   seen_.resize(kept);
+  seen_at_.resize(kept);
   if (normals) {
     normals_.normals.resize(kept);
     normals_.states.resize(kept);

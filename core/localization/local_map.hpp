@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/points/normals.hpp"
@@ -11,17 +12,18 @@
 
 namespace strata {
 
-/// The localizer's model set: the last few registered scans as one voxel map, one point per voxel (the
-/// first that fell into it). Adding a scan marks every voxel it reaches as seen now; a voxel no scan has
-/// reached in the last `scans` scans expires (KISS-ICP's local map, aged by scan instead of by distance).
-/// The same voxels as thinning the concatenation of the last `scans` scans, but each scan is hashed once,
-/// when it comes, instead of all of them again for every new scan.
+/// The localizer's model set: the recent registered scans as one voxel map, one point per voxel (the
+/// first that fell into it). Adding a scan marks every voxel it reaches as seen now; a voxel expires when
+/// no scan has reached it in the last `scans` scans *and* the sensor has moved `metres` since one did
+/// (KISS-ICP's local map is aged by distance alone). By scans alone a 10 Hz lidar forgot in one second the
+/// ground rings it had passed, and its height walked 0.35 m in 60 s on flat ground; by distance it keeps
+/// the ground it drove over, whatever the scan rate. Each scan is hashed once, when it comes.
 class LocalMap {
  public:
-  LocalMap(double voxel_size, std::size_t scans);
+  LocalMap(double voxel_size, std::size_t scans, double metres = 0.0);
 
-  /// Adds a registered scan (map frame) and expires what it leaves too old.
-  void add(const PointCloud& points);
+  /// Adds a registered scan (map frame) taken from `sensor` (map frame) and expires what it leaves too old.
+  void add(const PointCloud& points, const Eigen::Vector3d& sensor);
   /// Moves every point by `transform` (the map frame was corrected): the voxels are hashed again, two
   /// points in one voxel keep the older, and the normals are estimated afresh.
   void transform(const Eigen::Isometry3d& transform);
@@ -42,9 +44,13 @@ class LocalMap {
 
   double inverse_voxel_size_;
   std::size_t scans_;
-  std::uint32_t scan_ = 0;           ///< scans added so far
+  double metres_;
+  std::uint32_t scan_ = 0;  ///< scans added so far
+  double travelled_ = 0.0;  ///< metres the sensor moved between the scans added so far
+  std::optional<Eigen::Vector3d> last_sensor_;
   PointCloud points_;                ///< per live voxel
   std::vector<std::uint32_t> seen_;  ///< per live voxel: the last scan that reached it
+  std::vector<double> seen_at_;      ///< per live voxel: travelled_ at that scan
   VoxelKeyMap voxels_;               ///< voxel -> its index in points_
   LazyNormals::Estimates normals_;   ///< per live voxel, when known
 };

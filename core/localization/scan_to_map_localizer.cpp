@@ -22,7 +22,7 @@ ScanToMapLocalizer::ScanToMapLocalizer(LocalizerOptions options,
                                        const Eigen::Isometry3d& initial_map_from_odom)
     : options_(std::move(options)),
       registration_(options_.registration),
-      local_map_(options_.local_map_voxel, options_.local_map_scans),
+      local_map_(options_.local_map_voxel, options_.local_map_scans, options_.local_map_metres),
       // A start at a given pose knows its tilt; one at the odometry's origin does not.
       leveling_(options_.gravity, !initial_map_from_odom.isApprox(Eigen::Isometry3d::Identity())) {
   global_.apply_correction(initial_map_from_odom);
@@ -115,7 +115,7 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
     global_.apply_correction(update.pose * odometry_guess.inverse());
   update.map_from_odom = global_.correction();
 
-  local_map_.add(transformed(points, update.pose));
+  local_map_.add(transformed(points, update.pose), update.pose.translation());
   return update;
 }
 

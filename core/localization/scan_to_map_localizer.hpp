@@ -25,8 +25,11 @@ enum class GuessSource {
 
 struct LocalizerOptions {
   RegistrationOptions registration = default_registration();
-  std::size_t local_map_scans = 10;  ///< the model set: what this many recent registered scans reached
-  double local_map_voxel = 0.1;      ///< metres; the model set keeps one point per voxel of this size
+  /// The model set: what the last this many registered scans reached, and what the sensor passed in the
+  /// last `local_map_metres` (LocalMap: a 10 Hz lidar's 10 scans are one second).
+  std::size_t local_map_scans = 10;
+  double local_map_metres = 20.0;
+  double local_map_voxel = 0.1;  ///< metres; the model set keeps one point per voxel of this size
   /// Below this normal-matrix eigenvalue a direction (a corridor's axis) is taken from odometry and the rest
   /// from ICP; above the fault check's hard limit, as ICP slides along a corridor well before it is
   /// rejected (well-constrained real scans: docs/benchmarks.md, ICP).

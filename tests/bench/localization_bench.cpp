@@ -128,14 +128,17 @@ int main(int argc, char** argv) {
     graph_options.pose_graph = std::string(graph) != "0";
   LocalizerOptions& options = graph_options.scan_matching;
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
-  // STRATA_BENCH_LOCAL_VOXEL=<metres>, STRATA_BENCH_ROTATION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>,
-  // STRATA_BENCH_TILT_DRIFT=<rad per scan>, STRATA_BENCH_BIAS_RATE=<per scan>.
+  // STRATA_BENCH_LOCAL_METRES=<metres>, STRATA_BENCH_LOCAL_VOXEL=<metres>,
+  // STRATA_BENCH_ROTATION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>, STRATA_BENCH_TILT_DRIFT=<rad per scan>,
+  // STRATA_BENCH_BIAS_RATE=<per scan>.
   if (const char* metric = std::getenv("STRATA_BENCH_METRIC")) {
     options.registration.icp.metric =
         std::string(metric) == "point" ? IcpMetric::kPointToPoint : IcpMetric::kPointToPlane;
   }
   if (const char* n = std::getenv("STRATA_BENCH_LOCAL_MAP"))
     options.local_map_scans = std::strtoul(n, nullptr, 10);
+  if (const char* metres = std::getenv("STRATA_BENCH_LOCAL_METRES"))  // 0: by scan count alone, as before
+    options.local_map_metres = std::atof(metres);
   if (const char* voxel = std::getenv("STRATA_BENCH_LOCAL_VOXEL"))
     options.local_map_voxel = std::atof(voxel);
   if (const char* drift = std::getenv("STRATA_BENCH_TILT_DRIFT"))

@@ -32,7 +32,7 @@ TEST(LocalMap, HoldsTheVoxelsOfTheLastScans) {
   std::vector<PointCloud> scans;
   for (int i = 0; i < 6; ++i) {
     scans.push_back(shifted(test::room_scene(0.05, 0.0, static_cast<unsigned>(i)), 0.7 * i));
-    map.add(scans.back());
+    map.add(scans.back(), Eigen::Vector3d::Zero());
     PointCloud recent;
     for (std::size_t k = scans.size() > keep ? scans.size() - keep : 0; k < scans.size(); ++k)
       recent.insert(recent.end(), scans[k].begin(), scans[k].end());
@@ -45,13 +45,13 @@ TEST(LocalMap, HoldsTheVoxelsOfTheLastScans) {
 // A voxel a newer scan reached again stays, with its first point; one no recent scan reached expires.
 TEST(LocalMap, RevisitedVoxelsStayAndKeepTheirFirstPoint) {
   LocalMap map(1.0, 2);
-  map.add({{0.1, 0.1, 0.1}, {5.1, 0.1, 0.1}});
-  map.add({{0.9, 0.9, 0.9}});
-  map.add({{0.5, 0.5, 0.5}});  // (5, 0, 0) was last reached two scans ago: expired
+  map.add({{0.1, 0.1, 0.1}, {5.1, 0.1, 0.1}}, Eigen::Vector3d::Zero());
+  map.add({{0.9, 0.9, 0.9}}, Eigen::Vector3d::Zero());
+  map.add({{0.5, 0.5, 0.5}}, Eigen::Vector3d::Zero());  // (5, 0, 0) was last reached two scans ago: expired
   ASSERT_EQ(map.size(), 1U);
   EXPECT_EQ(map.points().front(), Eigen::Vector3d(0.1, 0.1, 0.1));
-  map.add({{7.5, 0.5, 0.5}});
-  map.add({{7.5, 0.5, 0.5}});  // (0, 0, 0) last reached three scans ago
+  map.add({{7.5, 0.5, 0.5}}, Eigen::Vector3d::Zero());
+  map.add({{7.5, 0.5, 0.5}}, Eigen::Vector3d::Zero());  // (0, 0, 0) last reached three scans ago
   ASSERT_EQ(map.size(), 1U);
   EXPECT_EQ(map.points().front(), Eigen::Vector3d(7.5, 0.5, 0.5));
 }
@@ -60,13 +60,14 @@ TEST(LocalMap, RevisitedVoxelsStayAndKeepTheirFirstPoint) {
 // match the map are dropped.
 TEST(LocalMap, CarriesNormalsWithTheirPoints) {
   LocalMap map(1.0, 2);
-  map.add({{0.5, 0.5, 0.5}, {1.5, 0.5, 0.5}});
+  map.add({{0.5, 0.5, 0.5}, {1.5, 0.5, 0.5}}, Eigen::Vector3d::Zero());
   LazyNormals::Estimates estimates;
   estimates.normals = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()};
   estimates.states = {LazyNormals::State::kValid, LazyNormals::State::kInvalid};
   map.keep_normals(estimates);
-  map.add({{1.5, 0.6, 0.5}, {2.5, 0.5, 0.5}});  // refreshes the second voxel, adds a third
-  map.add({{2.5, 0.6, 0.5}});                   // the first voxel expires
+  map.add({{1.5, 0.6, 0.5}, {2.5, 0.5, 0.5}},
+          Eigen::Vector3d::Zero());                     // refreshes the second voxel, adds a third
+  map.add({{2.5, 0.6, 0.5}}, Eigen::Vector3d::Zero());  // the first voxel expires
   LazyNormals::Estimates carried = map.take_normals();
   ASSERT_EQ(map.size(), 2U);
   ASSERT_EQ(carried.states.size(), 2U);
@@ -74,6 +75,22 @@ TEST(LocalMap, CarriesNormalsWithTheirPoints) {
   EXPECT_EQ(carried.states[1], LazyNormals::State::kUnknown);                    // new since
   map.keep_normals({{Eigen::Vector3d::UnitZ()}, {LazyNormals::State::kValid}});  // one for two points
   EXPECT_TRUE(map.take_normals().states.empty());
+}
+
+TEST(LocalMap, KeepsWhatTheSensorPassedInTheLastMetresWhateverTheScanRate) {
+  // Two scans kept by count, 1 m by distance; the sensor moves 0.4 m a scan.
+  LocalMap map(1.0, 2, 1.0);
+  map.add({{0.5, 0.5, 0.5}}, {0.0, 0, 0});
+  map.add({{1.5, 0.5, 0.5}}, {0.4, 0, 0});
+  map.add({{2.5, 0.5, 0.5}}, {0.8, 0, 0});
+  EXPECT_EQ(map.size(), 3U);  // the first is three scans old but only 0.8 m behind: kept
+  map.add({{3.5, 0.5, 0.5}}, {1.2, 0, 0});
+  EXPECT_EQ(map.size(), 3U);  // now 1.2 m behind: gone
+  EXPECT_EQ(map.points().front().x(), 1.5);
+  // Standing still, nothing it saw expires, however many scans come.
+  for (int i = 0; i < 10; ++i)
+    map.add({{3.5, 0.5, 0.5}}, {1.2, 0, 0});
+  EXPECT_EQ(map.size(), 3U);
 }
 
 }  // namespace
