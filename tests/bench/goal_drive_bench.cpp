@@ -7,19 +7,23 @@
 // prints one line per goal and a summary, "key=value" separated by spaces.
 //
 //   strata_goal_drive_bench [--world yard|campus] [--scanner tilting|lidar] [--warmup S] [--goals N]
-//                           [--timeout S] [--time-scale X] [--seed K]
+//                           [--timeout S] [--time-scale X] [--seed K] [--dump DIR]
 //   defaults: yard, tilting, 60 simulated seconds of demo route, 20 goals, 240 simulated seconds per goal,
-//   time scale 20, seed 1 (picks the goals; the simulator's own seed is the server's default)
+//   time scale 20, seed 1 (picks the goals; the simulator's own seed is the server's default); with --dump,
+//   the map downloaded before each goal that was not reached is saved as DIR/goal_<i>.strata
 //
 //   goal     i, where from and to, distance; phase it ended in (reached, failed, timeout) and the reason;
 //            accepted: the server planned a way and drove (it did not refuse the goal); simulated seconds;
-//            error_m: the robot's true distance from the goal at the end
+//            error_m: the robot's true distance from the goal at the end; pose_xy_m, pose_z_m: the
+//            estimate's error when the goal was sent (the goal is in true coordinates, the map in the
+//            estimate's)
 //   summary  goals tried, accepted and reached, and their shares; failures by reason
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <map>
 #include <memory>
 #include <random>
@@ -48,6 +52,7 @@ struct Options {
   double timeout = 240.0;
   std::string time_scale = "20";
   unsigned seed = 1;
+  std::string dump;  ///< a folder for the maps of goals not reached; empty: none saved
 };
 
 Options parse(int argc, char** argv) {
@@ -69,6 +74,8 @@ Options parse(int argc, char** argv) {
       options.time_scale = value;
     else if (key == "--seed")
       options.seed = static_cast<unsigned>(std::atoi(value));
+    else if (key == "--dump")
+      options.dump = value;
   }
   return options;
 }
@@ -86,13 +93,14 @@ Eigen::Vector3d truth_of(const nlohmann::json& pose) {
   return {truth.at("x").get<double>(), truth.at("y").get<double>(), truth.at("z").get<double>()};
 }
 
-/// The live map as a user downloads it, and its planner graph as the navigator builds it.
-PatchGraph download_graph(std::uint16_t port) {
+/// The live map as a user downloads it (the file's bytes), and its planner graph as the navigator builds it.
+PatchGraph download_graph(std::uint16_t port, std::string& file) {
   const auto response =
       http_request(port, http::verb::get, "/api/v1/map?format=strata", {}, kTestOperatorToken);
   if (response.result_int() != 200)
     throw std::runtime_error("map download: HTTP " + std::to_string(response.result_int()));
-  const MlsMap map = deserialize_mls_map(response.body(), "the downloaded map");
+  file = response.body();
+  const MlsMap map = deserialize_mls_map(file, "the downloaded map");
   const PatchGraphConfig config{.clearance_weight = 2.0};  // the navigator's
   return PatchGraph(std::make_shared<const SurfaceGrid>(map, CellRegion::of_tiles(map.tile_indices()),
                                                         config.traversability),
@@ -160,8 +168,12 @@ int main(int argc, char** argv) {
   int reached = 0;
   std::map<std::string, int> failed;
   for (int i = 0; i < options.goals; ++i) {
-    const Eigen::Vector3d robot = truth_of(get_json(port, "/api/v1/pose"));
-    const PatchGraph seen = download_graph(port);
+    const nlohmann::json pose = get_json(port, "/api/v1/pose");
+    const Eigen::Vector3d robot = truth_of(pose);
+    const Eigen::Vector3d estimate(pose.at("x").get<double>(), pose.at("y").get<double>(),
+                                   pose.at("z").get<double>());
+    std::string map_file;
+    const PatchGraph seen = download_graph(port, map_file);
     if (!truth)
       truth = std::make_unique<PatchGraph>(test::surveyed_graph(world, seen));
     std::vector<Eigen::Vector3d> spots;
@@ -182,15 +194,21 @@ int main(int argc, char** argv) {
     ++tried;
     accepted += outcome.accepted ? 1 : 0;
     reached += outcome.phase == "reached" ? 1 : 0;
-    if (outcome.phase != "reached")
+    if (outcome.phase != "reached") {
       ++failed[outcome.phase + (outcome.reason.empty() ? "" : ":" + outcome.reason)];
+      if (!options.dump.empty()) {
+        std::ofstream out(options.dump + "/goal_" + std::to_string(i) + ".strata", std::ios::binary);
+        out << map_file;
+      }
+    }
     std::printf(
         "goal i=%d from=%.2f,%.2f,%.2f to=%.2f,%.2f,%.2f distance=%.1f candidates=%zu phase=%s reason=%s "
-        "accepted=%d seconds=%.1f error_m=%.2f%s%s%s\n",
+        "accepted=%d seconds=%.1f error_m=%.2f pose_xy_m=%.2f pose_z_m=%.2f%s%s%s\n",
         i, robot.x(), robot.y(), robot.z(), goal.x(), goal.y(), goal.z(),
         std::hypot(goal.x() - robot.x(), goal.y() - robot.y()), spots.size(), outcome.phase.c_str(),
         outcome.reason.empty() ? "-" : outcome.reason.c_str(), outcome.accepted ? 1 : 0, outcome.seconds,
-        (end - goal).head<2>().norm(), outcome.message.empty() ? "" : " message=\"", outcome.message.c_str(),
+        (end - goal).head<2>().norm(), (estimate - robot).head<2>().norm(), estimate.z() - robot.z(),
+        outcome.message.empty() ? "" : " message=\"", outcome.message.c_str(),
         outcome.message.empty() ? "" : "\"");
     std::fflush(stdout);
   }
