@@ -11,7 +11,8 @@ namespace strata {
 GraphLocalizer::GraphLocalizer(GraphLocalizerOptions options, const Eigen::Isometry3d& initial_map_from_odom)
     : options_(std::move(options)),
       scan_matching_(options_.scan_matching, initial_map_from_odom),
-      motion_(options_.motion) {}
+      motion_(options_.motion),
+      trail_(options_.keyframe_map_voxel) {}
 
 LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std::optional<Pose2>& odometry,
                                             double stamp, const Eigen::Vector3d& sensor_origin,
@@ -56,18 +57,14 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
   const Eigen::Isometry3d relative = last_keyframe_frontend_.inverse() * update.pose;
   const double distance = relative.translation().norm();
   const double angle = Eigen::AngleAxisd(relative.linear()).angle();
-  if (!keyframes_.empty() && distance < options_.keyframe_distance && angle < options_.keyframe_angle)
+  if (!keyframes_.empty() && distance < options_.keyframe_distance && angle < options_.keyframe_angle) {
+    trail_.add(points, sensor_origin, relative);
     return;
+  }
   auto keyframe = std::make_shared<Keyframe>();
   keyframe->stamp = stamp;
   keyframe->points = voxel_downsample(points, options_.keyframe_voxel);
-  if (options_.keyframe_map_voxel > 0.0) {
-    const PointCloud map_points = voxel_downsample(points, options_.keyframe_map_voxel);
-    keyframe->map_points.reserve(map_points.size());
-    for (const Eigen::Vector3d& p : map_points)
-      keyframe->map_points.push_back(p.cast<float>());
-  }
-  keyframe->sensor_origin = sensor_origin;
+  keyframe->scans = trail_.close(points, sensor_origin, relative);
   keyframe->mapped_pose = update.pose;
   keyframe->gravity = update.gravity;
 

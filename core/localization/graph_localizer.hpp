@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/localization/keyframe.hpp"
+#include "core/localization/keyframe_trail.hpp"
 #include "core/localization/loop_closure.hpp"
 #include "core/localization/pose_graph_status.hpp"
 #include "core/localization/scan_to_map_localizer.hpp"
@@ -26,8 +27,9 @@ struct GraphLocalizerOptions {
   double keyframe_angle = 0.26;
   /// What a keyframe keeps: one point per voxel of this size, metres (docs/architecture.md 4.1: memory).
   double keyframe_voxel = 0.2;
-  /// What a keyframe keeps for rebuilding the map: one point per voxel of this size, metres (the MLS
-  /// map's cell: finer adds nothing a cell can hold; 0 keeps none and the map cannot be rebuilt).
+  /// What a keyframe keeps for rebuilding the map (its scans and those since the previous keyframe): one
+  /// point per voxel of this size, metres (the MLS map's cell: finer adds nothing a cell can hold; 0 keeps
+  /// none and the map cannot be rebuilt).
   double keyframe_map_voxel = 0.1;
   /// The chain between consecutive keyframes: the scan matcher's relative pose, with standard deviations
   /// growing with the motion (metres and radians per metre driven on top of a floor); directions the scan
@@ -76,6 +78,7 @@ class GraphLocalizer {
   GraphLocalizerOptions options_;
   ScanToMapLocalizer scan_matching_;   // scan path only
   ConstantVelocityPrediction motion_;  // scan path only: the odometry of scans that come without
+  KeyframeTrail trail_;                // scan path only: the scans the next keyframe keeps for the map
 
   /// Everything below. The scan path writes keyframes_ and last_keyframe_frontend_ under it and may read
   /// them without it (it is their only writer); other threads read them under it.

@@ -11,17 +11,27 @@
 
 namespace strata {
 
+/// One registered scan as a keyframe keeps it for rebuilding the map, in the keyframe's base frame. Floats:
+/// the map stores heights as floats anyway, and it halves the memory per km.
+struct KeyframeScan {
+  Eigen::Vector3f sensor_origin = Eigen::Vector3f::Zero();  ///< where its rays start
+  Eigen::Vector3f ground = Eigen::Vector3f::Zero();         ///< its base origin: the ground it drove on
+  /// One point per GraphLocalizerOptions::keyframe_map_voxel (the map's cell size), over the keyframe's
+  /// scans: the voxels no earlier scan of the keyframe reached.
+  std::vector<Eigen::Vector3f> points;
+};
+
 /// A registered scan kept for the pose graph (docs/architecture.md 4.1). Immutable once made: shared
 /// between the scan path, the background optimizer and the map rebuild without copies.
 struct Keyframe {
   double stamp = 0.0;
   /// Base frame, one point per GraphLocalizerOptions::keyframe_voxel: what loop closures register.
   PointCloud points;
-  /// Base frame, one point per GraphLocalizerOptions::keyframe_map_voxel (the map's cell size): what the
-  /// map is rebuilt from when the keyframe's pose moves. Floats: the map stores heights as floats anyway,
-  /// and it halves the memory per km.
-  std::vector<Eigen::Vector3f> map_points;
-  Eigen::Vector3d sensor_origin = Eigen::Vector3d::Zero();  ///< base frame: where the rays start
+  /// What the map is rebuilt from when the keyframe's pose moves: the scans registered since the previous
+  /// keyframe and then its own, oldest first. A 10 Hz lidar makes a keyframe every ten or so scans: built
+  /// from the keyframes' own scans alone, the map lost the ground rings between them and the track the
+  /// robot drove (it sees no ground within 5 m), and goals near the robot had no way to them.
+  std::vector<KeyframeScan> scans;
   /// Where the scan path put it when it was made (map frame): the pose its scan went into the live map
   /// with, so the map rebuild knows what moved.
   Eigen::Isometry3d mapped_pose = Eigen::Isometry3d::Identity();

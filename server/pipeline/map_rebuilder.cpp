@@ -31,12 +31,13 @@ MlsMap MapRebuilder::build(const std::vector<KeyframePose>& keyframes) const {
   MlsMap map(config_);
   PointCloud points;
   for (const auto& [keyframe, pose] : keyframes) {
-    points.clear();
-    points.reserve(keyframe->map_points.size());
-    for (const Eigen::Vector3f& p : keyframe->map_points)
-      points.push_back(pose * p.cast<double>());
-    // The base frame's origin is the ground under the robot.
-    map.insert_scan(points, pose * keyframe->sensor_origin, pose.translation());
+    for (const KeyframeScan& scan : keyframe->scans) {
+      points.clear();
+      points.reserve(scan.points.size());
+      for (const Eigen::Vector3f& p : scan.points)
+        points.push_back(pose * p.cast<double>());
+      map.insert_scan(points, pose * scan.sensor_origin.cast<double>(), pose * scan.ground.cast<double>());
+    }
   }
   return map;
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <future>
+#include <initializer_list>
 #include <utility>
 
 #include "server/pipeline/scan_preprocessing.hpp"
@@ -135,6 +136,9 @@ void MappingWorker::map_scan(const Scan& scan) {
     return;
   if (recording_)
     mapped_meanwhile_.push_back(scan);
+  recent_.push_back(scan);
+  if (recent_.size() > kRecentScans)
+    recent_.pop_front();
   {
     std::lock_guard lock(mutex_);
     ++status_.scans;
@@ -155,10 +159,16 @@ bool MappingWorker::rebuild_from(const std::vector<KeyframePose>& keyframes) {
   if (moves.moved == 0)
     return false;
   bool loaded = false;
+  std::vector<Scan> after_keyframes;  // mapped before the rebuild started, newer than the newest keyframe
+  const double newest_keyframe = keyframes.empty() ? 0.0 : keyframes.back().keyframe->stamp;
   const bool running = run_on_mapping_thread([&] {
     loaded = loaded_;
     recording_ = !loaded_;
     mapped_meanwhile_.clear();
+    for (const Scan& scan : recent_) {
+      if (scan.preprocessed.event.stamp > newest_keyframe)
+        after_keyframes.push_back(scan);
+    }
   });
   if (!running || loaded)
     return false;
@@ -181,10 +191,15 @@ bool MappingWorker::rebuild_from(const std::vector<KeyframePose>& keyframes) {
       spdlog::error("mapping: the rebuilt map could not replace the live map: {}", error.what());
       return;
     }
-    // The scans mapped while the keyframes were being put in: they went into the map just replaced.
-    for (const Scan& scan : meanwhile) {
-      MappingTimes times;
-      again += insert(scan, times) ? 1 : 0;
+    // The scans no keyframe holds: those mapped after the newest keyframe, before the rebuild started
+    // and while the keyframes were being put in; they went into the map just replaced. At the poses they
+    // were mapped with: the next rebuild moves them with their keyframe.
+    for (const std::vector<Scan>* scans :
+         std::initializer_list<const std::vector<Scan>*>{&after_keyframes, &meanwhile}) {
+      for (const Scan& scan : *scans) {
+        MappingTimes times;
+        again += insert(scan, times) ? 1 : 0;
+      }
     }
     swapped = true;
     {
@@ -199,7 +214,7 @@ bool MappingWorker::rebuild_from(const std::vector<KeyframePose>& keyframes) {
   spdlog::info(
       "mapping: map rebuilt from {} keyframes after the pose graph moved {} of them (up to {:.2f} m); built "
       "in "
-      "{:.2f} s, {} scans mapped meanwhile mapped again",
+      "{:.2f} s, {} scans newer than the keyframes mapped again",
       moves.keyframes, moves.moved, moves.largest_shift, build_seconds, again);
   return true;
 }

@@ -238,7 +238,8 @@ int main(int argc, char** argv) {
   std::vector<Visit> rebuilt;  // the keyframes at their final estimates: what the rebuilt map has
   for (const auto& [keyframe, pose] : keyframes) {
     keyframe_points += keyframe->points.size();
-    keyframe_map_points += keyframe->map_points.size();
+    for (const KeyframeScan& scan : keyframe->scans)
+      keyframe_map_points += scan.points.size();
     rebuilt.push_back(
         {truth_at.at(keyframe->stamp), pose, voxel_downsample(keyframe->points, 0.5), keyframe->travelled});
   }

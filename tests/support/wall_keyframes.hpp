@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "core/localization/keyframe.hpp"
@@ -26,9 +27,11 @@ inline KeyframePtr room_keyframe(const Eigen::Isometry3d& mapped_pose, double st
   auto keyframe = std::make_shared<Keyframe>();
   keyframe->stamp = stamp;
   keyframe->points = room_seen_from_origin();
+  KeyframeScan scan;
+  scan.sensor_origin = Eigen::Vector3f(0.0F, 0.0F, 1.0F);
   for (const Eigen::Vector3d& p : keyframe->points)
-    keyframe->map_points.push_back(p.cast<float>());
-  keyframe->sensor_origin = Eigen::Vector3d(0.0, 0.0, 1.0);
+    scan.points.push_back(p.cast<float>());
+  keyframe->scans.push_back(std::move(scan));
   keyframe->mapped_pose = mapped_pose;
   return keyframe;
 }

@@ -75,5 +75,24 @@ TEST(MapRebuilder, TheGroundTheRobotDroveIsMarkedWhereTheKeyframesAreNow) {
   EXPECT_FALSE(driven_at(0.35)) << "where the drifted pose had it";
 }
 
+TEST(MapRebuilder, TheWholeTrackBetweenKeyframesIsDriven) {
+  // A lidar's keyframe comes every metre and holds the scans since the last one: the rebuilt map has the
+  // ground of each, not only of the keyframe's own spot (the robot must be able to drive back along it).
+  auto keyframe = std::make_shared<Keyframe>();
+  keyframe->stamp = 1.0;
+  for (const float x : {-1.0F, -0.6F, -0.2F, 0.0F}) {
+    KeyframeScan scan;
+    scan.ground = Eigen::Vector3f(x, 0.0F, 0.0F);
+    scan.sensor_origin = Eigen::Vector3f(x, 0.0F, 1.0F);
+    scan.points.emplace_back(x + 3.0F, 0.0F, 0.0F);  // a lidar sees the ground metres ahead, not below
+    keyframe->scans.push_back(scan);
+  }
+  const MlsMap map = MapRebuilder(MlsConfig{}).build({{keyframe, shifted(2.0)}});
+  for (double x = 0.95; x <= 2.05; x += 0.1) {
+    const std::vector<MlsPatch> patches = map.patches(map.cell_of(x, 0.05));
+    EXPECT_TRUE(std::ranges::any_of(patches, [](const MlsPatch& p) { return p.driven(); })) << "x = " << x;
+  }
+}
+
 }  // namespace
 }  // namespace strata::pipeline

@@ -373,5 +373,26 @@ TEST(MappingWorkerNames, TheProtocolsRuleForEveryCommand) {
     EXPECT_TRUE(worker.load_map(map.name).ok) << map.name;
 }
 
+TEST(MappingWorker, ARebuildKeepsTheScansNewerThanItsKeyframes) {
+  // The scans since the newest keyframe are in no keyframe yet (a lidar's keyframe comes every metre), and
+  // the robot stands at the newest: the rebuilt map maps them again.
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path());
+  worker.start();
+  const Eigen::Isometry3d sensor(Eigen::Translation3d(0.0, 0.0, 1.0));
+  const Eigen::Isometry3d moved_on(Eigen::Translation3d(7.0, 0.0, 0.0));
+  worker.submit(room_scan(1.0), sensor);
+  worker.submit(room_scan(2.0), moved_on * sensor);  // its far wall at x = 10 m, in a tile of its own
+  ASSERT_TRUE(worker.flush());
+  ASSERT_NE(tile_at(*state.snapshot(), 10.0), nullptr);
+
+  const KeyframePtr first = strata::testing::room_keyframe(Eigen::Isometry3d::Identity(), 1.0);
+  ASSERT_TRUE(worker.rebuild_from({{first, Eigen::Isometry3d(Eigen::Translation3d(0.1, 0.0, 0.0))}}));
+  const auto after = tile_at(*state.snapshot(), 10.0);
+  ASSERT_NE(after, nullptr);
+  EXPECT_GT(after->patches, 0U) << "the scan after the keyframe is in the rebuilt map";
+}
+
 }  // namespace
 }  // namespace strata::pipeline

@@ -1,0 +1,47 @@
+#include "core/localization/keyframe_trail.hpp"
+
+#include <unordered_set>
+#include <utility>
+
+#include "core/points/voxel_downsample.hpp"
+#include "core/points/voxel_key.hpp"
+
+namespace strata {
+
+KeyframeTrail::KeyframeTrail(double voxel) : voxel_(voxel) {}
+
+void KeyframeTrail::add(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
+                        const Eigen::Isometry3d& keyframe_from_scan) {
+  if (voxel_ > 0.0)
+    scans_.push_back({voxel_downsample(points, voxel_), sensor_origin, keyframe_from_scan});
+}
+
+std::vector<KeyframeScan> KeyframeTrail::close(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
+                                               const Eigen::Isometry3d& previous_from_keyframe) {
+  std::vector<KeyframeScan> kept;
+  if (voxel_ <= 0.0)
+    return kept;
+  const double inverse_voxel = 1.0 / voxel_;
+  std::unordered_set<VoxelKey, VoxelKeyHash> reached;
+  const auto keep = [&](const PointCloud& thinned, const Eigen::Vector3d& origin,
+                        const Eigen::Isometry3d& keyframe_from_scan) {
+    KeyframeScan scan;
+    scan.sensor_origin = (keyframe_from_scan * origin).cast<float>();
+    scan.ground = keyframe_from_scan.translation().cast<float>();
+    for (const Eigen::Vector3d& p : thinned) {
+      const Eigen::Vector3d q = keyframe_from_scan * p;
+      if (reached.insert(voxel_key(voxel_cell(q, inverse_voxel))).second)
+        scan.points.push_back(q.cast<float>());
+    }
+    kept.push_back(std::move(scan));
+  };
+  kept.reserve(scans_.size() + 1);
+  const Eigen::Isometry3d keyframe_from_previous = previous_from_keyframe.inverse();
+  for (const Scan& scan : scans_)
+    keep(scan.points, scan.sensor_origin, keyframe_from_previous * scan.keyframe_from_scan);
+  keep(voxel_downsample(points, voxel_), sensor_origin, Eigen::Isometry3d::Identity());
+  scans_.clear();
+  return kept;
+}
+
+}  // namespace strata
