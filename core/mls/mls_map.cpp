@@ -183,7 +183,12 @@ bool MlsMap::add_point(MlsTile& tile, int local, float z, float variance) {
   }
 
   MlsPatch& patch = tile.at(best);
-  if (!patch.vertical() && std::abs(z - patch.mean) <= static_cast<float>(config_.vertical_threshold)) {
+  // A horizontal patch takes a point within tau, or within three standard deviations (at most twice tau)
+  // when the two are less certain than that: floor seen from afar by a moving sensor scatters beyond tau
+  // (its pose's tilt error times the range), and stood as vertical patches all over open ground.
+  const auto tau = static_cast<float>(config_.vertical_threshold);
+  const float tolerance = std::clamp(3.0F * std::sqrt(patch.variance + variance), tau, 2.0F * tau);
+  if (!patch.vertical() && std::abs(z - patch.mean) <= tolerance) {
     // Kalman update of the height (thesis / Triebel 2006): the less certain estimate moves more.
     const float sum = patch.variance + variance;
     patch.mean = (variance * patch.mean + patch.variance * z) / sum;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <limits>
 #include <numbers>
 
@@ -45,7 +46,9 @@ TEST(MlsMap, FlatFloorGivesOneHorizontalPatchPerCell) {
       ASSERT_EQ(patches.size(), 1U) << x << ' ' << y;
       EXPECT_FALSE(patches[0].vertical());
       EXPECT_NEAR(patches[0].mean, 0.0, 0.005);
-      EXPECT_LT(patches[0].variance, 0.01 * 0.01);  // many points: far more certain than one
+      // Many points: far more certain than one at that range.
+      const double one = map.config().sigma_base + map.config().sigma_per_metre * std::hypot(x, y, 1.5);
+      EXPECT_LT(patches[0].variance, one * one / 2.0);
     }
 }
 
@@ -53,6 +56,29 @@ TEST(MlsMap, VarianceGrowsWithRange) {
   MlsMap map(static_scene_config());
   map.insert_scan({{1.05, 0.05, 0.0}, {20.05, 0.05, 0.0}}, {0, 0, 0});
   EXPECT_LT(patches_at(map, 1.05, 0.05)[0].variance, patches_at(map, 20.05, 0.05)[0].variance);
+}
+
+TEST(MlsMap, FloorSeenFromAfarScattersWithoutStandingUp) {
+  // A moving sensor's tilt error scatters the floor it sees at 10 m over about 0.13 m (the poses of the
+  // scans that saw it disagree): one horizontal patch. The same spread seen from 1 m is a step or a
+  // thin obstacle: vertical. More than twice tau is vertical from anywhere.
+  MlsMap map;
+  const auto cell_after = [&](double x, const Eigen::Vector3d& origin,
+                              std::initializer_list<double> heights) {
+    for (const double z : heights)
+      map.insert_scan({{x, 0.05, z}}, origin);
+    return patches_at(map, x, 0.05);
+  };
+  const auto far = cell_after(10.05, {0, 0, 1.4}, {-0.02, 0.11, 0.03, 0.09});
+  ASSERT_EQ(far.size(), 1U);
+  EXPECT_FALSE(far[0].vertical());
+  EXPECT_NEAR(far[0].mean, 0.05, 0.03);
+  const auto near = cell_after(1.05, {0, 0, 0.3}, {-0.02, 0.11});
+  ASSERT_EQ(near.size(), 1U);
+  EXPECT_TRUE(near[0].vertical());
+  const auto wall = cell_after(12.05, {0, 0, 1.4}, {0.0, 0.25});
+  ASSERT_EQ(wall.size(), 1U);
+  EXPECT_TRUE(wall[0].vertical());
 }
 
 TEST(MlsMap, GapRuleSplitsAndMergesPatches) {
