@@ -198,22 +198,35 @@ void SurfaceGrid::drive_over_seams() {
 void SurfaceGrid::classify() {
   const auto robot_height = static_cast<float>(config_.robot_height);
   const double max_gradient = std::tan(config_.max_slope);
-  // Gradients in metres per cell. Slope over two cells each way rather than one: a step the robot may climb
-  // (max_step over one cell) must not read as a steep slope, while a ramp keeps its gradient at any baseline.
-  const auto axis_gradient = [&](int col, int row, int dc, int dr, float height) {
-    for (int reach = 2; reach >= 1; --reach) {
-      float ahead = height;
-      float behind = height;
-      const bool has_ahead = neighbour_height(col + dc * reach, row + dr * reach, height, ahead);
-      const bool has_behind = neighbour_height(col - dc * reach, row - dr * reach, height, behind);
-      if (has_ahead && has_behind)
-        return static_cast<double>(ahead - behind) / (2.0 * reach);
-      if (has_ahead)
-        return static_cast<double>(ahead - height) / reach;
-      if (has_behind)
-        return static_cast<double>(height - behind) / reach;
-    }
-    return 0.0;
+  // The gradient, metres per cell, of the plane fitted by least squares to the surface and the heights
+  // its neighbours within two cells have near it: within a climbable step plus the steepest slope over
+  // their distance (what lies beyond a step is the step rule's to judge: the landing beside a stair is
+  // flat). Not differences of single cells: sparse rings leave a cell one neighbour on an axis, and a
+  // lidar's floor scatters some centimetres from cell to cell (its pose's tilt error times the range),
+  // which single differences read as 20 degree slopes on flat ground and ramps; the plane through up to
+  // 25 heights does not.
+  const double max_step = config_.max_step;
+  const double gradient_per_cell = max_gradient * cell_size_;
+  const auto plane_gradient = [&](int col, int row, float height) {
+    double n = 1.0, sx = 0.0, sy = 0.0, sz = 0.0, sxx = 0.0, syy = 0.0, sxy = 0.0, sxz = 0.0, syz = 0.0;
+    for (int dr = -2; dr <= 2; ++dr)
+      for (int dc = -2; dc <= 2; ++dc) {
+        float neighbour = 0.0F;
+        if ((dr == 0 && dc == 0) || !neighbour_height(col + dc, row + dr, height, neighbour))
+          continue;
+        const double x = dc, y = dr, z = neighbour - height;  // the surface itself is at (0, 0, 0)
+        if (std::abs(z) > max_step + gradient_per_cell * std::max(std::abs(dc), std::abs(dr)))
+          continue;
+        n += 1.0;
+        sx += x, sy += y, sz += z, sxx += x * x, syy += y * y, sxy += x * y, sxz += x * z, syz += y * z;
+      }
+    const double cxx = sxx - sx * sx / n, cyy = syy - sy * sy / n, cxy = sxy - sx * sy / n;
+    const double cxz = sxz - sx * sz / n, cyz = syz - sy * sz / n;
+    const double det = cxx * cyy - cxy * cxy;
+    if (det > 1e-6)
+      return std::hypot((cyy * cxz - cxy * cyz) / det, (cxx * cyz - cxy * cxz) / det);
+    // The neighbours on one line (or none): its gradient per axis (on a diagonal, sqrt(2) too steep).
+    return std::hypot(cxx > 1e-9 ? cxz / cxx : 0.0, cyy > 1e-9 ? cyz / cyy : 0.0);
   };
   for (int row = 0; row < region_.height; ++row)
     for (int col = 0; col < region_.width; ++col) {
@@ -230,9 +243,7 @@ void SurfaceGrid::classify() {
         }
         if (i + 1 < end && surfaces_[i + 1].bottom - s.top < robot_height)
           continue;  // the patch above leaves too little room
-        const double gx = axis_gradient(col, row, 1, 0, s.top);
-        const double gy = axis_gradient(col, row, 0, 1, s.top);
-        s.traversable = std::hypot(gx, gy) <= max_gradient * cell_size_;
+        s.traversable = plane_gradient(col, row, s.top) <= gradient_per_cell;
       }
     }
 }

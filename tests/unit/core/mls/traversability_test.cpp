@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 #include <memory>
+#include <random>
 #include <set>
 #include <vector>
 
@@ -127,6 +128,32 @@ double traversable_share(const SurfaceGrid& grid, double resolution, Eigen::Alig
         }
     }
   return seen == 0 ? 0.0 : static_cast<double>(traversable) / static_cast<double>(seen);
+}
+
+// A lidar sees a ramp from afar in rings: some cells empty, the rest scattered a few centimetres by its
+// pose's tilt error. The slope rule reads the ramp, not the scatter; a slope too steep stays too steep.
+TEST(SurfaceGridRules, ASlopeSeenInSparseScatteredRingsIsJudgedByItsGrade) {
+  const auto share_of = [](double grade) {
+    MlsMap map;
+    std::mt19937 random(7);
+    std::normal_distribution<double> scatter(0.0, 0.03);
+    std::bernoulli_distribution seen(0.6);
+    PointCloud points;
+    for (double x = 0.05; x < 4.0; x += 0.1)
+      for (double y = 0.05; y < 2.0; y += 0.1)
+        if (seen(random))
+          points.emplace_back(x, y, grade * x + scatter(random));
+    map.insert_scan(points, {2.0, 1.0, 3.0});
+    const SurfaceGrid grid(map, CellRegion::of_tiles(map.tile_indices()), TraversabilityConfig{});
+    std::size_t cells = 0;
+    const double share = traversable_share(
+        grid, map.resolution(), {Eigen::Vector3d(0.3, 0.3, -1.0), Eigen::Vector3d(3.7, 1.7, 3.0)}, cells);
+    EXPECT_GT(cells, 150U);
+    return share;
+  };
+  EXPECT_GE(share_of(1.0 / 12.0), 0.95) << "a 1:12 ramp, 4.8 degrees";
+  EXPECT_GE(share_of(0.0), 0.95) << "flat ground";
+  EXPECT_LE(share_of(0.47), 0.05) << "25 degrees";
 }
 
 TEST(SurfaceGridRules, TheLabFloorAndTheRampTheRobotDroveAreTraversable) {
