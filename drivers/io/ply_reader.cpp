@@ -16,7 +16,7 @@ namespace strata::io {
 namespace {
 
 /// 2^40: more elements or list items than any PLY file holds (checked before converting a count to size_t).
-constexpr double kMaxCount = 1099511627776.0;
+constexpr double kMaxPlyCount = 1099511627776.0;
 
 struct PlyProperty {
   std::string name;
@@ -131,7 +131,7 @@ LoadedCloud read_ply(std::istream& in, const std::filesystem::path& path) {
     } else if (words[0] == "element" && words.size() == 3) {
       const std::optional<double> count = parse_number(words[2]);
       // Checked before the cast: a double beyond size_t's range is undefined to convert (found by fuzzing).
-      if (!count || !(*count >= 0.0 && *count <= kMaxCount) || *count != std::floor(*count))
+      if (!count || !(*count >= 0.0 && *count <= kMaxPlyCount) || *count != std::floor(*count))
         throw PointFileError(path, "PLY element '" + std::string(words[1]) + "' has a bad count");
       elements.push_back({std::string(words[1]), static_cast<std::size_t>(*count), {}});
     } else if (words[0] == "property" && !elements.empty()) {
@@ -191,7 +191,7 @@ LoadedCloud read_ply(std::istream& in, const std::filesystem::path& path) {
           continue;
         }
         const double items = values.next(property.count_type);  // a float type is legal, and may be anything
-        if (!(items >= 0.0 && items <= kMaxCount) || items != std::floor(items))
+        if (!(items >= 0.0 && items <= kMaxPlyCount) || items != std::floor(items))
           throw PointFileError(path, "PLY list '" + property.name + "' has a bad length");
         for (std::size_t j = 0; j < static_cast<std::size_t>(items); ++j)
           static_cast<void>(values.next(property.type));

@@ -10,15 +10,16 @@
 namespace strata::lidar {
 namespace {
 
-constexpr std::size_t kChannels = 64;  // the legacy packet always carries 64 channels
+constexpr std::size_t kLegacyChannels = 64;  // the legacy packet always carries 64 channels
 
 std::vector<double> angles(const nlohmann::json& root, const char* key, std::string_view source) {
   const auto field = root.find(key);
   if (field == root.end() || !field->is_array())
     throw LidarConfigError(std::string(source) + ": no '" + key + "' array (not an Ouster metadata file?)");
-  if (field->size() != kChannels)
+  if (field->size() != kLegacyChannels)
     throw LidarConfigError(std::string(source) + ": '" + key + "' has " + std::to_string(field->size()) +
-                           " values; the OS-1 1.x packet has " + std::to_string(kChannels) + " channels");
+                           " values; the OS-1 1.x packet has " + std::to_string(kLegacyChannels) +
+                           " channels");
   std::vector<double> values;
   for (const nlohmann::json& value : *field) {
     if (!value.is_number() || !std::isfinite(value.get<double>()) || std::abs(value.get<double>()) > 90.0)

@@ -9,8 +9,8 @@
 namespace strata::lidar {
 namespace {
 
-constexpr std::size_t kBlocks = 12;
-constexpr std::size_t kBlockSize = 100;
+constexpr std::size_t kVelodyneBlocks = 12;
+constexpr std::size_t kVelodyneBlockSize = 100;
 constexpr std::size_t kChannelsPerBlock = 32;
 constexpr std::uint16_t kUpperBlockFlag =
     0xeeff;                                     // stored ff ee; HDL-64's lower block 0xddff is foreign here
@@ -68,8 +68,8 @@ VelodyneDecoder::VelodyneDecoder(LidarModel model, const VelodyneCalibration& ca
 }
 
 double VelodyneDecoder::packet_duration() const {
-  return model_ == LidarModel::kVlp16 ? 2 * kBlocks * kVlp16SequenceInterval
-                                      : kBlocks * kHdl32eSequenceInterval;
+  return model_ == LidarModel::kVlp16 ? 2 * kVelodyneBlocks * kVlp16SequenceInterval
+                                      : kVelodyneBlocks * kHdl32eSequenceInterval;
 }
 
 void VelodyneDecoder::add_return(const Laser& laser, std::uint32_t azimuth, const std::uint8_t* channel,
@@ -107,11 +107,11 @@ bool VelodyneDecoder::decode(std::span<const std::uint8_t> payload, double recei
     ++stats_.unsupported_mode;
     return false;
   }
-  std::array<std::uint32_t, kBlocks> azimuths{};
-  std::array<bool, kBlocks> valid{};
+  std::array<std::uint32_t, kVelodyneBlocks> azimuths{};
+  std::array<bool, kVelodyneBlocks> valid{};
   std::size_t valid_blocks = 0;
-  for (std::size_t b = 0; b < kBlocks; ++b) {
-    const std::uint8_t* block = payload.data() + b * kBlockSize;
+  for (std::size_t b = 0; b < kVelodyneBlocks; ++b) {
+    const std::uint8_t* block = payload.data() + b * kVelodyneBlockSize;
     azimuths[b] = load_le<std::uint16_t>(block + 2);
     valid[b] = load_le<std::uint16_t>(block) == kUpperBlockFlag && azimuths[b] < kAzimuthUnits;
     valid_blocks += valid[b] ? 1 : 0;
@@ -121,7 +121,7 @@ bool VelodyneDecoder::decode(std::span<const std::uint8_t> payload, double recei
     return false;
   }
   ++stats_.packets;
-  stats_.invalid_blocks += kBlocks - valid_blocks;
+  stats_.invalid_blocks += kVelodyneBlocks - valid_blocks;
   const std::uint8_t product = payload[1205];
   const std::uint8_t expected_product = model_ == LidarModel::kVlp16 ? kProductVlp16 : kProductHdl32e;
   if (product != expected_product)
@@ -135,15 +135,15 @@ bool VelodyneDecoder::decode(std::span<const std::uint8_t> payload, double recei
   const double laser_interval = vlp16 ? kVlp16LaserInterval : kHdl32eLaserInterval;
   const double block_duration = static_cast<double>(sequences) * sequence_interval;
   const std::size_t points_before = out.points.size();
-  for (std::size_t b = 0; b < kBlocks; ++b) {
+  for (std::size_t b = 0; b < kVelodyneBlocks; ++b) {
     if (!valid[b])
       continue;
-    const std::uint8_t* channels = payload.data() + b * kBlockSize + 4;
+    const std::uint8_t* channels = payload.data() + b * kVelodyneBlockSize + 4;
     const std::uint32_t azimuth = azimuths[b];
     // The block's azimuth is its first firing's; the head keeps turning while the block's lasers fire, so
     // later firings are interpolated towards the next block's azimuth (the previous gap for the packet's
     // last block or an invalid neighbour).
-    if (b + 1 < kBlocks && valid[b + 1]) {
+    if (b + 1 < kVelodyneBlocks && valid[b + 1]) {
       const std::uint32_t gap = (azimuths[b + 1] + kAzimuthUnits - azimuth) % kAzimuthUnits;
       if (gap <= kMaxAzimuthGap)
         last_azimuth_gap_ = gap;

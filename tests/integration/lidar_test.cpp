@@ -27,7 +27,7 @@ namespace {
 namespace fs = std::filesystem;
 using namespace std::chrono_literals;
 
-fs::path temporary(const std::string& name) {
+fs::path scratch_dir(const std::string& name) {
   const fs::path path =
       fs::temp_directory_path() / ("strata-lidar-" + name + "-" + std::to_string(::getpid()));
   fs::remove_all(path);
@@ -93,7 +93,7 @@ RoadCoverage road_coverage(std::uint16_t port, const Eigen::Vector3d& car) {
 TEST(Lidar, Hdl32eCaptureRunsThroughThePipelineAndItsRoadIsDrivable) {
   const fs::path pcap = lidar_data() / "hdl32_example.pcap";
   SKIP_WITHOUT_CAPTURE(pcap);
-  const fs::path maps = temporary("hdl-maps");
+  const fs::path maps = scratch_dir("hdl-maps");
   ServerProcess server({"--pcap", pcap.string(), "--lidar", "hdl32e", "--lidar-calibration",
                         (lidar_data() / "32db.yaml").string(), "--lidar-mount", "0,0,2.15", "--replay-rate",
                         "max", "--maps-dir", maps.string()});
@@ -139,7 +139,7 @@ TEST(Lidar, Vlp16AndOusterCapturesPlayAtTheirRecordedRate) {
                                  Capture{"ouster_example.pcap", "os1", "ouster_example.json", false}}) {
     const fs::path pcap = lidar_data() / capture.pcap;
     SKIP_WITHOUT_CAPTURE(pcap);
-    const fs::path maps = temporary("maps-" + capture.model);
+    const fs::path maps = scratch_dir("maps-" + capture.model);
     std::vector<std::string> args{"--pcap",
                                   pcap.string(),
                                   "--lidar",
@@ -170,7 +170,7 @@ TEST(Lidar, Vlp16AndOusterCapturesPlayAtTheirRecordedRate) {
 TEST(Lidar, BadCaptureOrCalibrationStopsStartupWithAClearMessage) {
   const fs::path pcap = lidar_data() / "hdl32_example.pcap";
   SKIP_WITHOUT_CAPTURE(pcap);
-  const fs::path dir = temporary("bad-input");
+  const fs::path dir = scratch_dir("bad-input");
   fs::create_directories(dir);
   const fs::path bad_yaml = dir / "bad.yaml";
   std::ofstream(bad_yaml) << "lasers: [ {laser_id: 0, rot_correction: \n";
@@ -221,7 +221,7 @@ std::uint16_t free_udp_port() {
 TEST(Lidar, LiveLidarMapsThePacketsItReceives) {
   const fs::path pcap = lidar_data() / "hdl32_example.pcap";
   SKIP_WITHOUT_CAPTURE(pcap);
-  const fs::path maps = temporary("live-maps");
+  const fs::path maps = scratch_dir("live-maps");
   const std::uint16_t lidar_port = free_udp_port();
   ServerProcess server({"--lidar", "hdl32e", "--lidar-calibration", (lidar_data() / "32db.yaml").string(),
                         "--lidar-address", "127.0.0.1", "--lidar-port", std::to_string(lidar_port),

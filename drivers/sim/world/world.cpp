@@ -8,7 +8,7 @@
 
 namespace strata::sim {
 namespace {
-constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
 }
 
 World::World(WorldDescription description, double grid_cell)
@@ -96,11 +96,11 @@ std::optional<RayHit> World::cast(const Ray& ray, double max_range) const {
     const int step_i = dx > 0 ? 1 : -1;
     const int step_j = dy > 0 ? 1 : -1;
     double t_next_x =
-        dx != 0.0 ? (bounds_.min.x() + (i + (dx > 0 ? 1 : 0)) * cell_ - ray.origin.x()) / dx : kInf;
+        dx != 0.0 ? (bounds_.min.x() + (i + (dx > 0 ? 1 : 0)) * cell_ - ray.origin.x()) / dx : kInfinity;
     double t_next_y =
-        dy != 0.0 ? (bounds_.min.y() + (j + (dy > 0 ? 1 : 0)) * cell_ - ray.origin.y()) / dy : kInf;
-    const double t_delta_x = dx != 0.0 ? cell_ / std::abs(dx) : kInf;
-    const double t_delta_y = dy != 0.0 ? cell_ / std::abs(dy) : kInf;
+        dy != 0.0 ? (bounds_.min.y() + (j + (dy > 0 ? 1 : 0)) * cell_ - ray.origin.y()) / dy : kInfinity;
+    const double t_delta_x = dx != 0.0 ? cell_ / std::abs(dx) : kInfinity;
+    const double t_delta_y = dy != 0.0 ? cell_ / std::abs(dy) : kInfinity;
     while (true) {
       for (const Ref& ref : grid_[static_cast<std::size_t>(j * nx_ + i)]) {
         if (auto t_hit = intersect(ref, ray, 0.0, best)) {

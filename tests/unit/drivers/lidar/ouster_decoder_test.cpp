@@ -22,7 +22,7 @@ std::string metadata_json(std::size_t beams, const std::string& mode) {
          R"(], "lidar_mode": ")" + mode + R"("})";
 }
 
-std::string error_of(const std::string& json) {
+std::string metadata_error_of(const std::string& json) {
   try {
     (void)parse_ouster_metadata(json, "meta.json");
   } catch (const LidarConfigError& error) {
@@ -55,11 +55,12 @@ TEST(OusterMetadata, ReadsNewerFieldsAndRejectsBadFilesClearly) {
   EXPECT_DOUBLE_EQ(metadata.lidar_origin_to_beam_origin_mm, 12.163);
   EXPECT_EQ(metadata.lidar_to_sensor_transform(0, 0), 1.0);
 
-  EXPECT_NE(error_of("{not json").find("not a JSON object"), std::string::npos);
-  EXPECT_NE(error_of("{}").find("beam_altitude_angles"), std::string::npos);
-  EXPECT_NE(error_of(metadata_json(16, "1024x10")).find("has 16 values"), std::string::npos);
-  EXPECT_NE(error_of(metadata_json(64, "1024x15")).find("unknown lidar_mode '1024x15'"), std::string::npos);
-  EXPECT_NE(error_of(metadata_json(64, "2048x20")).find("unknown lidar_mode"), std::string::npos);
+  EXPECT_NE(metadata_error_of("{not json").find("not a JSON object"), std::string::npos);
+  EXPECT_NE(metadata_error_of("{}").find("beam_altitude_angles"), std::string::npos);
+  EXPECT_NE(metadata_error_of(metadata_json(16, "1024x10")).find("has 16 values"), std::string::npos);
+  EXPECT_NE(metadata_error_of(metadata_json(64, "1024x15")).find("unknown lidar_mode '1024x15'"),
+            std::string::npos);
+  EXPECT_NE(metadata_error_of(metadata_json(64, "2048x20")).find("unknown lidar_mode"), std::string::npos);
   EXPECT_THROW((void)read_ouster_metadata("/nonexistent/os1.json"), LidarConfigError);
 }
 
