@@ -75,8 +75,8 @@ class MappingWorker final : public MapCommands {
   /// The pose graph moved keyframes (docs/architecture.md 4.1, "the map follows"): when any moved from
   /// where the map has them, builds the map anew from them on the caller's thread (mapping goes on
   /// meanwhile and the old map stays served), then swaps it in on the mapping thread and maps again the
-  /// scans newer than the newest keyframe (mapped before the rebuild or in the meantime). Does nothing after a map was loaded: the keyframes do not hold it.
-  /// True when the map was rebuilt.
+  /// scans newer than the newest keyframe (mapped before the rebuild or in the meantime). Does nothing after
+  /// a map was loaded: the keyframes do not hold it. True when the map was rebuilt.
   bool rebuild_from(const std::vector<KeyframePose>& keyframes);
   /// Waits until everything submitted before is done (tests, tools, a replay as fast as possible). False
   /// when the worker is not running.
@@ -118,7 +118,7 @@ class MappingWorker final : public MapCommands {
   /// than its newest keyframe: no keyframe holds them yet, and the newest is where the robot stands.
   std::deque<Scan> recent_;
   static constexpr std::size_t kRecentScans = 30;  // 3 s of a 10 Hz lidar, a keyframe's 1 m and more
-  std::mutex rebuild_mutex_;            // one rebuild at a time; guards rebuilder_
+  std::mutex rebuild_mutex_;                       // one rebuild at a time; guards rebuilder_
   MapRebuilder rebuilder_;
   std::vector<MapUpdateListener> listeners_;
   std::function<void()> on_published_;
