@@ -54,6 +54,10 @@ std::unique_ptr<RobotDriver> make_simulator(const ServeOptions& options) {
   sim::SimulatorConfig config;
   config.seed = options.seed;
   config.scanner = options.scanner;
+  // The simulated base climbs what the planner plans for (--max-step, --max-slope): with its own 6 cm and 9
+  // degrees it stuck where a ramp's side is 6-8 cm high, on ground the planner judged drivable.
+  config.geometry.max_step = options.robot.max_step;
+  config.geometry.max_slope_deg = options.robot.max_slope_deg;
   if (!options.sim_imu)
     config.imu.reset();
   std::string description =
