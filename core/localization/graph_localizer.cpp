@@ -18,7 +18,8 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
                                             double stamp, const Eigen::Vector3d& sensor_origin,
                                             const std::optional<GravityReading>& gravity) {
   bool map_moved = false;
-  if (options_.pose_graph) {
+  const bool pose_graph = options_.pose_graph && !scan_matching_.localizing();
+  if (pose_graph) {
     std::optional<Eigen::Isometry3d> correction;
     {
       std::lock_guard lock(mutex_);
@@ -44,7 +45,7 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
     update.map_from_odom = update.pose;
   }
   const bool registered = !update.registration || update.correction != Correction::kNone;
-  if (options_.pose_graph && registered)
+  if (pose_graph && registered)
     add_keyframe(points, update, stamp, sensor_origin);
   return update;
 }
@@ -116,10 +117,12 @@ bool GraphLocalizer::close_loops() {
   PoseGraph graph;
   std::vector<KeyframePtr> keyframes;
   std::size_t from = 0;
+  std::uint64_t generation = 0;
   {
     std::lock_guard lock(mutex_);
     if (searched_ == keyframes_.size())
       return false;
+    generation = generation_;
     graph = graph_;
     keyframes = keyframes_;
     from = searched_;
@@ -142,6 +145,8 @@ bool GraphLocalizer::close_loops() {
     return false;
 
   std::lock_guard lock(mutex_);
+  if (generation != generation_)
+    return false;  // the graph started anew meanwhile (a map was loaded)
   // Keyframes made while optimizing follow the newest optimized one rigidly.
   const std::size_t optimized = graph.size();
   const Eigen::Isometry3d moved = graph.pose(optimized - 1) * graph_.pose(optimized - 1).inverse();
@@ -163,6 +168,18 @@ bool GraphLocalizer::close_loops() {
   status_.last_correction = found.back().correction;
   status_.last_optimization_seconds = summary.seconds;
   return true;
+}
+
+void GraphLocalizer::localize_in(std::shared_ptr<const LocalizationMap> map) {
+  scan_matching_.localize_in(std::move(map));
+  trail_ = KeyframeTrail(options_.keyframe_map_voxel);
+  std::lock_guard lock(mutex_);
+  keyframes_.clear();
+  graph_ = PoseGraph();
+  last_keyframe_frontend_ = Eigen::Isometry3d::Identity();
+  searched_ = 0;
+  pending_correction_.reset();
+  ++generation_;
 }
 
 PoseGraphStatus GraphLocalizer::status() const {

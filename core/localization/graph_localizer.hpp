@@ -2,6 +2,8 @@
 
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <cstdint>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <vector>
@@ -67,6 +69,13 @@ class GraphLocalizer {
   /// thread than add_scan.
   bool close_loops();
 
+  /// From the next scan on, localizes in a saved map (ScanToMapLocalizer::localize_in) and makes no
+  /// keyframes: the saved map is fixed and drift cannot build up against it. Null: back to mapping. Either
+  /// way the pose graph starts anew: its keyframes were in the frame of the map that was replaced.
+  /// On the scan path's thread.
+  void localize_in(std::shared_ptr<const LocalizationMap> map);
+  [[nodiscard]] bool localizing() const { return scan_matching_.localizing(); }
+
   [[nodiscard]] PoseGraphStatus status() const;
   /// The keyframes and their current pose estimates (map frame), oldest first, for rebuilding the map.
   [[nodiscard]] std::vector<KeyframePose> keyframes() const;
@@ -89,6 +98,8 @@ class GraphLocalizer {
   /// relative measurement starts there.
   Eigen::Isometry3d last_keyframe_frontend_ = Eigen::Isometry3d::Identity();
   std::size_t searched_ = 0;  ///< keyframes looked at for loops so far
+  /// Counts the graph's restarts: an optimization of a graph since replaced is thrown away.
+  std::uint64_t generation_ = 0;
   /// map <- scan matcher correction from the last optimization, not yet applied on the scan path.
   std::optional<Eigen::Isometry3d> pending_correction_;
   PoseGraphStatus status_;

@@ -33,6 +33,18 @@ void ScanToMapLocalizer::correct(const Eigen::Isometry3d& correction) {
   local_map_.transform(correction);
 }
 
+void ScanToMapLocalizer::localize_in(std::shared_ptr<const LocalizationMap> map) {
+  local_map_ = LocalMap(options_.local_map_voxel, options_.local_map_scans, options_.local_map_metres);
+  saved_registration_.reset();
+  saved_map_ = std::move(map);
+  if (saved_map_ == nullptr)
+    return;
+  // The whole map in one index: a lookup costs the same in a big tree as in a cropped one, and its
+  // normals, estimated where scans reach, are kept for the next scans there.
+  saved_registration_ = std::make_unique<ScanRegistration>(options_.registration);
+  saved_registration_->set_thinned_target(saved_map_->cloud());
+}
+
 LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const Pose2& odometry,
                                                 const std::optional<GravityReading>& gravity,
                                                 GuessSource source,
@@ -48,15 +60,20 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
     guess.linear() = leveling_.align(guess, *up) * guess.linear();
   LocalizationUpdate update;
   update.pose = guess;
-  if (!local_map_.empty()) {
-    registration_.set_thinned_target(local_map_.points(), local_map_.take_normals());
+  if (saved_registration_ != nullptr || !local_map_.empty()) {
     FaultLimits limits = options_.registration.limits;
     if (uncertainty) {
       limits.max_translation_jump += uncertainty->translation;
       limits.max_rotation_jump += uncertainty->rotation;
     }
-    RegistrationResult result = registration_.register_scan(points, guess, limits);
-    local_map_.keep_normals(registration_.take_normals());
+    RegistrationResult result;
+    if (saved_registration_ != nullptr) {
+      result = saved_registration_->register_scan(points, guess, limits);
+    } else {
+      registration_.set_thinned_target(local_map_.points(), local_map_.take_normals());
+      result = registration_.register_scan(points, guess, limits);
+      local_map_.keep_normals(registration_.take_normals());
+    }
     const bool weak = result.constraint.weakest < options_.weak_direction_guard ||
                       result.constraint.rotation_eigenvalues[0] < options_.weak_rotation_guard;
     const bool only_degenerate = result.assessment.reason == RejectReason::kDegenerateGeometry;
@@ -115,7 +132,8 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
     global_.apply_correction(update.pose * odometry_guess.inverse());
   update.map_from_odom = global_.correction();
 
-  local_map_.add(transformed(points, update.pose), update.pose.translation());
+  if (saved_map_ == nullptr)
+    local_map_.add(transformed(points, update.pose), update.pose.translation());
   return update;
 }
 

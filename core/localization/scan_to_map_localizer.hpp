@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -12,6 +13,7 @@
 #include "core/localization/global_pose.hpp"
 #include "core/localization/gravity_leveling.hpp"
 #include "core/localization/local_map.hpp"
+#include "core/localization/localization_map.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/registration/register_scan.hpp"
 
@@ -126,12 +128,21 @@ class ScanToMapLocalizer {
   /// global pose and the local map follow, so the next scan registers where the graph put the robot.
   void correct(const Eigen::Isometry3d& correction);
 
+  /// From the next scan on, registers against `map` (a saved map's points, map frame) instead of the
+  /// recent scans, and keeps no local map: the saved map is fixed, and the estimate cannot drift from it
+  /// (docs/architecture.md 4.1, "Localizing in a saved map"). Indexes the whole map here, once. Null: back
+  /// to the recent scans, starting from the next one.
+  void localize_in(std::shared_ptr<const LocalizationMap> map);
+  [[nodiscard]] bool localizing() const { return saved_map_ != nullptr; }
+
  private:
   LocalizerOptions options_;
   ScanRegistration registration_;
   GlobalPose global_;
   LocalMap local_map_;  // map frame
   GravityLeveling leveling_;
+  std::shared_ptr<const LocalizationMap> saved_map_;      // none while mapping
+  std::unique_ptr<ScanRegistration> saved_registration_;  // indexes saved_map_ (and keeps its normals)
 };
 
 }  // namespace strata

@@ -19,8 +19,9 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "the native map format is written little-endian");
 
 constexpr char kMagic[8] = {'S', 'T', 'R', 'A', 'T', 'M', 'L', 'S'};
-/// 2: a flags byte per patch (MlsPatch::kDriven). Version 1 files (no flags) are still read.
-constexpr std::uint32_t kFormatVersion = 2;
+/// 2: a flags byte per patch (MlsPatch::kDriven). 3: the localization map after the tiles. Version 1
+/// files (no flags) are still read.
+constexpr std::uint32_t kFormatVersion = 3;
 constexpr std::uint32_t kOldestFormatVersion = 1;
 constexpr std::size_t kHeaderBytes = sizeof(kMagic) + sizeof(std::uint32_t) + sizeof(std::uint64_t);
 constexpr std::size_t kChecksumBytes = sizeof(std::uint64_t);
@@ -68,7 +69,66 @@ class Reader {
   const std::string& name_;
 };
 
-std::string encode(const MlsMap& map) {
+void encode_localization(std::string& out, const LocalizationMap* localization) {
+  put<std::uint8_t>(out, localization != nullptr ? 1 : 0);
+  if (localization == nullptr)
+    return;
+  put(out, localization->voxel);
+  put<std::uint64_t>(out, localization->keyframe_poses.size());
+  for (const Eigen::Isometry3d& pose : localization->keyframe_poses) {
+    const Eigen::Quaterniond q(pose.linear());
+    for (const double value :
+         {pose.translation().x(), pose.translation().y(), pose.translation().z(), q.w(), q.x(), q.y(), q.z()})
+      put(out, value);
+  }
+  put<std::uint64_t>(out, localization->points.size());
+  for (const Eigen::Vector3f& p : localization->points)
+    for (const float value : {p.x(), p.y(), p.z()})
+      put(out, value);
+}
+
+LocalizationMap decode_localization(Reader& fields, std::size_t body) {
+  LocalizationMap localization;
+  localization.voxel = fields.get<double>();
+  if (!(localization.voxel > 0.0) || !std::isfinite(localization.voxel))
+    fields.fail("invalid localization map voxel");
+  // Counts are checked against the bytes left before anything is reserved: a lying count cannot allocate.
+  const auto poses = fields.get<std::uint64_t>();
+  constexpr std::size_t kPoseBytes = 7 * sizeof(double);
+  if (poses > (body - fields.position()) / kPoseBytes)
+    fields.fail("truncated: the localization map's keyframe poses run past its end");
+  localization.keyframe_poses.reserve(poses);
+  for (std::uint64_t i = 0; i < poses; ++i) {
+    // One field per statement: a function's arguments are evaluated in no fixed order.
+    std::array<double, 7> v{};
+    for (double& value : v)
+      value = fields.get<double>();
+    const Eigen::Vector3d t(v[0], v[1], v[2]);
+    const Eigen::Quaterniond q(v[3], v[4], v[5], v[6]);
+    if (!t.allFinite() || !q.coeffs().allFinite() || std::abs(q.norm() - 1.0) > 1e-6)
+      fields.fail("invalid keyframe pose in the localization map");
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+    pose.linear() = q.normalized().toRotationMatrix();
+    pose.translation() = t;
+    localization.keyframe_poses.push_back(pose);
+  }
+  const auto points = fields.get<std::uint64_t>();
+  constexpr std::size_t kPointBytes = 3 * sizeof(float);
+  if (points > (body - fields.position()) / kPointBytes)
+    fields.fail("truncated: the localization map's points run past its end");
+  localization.points.reserve(points);
+  for (std::uint64_t i = 0; i < points; ++i) {
+    Eigen::Vector3f p;
+    for (int axis = 0; axis < 3; ++axis)
+      p[axis] = fields.get<float>();
+    if (!p.allFinite())
+      fields.fail("invalid point in the localization map");
+    localization.points.push_back(p);
+  }
+  return localization;
+}
+
+std::string encode(const MlsMap& map, const LocalizationMap* localization) {
   std::string out;
   out.append(kMagic, sizeof(kMagic));
   put(out, kFormatVersion);
@@ -119,13 +179,14 @@ std::string encode(const MlsMap& map) {
     out += counts;
     out += patches;
   }
+  encode_localization(out, localization);
   const std::uint64_t size = out.size() + kChecksumBytes;
   std::memcpy(out.data() + sizeof(kMagic) + sizeof(std::uint32_t), &size, sizeof(size));
   put(out, fnv1a64(out.data(), out.size()));
   return out;
 }
 
-MlsMap decode(std::string_view data, const std::string& name) {
+MapFile decode(std::string_view data, const std::string& name) {
   Reader reader(data, data.size(), name);
   if (data.size() < kHeaderBytes || std::memcmp(data.data(), kMagic, sizeof(kMagic)) != 0)
     reader.fail("not a Strata MLS map (bad magic)");
@@ -166,7 +227,8 @@ MlsMap decode(std::string_view data, const std::string& name) {
   if (tile_bits != kMlsTileBits)
     fields.fail("written with tiles of " + std::to_string(1U << (tile_bits & 31U)) +
                 " cells a side, this build uses " + std::to_string(kMlsTileSize));
-  MlsMap map(config);
+  MapFile file{.map = MlsMap(config), .localization = std::nullopt, .format_version = format};
+  MlsMap& map = file.map;
   map.set_version(fields.get<std::uint64_t>());
   const auto tile_count = fields.get<std::uint64_t>();
   for (std::uint64_t t = 0; t < tile_count; ++t) {
@@ -211,37 +273,64 @@ MlsMap decode(std::string_view data, const std::string& name) {
       }
     }
   }
+  if (format >= 3 && fields.get<std::uint8_t>() != 0)
+    file.localization = decode_localization(fields, body);
   if (fields.position() != body)
-    fields.fail("corrupted: trailing bytes after the last tile");
-  return map;
+    fields.fail("corrupted: trailing bytes after the last record");
+  return file;
+}
+
+std::string read_whole_file(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw MlsFileError("MLS map file " + path.string() + ": cannot open");
+  std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad())
+    throw MlsFileError("MLS map file " + path.string() + ": read error");
+  return data;
 }
 
 }  // namespace
 
+std::uint32_t map_file_format_version() {
+  return kFormatVersion;
+}
+
 std::string serialize_mls_map(const MlsMap& map) {
-  return encode(map);
+  return encode(map, nullptr);
+}
+
+std::string serialize_map_file(const MlsMap& map, const LocalizationMap* localization) {
+  return encode(map, localization);
 }
 
 MlsMap deserialize_mls_map(std::string_view data, const std::string& source) {
+  return decode(data, source).map;
+}
+
+MapFile deserialize_map_file(std::string_view data, const std::string& source) {
   return decode(data, source);
 }
 
 void save_mls_map(const MlsMap& map, const std::filesystem::path& path) {
+  save_map_file(map, nullptr, path);
+}
+
+void save_map_file(const MlsMap& map, const LocalizationMap* localization,
+                   const std::filesystem::path& path) {
   try {
-    write_file_atomically(path, encode(map), Durability::kOnDisk);
+    write_file_atomically(path, encode(map, localization), Durability::kOnDisk);
   } catch (const FileWriteError& error) {
     throw MlsFileError(error.what());
   }
 }
 
 MlsMap load_mls_map(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw MlsFileError("MLS map file " + path.string() + ": cannot open");
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad())
-    throw MlsFileError("MLS map file " + path.string() + ": read error");
-  return decode(data, path.string());
+  return decode(read_whole_file(path), path.string()).map;
+}
+
+MapFile load_map_file(const std::filesystem::path& path) {
+  return decode(read_whole_file(path), path.string());
 }
 
 void load_mls_map_into(const std::filesystem::path& path, MlsMap& map) {

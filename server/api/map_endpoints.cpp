@@ -238,10 +238,28 @@ protocol::HttpResponse HttpRouter::maps(const protocol::HttpRequest& request, st
           request, http::status::bad_request, ErrorCode::kBadParams,
           "a map name is 1-64 characters of A-Z a-z 0-9 . _ - and does not start with a dot");
     }
-    const CommandResult result = maps->load_map(name);
+    // The body is optional: {"mode": "mapping"} (the default) or {"mode": "localize"}.
+    MapMode mode = MapMode::kMapping;
+    if (!request.body().empty()) {
+      const nlohmann::json body = nlohmann::json::parse(request.body(), nullptr, /*allow_exceptions=*/false);
+      const bool well_formed =
+          !body.is_discarded() && body.is_object() &&
+          (body.empty() || (body.size() == 1 && body.contains("mode") && body["mode"].is_string()));
+      const std::optional<MapMode> parsed = well_formed && body.contains("mode")
+                                                ? map_mode_from_string(body["mode"].get<std::string>())
+                                                : std::optional<MapMode>(MapMode::kMapping);
+      if (!well_formed || !parsed) {
+        return error_response(request, http::status::bad_request, ErrorCode::kBadParams,
+                              "the body is empty or {\"mode\": \"mapping\" | \"localize\"}");
+      }
+      mode = *parsed;
+    }
+    const CommandResult result = maps->load_map(name, mode);
     if (!result.ok)
       return command_error(request, result.code, result.message);
-    return json_response(request, http::status::ok, nlohmann::json{{"loaded", name}}.dump());
+    return json_response(
+        request, http::status::ok,
+        nlohmann::json{{"loaded", name}, {"mode", to_string(mode)}, {"message", result.message}}.dump());
   }
   return error_response(request, http::status::not_found, ErrorCode::kNotFound,
                         "saved maps: GET/POST /api/v1/maps, POST /api/v1/maps/{name}/load");

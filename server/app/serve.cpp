@@ -84,6 +84,8 @@ pipeline::PipelineOptions pipeline_options(const ServeOptions& options) {
   pipeline.sensor_timeout =
       options.sensor_timeout > 0.0 ? options.sensor_timeout : 10.0 * std::max(1.0, 1.0 / options.time_scale);
   pipeline.max_scans = options.max_scans;
+  pipeline.initial_map = options.map;
+  pipeline.initial_map_mode = options.map_mode;
   return pipeline;
 }
 

@@ -79,8 +79,10 @@ struct ServeOptions {
   /// Off: wheels alone, as on a base without one.
   bool sim_imu = true;
   std::filesystem::path maps_dir;  ///< saved maps; empty: default_maps_dir()
-  std::filesystem::path record;    ///< write the scans and odometry here (replay layout); empty: none
-  std::size_t max_scans = 0;       ///< hand at most this many scans to the pipeline; 0: all
+  std::string map;                 ///< a saved map in maps_dir to start with; empty: none
+  MapMode map_mode = MapMode::kMapping;
+  std::filesystem::path record;  ///< write the scans and odometry here (replay layout); empty: none
+  std::size_t max_scans = 0;     ///< hand at most this many scans to the pipeline; 0: all
   /// Wall-clock seconds a due scan may be late before the status says the sensor stalled; 0: 10 s, longer
   /// when --time-scale slows the simulator down.
   double sensor_timeout = 0.0;

@@ -74,6 +74,18 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
   command->add_option("--maps-dir", options.maps_dir,
                       "Directory of saved maps, created if missing (default: $XDG_DATA_HOME/strata/maps, "
                       "i.e. ~/.local/share/strata/maps)");
+  command->add_option(
+      "--map", options.map,
+      "A saved map (its name in --maps-dir) to start with, for --mode: mapping goes on in it, "
+      "or the robot localizes in it and it is not changed");
+  command
+      ->add_option_function<std::string>(
+          "--mode",
+          [&options](const std::string& text) {
+            options.map_mode = map_mode_from_string(text).value_or(MapMode::kMapping);
+          },
+          "What --map is for: mapping (default) or localize")
+      ->check(CLI::IsMember({"mapping", "localize"}));
   command->add_option("--io-threads", options.network.io_threads, "Threads serving network clients")
       ->capture_default_str()
       ->check(CLI::Range(1, 64));

@@ -4,6 +4,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "server/control/error_code.hpp"
@@ -62,11 +63,31 @@ struct MapDownload {
 /// Saving and loading the map (pipeline::MappingWorker). Names are plain file names inside the configured
 /// maps directory, never paths.
 
+/// What a loaded map is for (docs/architecture.md 4.1, "Localizing in a saved map").
+enum class MapMode {
+  kMapping,   ///< it replaces the live map, and the scans go on into it
+  kLocalize,  ///< it is fixed: the scans are registered against it and change nothing
+};
+[[nodiscard]] inline std::string_view to_string(MapMode mode) {
+  return mode == MapMode::kLocalize ? "localize" : "mapping";
+}
+/// "mapping" or "localize"; none for anything else.
+[[nodiscard]] inline std::optional<MapMode> map_mode_from_string(std::string_view text) {
+  if (text == "mapping")
+    return MapMode::kMapping;
+  if (text == "localize")
+    return MapMode::kLocalize;
+  return std::nullopt;
+}
+
 class MapCommands {
  public:
   virtual ~MapCommands() = default;
+  /// Saves the live map with what localizing in it needs (the pose graph's keyframes).
   virtual CommandResult save_map(const std::string& name) = 0;
-  virtual CommandResult load_map(const std::string& name) = 0;
+  /// Loads a saved map for `mode`. A map saved without localization data (an older file) loads for mapping
+  /// only, and the success's message says so; for localizing it is refused with kBadParams.
+  virtual CommandResult load_map(const std::string& name, MapMode mode) = 0;
   [[nodiscard]] virtual std::vector<MapFileInfo> list_maps() const = 0;
   /// The current map for download: "strata" (the native file), "ply" (patches as points and boxes),
   /// "pgm" and "yaml" (the drivable map at the robot's level over the whole map, ROS map_server). For

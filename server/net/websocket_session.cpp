@@ -227,7 +227,7 @@ void WebSocketSession<Stream>::handle_request(const protocol::ClientRequest& req
         } else if constexpr (std::is_same_v<T, protocol::LoadMapRequest>) {
           if (maps == nullptr)
             return unavailable("map loading");
-          reply(maps->load_map(r.name), op, id);
+          reply(maps->load_map(r.name, r.mode), op, id);
         }
       },
       request);
@@ -237,7 +237,7 @@ template <class Stream>
 void WebSocketSession<Stream>::reply(const CommandResult& result, std::string_view op,
                                      const nlohmann::json& id) {
   if (result.ok) {
-    enqueue(streams::OutgoingMessage::text(protocol::ack_message(op, id)));
+    enqueue(streams::OutgoingMessage::text(protocol::ack_message(op, id, result.message)));
     return;
   }
   context_->metrics.ws_errors_sent.fetch_add(1, std::memory_order_relaxed);

@@ -53,6 +53,23 @@ MappingTimes LiveMap::add_scan(const PointCloud& points, const Eigen::Vector3d& 
   return times;
 }
 
+bool LiveMap::follow_robot(const Eigen::Vector3d& robot_ground, double radius, double every) {
+  if (followed_from_ && (robot_ground - *followed_from_).norm() < every)
+    return false;
+  followed_from_ = robot_ground;
+  robot_ground_ = robot_ground;
+  received_at_ = 0.0;
+  const CellIndex low = map_.cell_of(robot_ground.x() - radius, robot_ground.y() - radius);
+  const CellIndex high = map_.cell_of(robot_ground.x() + radius, robot_ground.y() + radius);
+  const CellRegion region{low, high.x - low.x + 1, high.y - low.y + 1};
+  // A new version, as for any new drivable map (its image and the ROS download are named by versions);
+  // no tile changed, so none is encoded again.
+  map_.set_version(map_.version() + 1);
+  MappingTimes times;
+  refresh(region, map_.version(), times);
+  return true;
+}
+
 void LiveMap::replace(MlsMap map, Replacement why) {
   const std::uint64_t version = std::max(map.version(), map_.version()) + 1;
   map.set_version(version);
@@ -65,6 +82,7 @@ void LiveMap::replace(MlsMap map, Replacement why) {
       map.set_tile_version(tile, version);
   map_ = std::move(map);
   tiles_.clear();
+  followed_from_.reset();
   received_at_ = 0.0;  // not from a scan
   if (why == Replacement::kRebuilt)
     ++rebuilds_;
@@ -123,6 +141,7 @@ void LiveMap::refresh(const CellRegion& region, std::uint64_t since, MappingTime
   snapshot->patches = map_.patch_count();
   snapshot->memory_bytes = map_.memory_bytes();
   snapshot->rebuilds = rebuilds_;
+  snapshot->localizing = localizing_;
   snapshot_ = std::move(snapshot);
   times.snapshot_ms = ms_since(start);
 }

@@ -46,6 +46,15 @@ class LiveMap {
   MappingTimes add_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
                         const Eigen::Vector3d& robot_ground, double received_at = 0.0);
 
+  /// Whether the robot localizes in this map (loaded for localizing: it does not change), for the
+  /// snapshots from the next change on.
+  void set_localizing(bool localizing) { localizing_ = localizing; }
+
+  /// The robot moved on a map that is not changing (localizing in a loaded map): the drivable map at its
+  /// level is computed again over the `radius` around it (a scan's reach), once it is `every` metres from
+  /// where it was last computed. True when it was (there is something new to publish).
+  bool follow_robot(const Eigen::Vector3d& robot_ground, double radius = 25.0, double every = 1.0);
+
   /// Replaces the map (a loaded file, a rebuild). Its version becomes newer than any before, and so do all
   /// its tiles, so clients that track versions redraw everything; tiles only the old map had become empty
   /// ones, so clients drop them. The drivable map is recomputed around the last known robot position over
@@ -81,10 +90,12 @@ class LiveMap {
   MlsMap map_;
   std::optional<DrivableMap> drivable_;
   std::optional<Eigen::Vector3d> robot_ground_;
+  std::optional<Eigen::Vector3d> followed_from_;  ///< where follow_robot last computed the drivable map
   std::map<std::pair<int, int>, std::shared_ptr<const EncodedTile>> tiles_;  // sorted by (x, y)
   std::shared_ptr<const EncodedOccupancy> occupancy_;
   std::shared_ptr<const MapSnapshot> snapshot_;
   std::size_t rebuilds_ = 0;
+  bool localizing_ = false;
   mutable WholeLevel whole_level_;  ///< the last one made: a cache, so whole_level() stays const
   double received_at_ = 0.0;        // of the scan being added: stamped on the tiles and image it changes
 };

@@ -130,7 +130,28 @@ void LocalizerWorker::classify(const ScanEvent& scan, const LocalizationUpdate& 
   status_.localization = health;
 }
 
+void LocalizerWorker::localize_in(std::shared_ptr<const LocalizationMap> map) {
+  std::lock_guard lock(mutex_);
+  pending_map_ = std::move(map);
+}
+
 void LocalizerWorker::process(ScanEvent event) {
+  std::optional<std::shared_ptr<const LocalizationMap>> map;
+  {
+    std::lock_guard lock(mutex_);
+    map = std::exchange(pending_map_, std::nullopt);
+  }
+  if (map) {
+    const auto start = std::chrono::steady_clock::now();
+    const std::size_t points = *map ? (*map)->points.size() : 0;
+    localizer_.localize_in(std::move(*map));
+    if (localizer_.localizing()) {
+      spdlog::info("localizing in the loaded map ({} points, indexed in {:.2f} s): it is not changed", points,
+                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    } else {
+      spdlog::info("mapping: scans are registered against the recent scans and go into the map");
+    }
+  }
   PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
   const ScanEvent& scan = preprocessed.event;
   const double stamp = scan.stamp;  // `scan` is handed on below

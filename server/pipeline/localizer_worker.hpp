@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 #include <condition_variable>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <thread>
@@ -48,6 +49,11 @@ class LocalizerWorker {
   void stop();
   /// Called from the driver thread; returns at once.
   void submit(ScanEvent scan);
+  /// From the next scan on, localizes in `map` (a loaded map's, map frame; GraphLocalizer::localize_in), or
+  /// with null maps again. Any thread; returns at once.
+  void localize_in(std::shared_ptr<const LocalizationMap> map);
+  /// The pose graph's keyframes at their current poses (what a saved map keeps). Any thread.
+  [[nodiscard]] std::vector<KeyframePose> keyframes() const { return localizer_.keyframes(); }
   /// Waits until every scan submitted so far has been registered and handed on (or dropped): what a replay
   /// as fast as possible paces on. Returns false when the worker is stopping.
   bool flush();
@@ -71,6 +77,8 @@ class LocalizerWorker {
   std::condition_variable idle_;
   bool busy_ = false;  // a scan taken from pending_ is being processed
   std::optional<ScanEvent> pending_;
+  /// A map to localize in (or null: to map again) for the next scan to take up.
+  std::optional<std::shared_ptr<const LocalizationMap>> pending_map_;
   std::size_t dropped_ = 0;
   bool stopping_ = false;
   std::size_t scans_for_the_graph_ = 0;  ///< processed scans the loop thread has not looked at

@@ -36,11 +36,12 @@ CommandResult MapStore::check_name(const std::string& name) {
   return CommandResult::success();
 }
 
-CommandResult MapStore::save(const MlsMap& map, const std::string& name) const {
+CommandResult MapStore::save(const MlsMap& map, const LocalizationMap* localization,
+                             const std::string& name) const {
   if (CommandResult checked = check_name(name); !checked.ok)
     return checked;
   try {
-    save_mls_map(map, directory_ / name);  // atomic: temporary file, fsync, rename
+    save_map_file(map, localization, directory_ / name);  // atomic: temporary file, fsync, rename
   } catch (const std::exception& error) {
     return CommandResult::failure(ErrorCode::kIoError, error.what());
   }
@@ -50,15 +51,17 @@ CommandResult MapStore::save(const MlsMap& map, const std::string& name) const {
 
 MapStore::Loaded MapStore::load(const std::string& name) const {
   if (!protocol::is_valid_map_name(name))
-    return {check_name(name), MlsMap()};
+    return {check_name(name), MlsMap(), std::nullopt};
   const std::filesystem::path path = directory_ / name;
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error))
-    return {CommandResult::failure(ErrorCode::kNotFound, "no map named '" + name + "'"), MlsMap()};
+    return {CommandResult::failure(ErrorCode::kNotFound, "no map named '" + name + "'"), MlsMap(),
+            std::nullopt};
   try {
-    return {CommandResult::success(), load_mls_map(path)};  // the whole file is checked
+    MapFile file = load_map_file(path);  // the whole file is checked
+    return {CommandResult::success(), std::move(file.map), std::move(file.localization)};
   } catch (const std::exception& failure) {
-    return {CommandResult::failure(ErrorCode::kCorruptFile, failure.what()), MlsMap()};
+    return {CommandResult::failure(ErrorCode::kCorruptFile, failure.what()), MlsMap(), std::nullopt};
   }
 }
 

@@ -2,9 +2,11 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "core/localization/localization_map.hpp"
 #include "core/mls/drivable_map.hpp"
 #include "core/mls/mls_map.hpp"
 #include "server/control/robot_commands.hpp"
@@ -22,13 +24,16 @@ class MapStore {
 
   /// Whether `name` can be saved as: success, or kBadParams saying why not.
   [[nodiscard]] static CommandResult check_name(const std::string& name);
-  /// Saves `map` as `name` atomically (the previous file survives a failure); kIoError with the reason.
-  [[nodiscard]] CommandResult save(const MlsMap& map, const std::string& name) const;
+  /// Saves `map` as `name` atomically (the previous file survives a failure), with what localizing in it
+  /// needs when there is that (`localization` may be null); kIoError with the reason.
+  [[nodiscard]] CommandResult save(const MlsMap& map, const LocalizationMap* localization,
+                                   const std::string& name) const;
 
   /// A map read from the store: `map` is set only when `result` is a success.
   struct Loaded {
     CommandResult result;
     MlsMap map;
+    std::optional<LocalizationMap> localization;  ///< none in older files (view only)
   };
   /// Reads and checks the whole file; kNotFound or kCorruptFile (with the decoder's reason) otherwise.
   [[nodiscard]] Loaded load(const std::string& name) const;

@@ -132,6 +132,13 @@ void MappingWorker::map_scan(const Scan& scan) {
   // registration) and this queue. Logged with the mapping's own times: the scan-to-client latency budget.
   const double waited_ms = event.received_at > 0.0 ? (wall_clock_now() - event.received_at) * 1e3 : 0.0;
   MappingTimes times;
+  if (mode_ == MapMode::kLocalize) {
+    // The loaded map is fixed: the scan only says where the robot is, and so which level is drivable.
+    const Eigen::Isometry3d map_from_base = scan.map_from_sensor * event.sensor_to_base.inverse();
+    if (map_from_base.matrix().allFinite() && live_.follow_robot(map_from_base.translation()))
+      publish();
+    return;
+  }
   if (!insert(scan, times))
     return;
   if (recording_)
@@ -261,27 +268,62 @@ CommandResult MappingWorker::save_map(const std::string& name) {
   if (CommandResult checked = MapStore::check_name(name); !checked.ok)
     return checked;
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
-  run_on_mapping_thread([&] { result = store_.save(live_.map(), name); });
+  run_on_mapping_thread([&] {
+    // The map was loaded: the localization map it came with (this run's keyframes are not in its
+    // frame). Otherwise the pose graph's keyframes as they are now, which the map follows.
+    std::shared_ptr<const LocalizationMap> localization = loaded_localization_;
+    if (!loaded_ && keyframe_source_) {
+      const std::vector<KeyframePose> keyframes = keyframe_source_();
+      if (!keyframes.empty())
+        localization = std::make_shared<const LocalizationMap>(make_localization_map(keyframes));
+    }
+    result = store_.save(live_.map(), localization.get(), name);
+  });
   return result;
 }
 
-CommandResult MappingWorker::load_map(const std::string& name) {
+CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
   // Read and checked here, on the caller's thread: the mapping goes on meanwhile, and a corrupt file
   // changes nothing.
   MapStore::Loaded loaded = store_.load(name);
   if (!loaded.result.ok)
     return loaded.result;
+  const bool localizable = loaded.localization && !loaded.localization->empty();
+  if (mode == MapMode::kLocalize && !localizable) {
+    return CommandResult::failure(
+        ErrorCode::kBadParams,
+        "the map '" + name +
+            "' has no localization data (saved by an older Strata or without the pose graph): it can be "
+            "loaded for mapping (viewing), not for localizing");
+  }
+  std::shared_ptr<const LocalizationMap> localization =
+      localizable ? std::make_shared<const LocalizationMap>(std::move(*loaded.localization)) : nullptr;
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
     try {
+      live_.set_localizing(mode == MapMode::kLocalize);
       live_.replace(std::move(loaded.map), LiveMap::Replacement::kLoaded);
       loaded_ = true;
     } catch (const std::exception& failure) {
       result = CommandResult::failure(ErrorCode::kIoError, failure.what());
       return;
     }
+    mode_ = mode;
+    loaded_localization_ = localization;
+    if (localization_sink_)
+      localization_sink_(mode == MapMode::kLocalize ? localization : nullptr);
     result = CommandResult::success();
-    spdlog::info("map loaded from {}", (store_.directory() / name).string());
+    if (mode == MapMode::kLocalize) {
+      result.message = "localizing in the map; it is not changed";
+    } else if (!localizable) {
+      result.message =
+          "loaded for viewing and mapping only: the file has no localization data (saved by an older "
+          "Strata or without the pose graph); save it again after mapping to localize in it later";
+    } else {
+      result.message = "mapping on in the loaded map";
+    }
+    spdlog::info("map loaded from {} ({}): {}", (store_.directory() / name).string(), to_string(mode),
+                 result.message);
     publish();
   });
   return result;

@@ -6,12 +6,14 @@
 #include <deque>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <mutex>
 #include <thread>
 #include <variant>
 #include <vector>
 
 #include "core/localization/keyframe.hpp"
+#include "core/localization/localization_map.hpp"
 #include "drivers/scan_event.hpp"
 #include "server/control/robot_commands.hpp"
 #include "server/pipeline/live_map.hpp"
@@ -62,6 +64,15 @@ class MappingWorker final : public MapCommands {
   /// mapped scan, every load), so the network side can send it at once instead of polling for it. Must
   /// return at once (post to an executor).
   void on_published(std::function<void()> callback) { on_published_ = std::move(callback); }
+  /// Set before start(): what a saved map keeps for localizing in it, asked for at each save (the pose
+  /// graph's keyframes at their current poses). Without it maps are saved without.
+  void set_keyframe_source(std::function<std::vector<KeyframePose>()> source) {
+    keyframe_source_ = std::move(source);
+  }
+  /// Set before start(): called on the mapping thread when a map is loaded, with what to localize in (a map
+  /// loaded for localizing) or null (for mapping): the localizer follows.
+  using LocalizationMapSink = std::function<void(std::shared_ptr<const LocalizationMap> map)>;
+  void on_map_loaded(LocalizationMapSink sink) { localization_sink_ = std::move(sink); }
   void start();
   /// Finishes the scan or command under way, abandons waiting scans, fails waiting commands.
   void stop();
@@ -84,7 +95,7 @@ class MappingWorker final : public MapCommands {
   [[nodiscard]] MappingStatus status() const;
 
   CommandResult save_map(const std::string& name) override;
-  CommandResult load_map(const std::string& name) override;
+  CommandResult load_map(const std::string& name, MapMode mode) override;
   [[nodiscard]] std::vector<MapFileInfo> list_maps() const override;
   [[nodiscard]] MapDownload download(const std::string& format,
                                      std::optional<std::uint64_t> version) const override;
@@ -110,8 +121,11 @@ class MappingWorker final : public MapCommands {
   MapState& state_;
   MapStore store_;
   MappingOptions options_;
-  LiveMap live_;                        // mapping thread only
-  bool loaded_ = false;                 // mapping thread only: a map file replaced the live map
+  LiveMap live_;                      // mapping thread only
+  bool loaded_ = false;               // mapping thread only: a map file replaced the live map
+  MapMode mode_ = MapMode::kMapping;  // mapping thread only
+  /// Mapping thread only: the loaded file's localization map, saved again with the map it came with.
+  std::shared_ptr<const LocalizationMap> loaded_localization_;
   bool recording_ = false;              // mapping thread only: a rebuild is under way...
   std::vector<Scan> mapped_meanwhile_;  // ...and these scans were mapped since it started
   /// Mapping thread only: the last scans mapped (at most kRecentScans). A rebuild maps again those newer
@@ -122,6 +136,8 @@ class MappingWorker final : public MapCommands {
   MapRebuilder rebuilder_;
   std::vector<MapUpdateListener> listeners_;
   std::function<void()> on_published_;
+  std::function<std::vector<KeyframePose>()> keyframe_source_;
+  LocalizationMapSink localization_sink_;
 
   mutable std::mutex mutex_;
   mutable std::condition_variable wake_;

@@ -1,6 +1,7 @@
 #include "server/pipeline/robot_pipeline.hpp"
 
 #include <numbers>
+#include <stdexcept>
 #include <utility>
 
 namespace strata::pipeline {
@@ -36,7 +37,9 @@ RobotPipeline::RobotPipeline(std::unique_ptr<RobotDriver> driver, std::unique_pt
       navigator_(navigation_for(options.robot)),
       mapping_(map_state_, options.maps_dir, mapping_for(options.robot)),
       localizer_(robot_state_, GraphLocalizerOptions{}, driver_->initial_map_from_odom()),
-      max_scans_(options.max_scans) {
+      max_scans_(options.max_scans),
+      initial_map_(options.initial_map),
+      initial_map_mode_(options.initial_map_mode) {
   robot_state_.set_driver(DriverStatus{driver_->kind(), false});
   robot_state_.set_sensor_timeout(options.sensor_timeout);
   take_scans_from_the_driver();
@@ -77,6 +80,11 @@ void RobotPipeline::map_the_registered_scans() {
   // The map follows the pose graph: rebuilt from the keyframes when a loop closure moved them.
   localizer_.set_keyframes_moved_sink(
       [this](const std::vector<KeyframePose>& keyframes) { mapping_.rebuild_from(keyframes); });
+  // A saved map keeps the keyframes, and a map loaded for localizing is what the scans register against
+  // from then on (docs/architecture.md 4.1, "Localizing in a saved map").
+  mapping_.set_keyframe_source([this] { return localizer_.keyframes(); });
+  mapping_.on_map_loaded(
+      [this](std::shared_ptr<const LocalizationMap> map) { localizer_.localize_in(std::move(map)); });
 }
 
 void RobotPipeline::plan_on_the_live_map() {
@@ -105,6 +113,11 @@ void RobotPipeline::start() {
     return;
   started_ = true;
   mapping_.start();
+  if (!initial_map_.empty()) {
+    const CommandResult loaded = mapping_.load_map(initial_map_, initial_map_mode_);
+    if (!loaded.ok)
+      throw std::runtime_error("cannot load the map '" + initial_map_ + "': " + loaded.message);
+  }
   localizer_.start();
   navigator_.start();
   driver_->start(std::move(outputs_));

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <string>
 
 #include "drivers/replay/recorder.hpp"
 #include "drivers/robot_driver.hpp"
@@ -31,6 +32,9 @@ struct PipelineOptions {
   /// Wall-clock seconds a due scan may be late before the status says the sensor stalled.
   double sensor_timeout = 10.0;
   std::size_t max_scans = 0;  ///< hand at most this many scans on, then keep the map as it is; 0: all
+  /// A saved map (a name in maps_dir) to load at start, and what for; empty: start with no map.
+  std::string initial_map;
+  MapMode initial_map_mode = MapMode::kMapping;
 };
 
 /// One running robot: the driver and everything a scan passes through on its way into the map, and the
@@ -51,7 +55,8 @@ class RobotPipeline {
   /// pushes what changed). Whatever it reaches must outlive stop().
   void on_map_published(std::function<void()> callback);
 
-  /// Starts the workers, then the driver's thread.
+  /// Starts the workers, loads the initial map if there is one (throws std::runtime_error saying why when
+  /// it cannot), then starts the driver's thread.
   void start();
   /// Stops the driver first (nothing new comes in), then the recorder (flushes), the navigator, the
   /// localizer and the mapping worker. Idempotent.
@@ -77,6 +82,8 @@ class RobotPipeline {
   LocalizerWorker localizer_;
   RobotDriver::Outputs outputs_;  // handed to the driver at start()
   std::size_t max_scans_ = 0;
+  std::string initial_map_;
+  MapMode initial_map_mode_ = MapMode::kMapping;
   std::size_t scans_taken_ = 0;  // on the driver's thread only
   bool started_ = false;
   bool stopped_ = false;

@@ -105,8 +105,16 @@ ClientRequest parse_request(const std::string& op, const json& message) {
     return SaveMapRequest{map_name(message)};
   }
   if (op == "load_map") {
-    only_fields(message, {"name"});
-    return LoadMapRequest{map_name(message)};
+    only_fields(message, {"name", "mode"});
+    LoadMapRequest request{map_name(message)};
+    if (const auto mode = message.find("mode"); mode != message.end()) {
+      const std::optional<MapMode> parsed =
+          mode->is_string() ? map_mode_from_string(mode->get<std::string>()) : std::nullopt;
+      if (!parsed)
+        throw Invalid{"\"mode\" must be \"mapping\" or \"localize\""};
+      request.mode = *parsed;
+    }
+    return request;
   }
   throw std::out_of_range(op);
 }

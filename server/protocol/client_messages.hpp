@@ -7,6 +7,7 @@
 #include <string_view>
 #include <variant>
 
+#include "server/control/robot_commands.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/state/goal_state.hpp"
 
@@ -45,6 +46,7 @@ struct SaveMapRequest {
 };
 struct LoadMapRequest {
   std::string name;
+  MapMode mode = MapMode::kMapping;
 };
 
 using ClientRequest = std::variant<PingRequest, SubscribeRequest, SetGoalRequest, CancelGoalRequest,

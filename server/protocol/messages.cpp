@@ -55,12 +55,16 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
       {"last_loop_stamp", nullptr},           {"last_correction_m", graph.last_correction}};
   if (graph.last_loop_stamp >= 0.0)
     pose_graph["last_loop_stamp"] = graph.last_loop_stamp;
-  nlohmann::json map{{"version", 0}, {"tiles", 0}, {"cells", 0},
-                     {"patches", 0}, {"bytes", 0}, {"rebuilds", 0}};
+  nlohmann::json map{{"version", 0}, {"tiles", 0},    {"cells", 0},       {"patches", 0},
+                     {"bytes", 0},   {"rebuilds", 0}, {"mode", "mapping"}};
   if (extras.map) {
-    map = {{"version", extras.map->version},    {"tiles", extras.map->tiles.size()},
-           {"cells", extras.map->cells},        {"patches", extras.map->patches},
-           {"bytes", extras.map->memory_bytes}, {"rebuilds", extras.map->rebuilds}};
+    map = {{"version", extras.map->version},
+           {"tiles", extras.map->tiles.size()},
+           {"cells", extras.map->cells},
+           {"patches", extras.map->patches},
+           {"bytes", extras.map->memory_bytes},
+           {"rebuilds", extras.map->rebuilds},
+           {"mode", extras.map->localizing ? "localize" : "mapping"}};
   }
   nlohmann::json sensor{{"state", extras.sensor.stalled ? "stalled" : "ok"},
                         {"overdue_seconds", extras.sensor.overdue},
@@ -126,10 +130,12 @@ std::string path_message(const PlannedPath* path) {
   return message.dump();
 }
 
-std::string ack_message(std::string_view request_op, const nlohmann::json& id) {
+std::string ack_message(std::string_view request_op, const nlohmann::json& id, std::string_view note) {
   nlohmann::json message{{"op", "ack"}, {"request", request_op}};
   if (!id.is_null())
     message["id"] = id;
+  if (!note.empty())
+    message["message"] = note;
   return message.dump();
 }
 

@@ -40,7 +40,9 @@ struct StatusExtras {
 [[nodiscard]] nlohmann::json path_fields(const PlannedPath* path);
 [[nodiscard]] std::string path_message(const PlannedPath* path);
 /// {"op":"ack","request":op,"id":id}: a command was accepted.
-[[nodiscard]] std::string ack_message(std::string_view request_op, const nlohmann::json& id);
+/// `message`: what the command did, when there is more to say than "accepted" (empty: none).
+[[nodiscard]] std::string ack_message(std::string_view request_op, const nlohmann::json& id,
+                                      std::string_view message = {});
 /// The simulated world's geometry (boxes, ramps, cylinders, spheres, terrain), for drawing it faintly: the
 /// body of GET /api/v1/sim/world.
 [[nodiscard]] nlohmann::json sim_world(const sim::World& world);

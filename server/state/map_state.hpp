@@ -43,6 +43,8 @@ struct MapSnapshot {
   std::size_t patches = 0;
   std::size_t memory_bytes = 0;
   std::size_t rebuilds = 0;  ///< times the map was rebuilt from keyframes the pose graph moved
+  /// The robot localizes in a loaded map that does not change; false: the scans go into the map.
+  bool localizing = false;
 };
 
 /// The newest map snapshot, written by the mapping worker, read by the network side. A shared_ptr swap

@@ -33,7 +33,9 @@ class AcceptingMotion : public strata::MotionCommands {
 class AcceptingMaps : public strata::MapCommands {
  public:
   strata::CommandResult save_map(const std::string&) override { return strata::CommandResult::success(); }
-  strata::CommandResult load_map(const std::string&) override { return strata::CommandResult::success(); }
+  strata::CommandResult load_map(const std::string&, strata::MapMode) override {
+    return strata::CommandResult::success();
+  }
   [[nodiscard]] std::vector<strata::MapFileInfo> list_maps() const override { return {{"known", 10, 1.0}}; }
   [[nodiscard]] strata::MapDownload download(const std::string& format,
                                              std::optional<std::uint64_t> version) const override {

@@ -8,6 +8,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <thread>
 
 #include "integration/clients.hpp"
@@ -62,6 +63,69 @@ TEST(Localization, TheSecondLapLandsOnTheFirst) {
             status["registration"]["full"].get<int>() + status["registration"]["partial"].get<int>() +
                 status["registration"]["kept_odometry"].get<int>() + 1)
       << "every scan but the first is counted once: " << status.dump();
+}
+
+// Map reuse (issue #22): a map one run saved is what the next run localizes in. The first server maps the
+// start of the yard lap and saves it; the second starts with it (--map, --mode localize) and another seed:
+// its estimate is on the truth from its first scans, the map it serves does not grow, and a goal on ground
+// the first run drove is reached without any further mapping.
+TEST(Localization, ARestartLocalizesInTheSavedMapAndGoalsWorkAtOnce) {
+  const std::filesystem::path maps = private_temp_path("strata-localize-maps", "");
+  std::filesystem::remove_all(maps);
+  double goal_x = 0.0;
+  double goal_y = 0.0;
+  {
+    ServerProcess mapping(
+        {"--world", "yard", "--scanner", "tilting", "--time-scale", kTimeScale, "--maps-dir", maps.string()});
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(5);
+    bool goal_taken = false;
+    while (true) {
+      ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the first run did not get 90 s in";
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      const nlohmann::json pose = get_json(mapping.port(), "/api/v1/pose");
+      if (!goal_taken && pose["stamp"].get<double>() >= 50.0) {
+        goal_x = pose["truth"]["x"].get<double>();
+        goal_y = pose["truth"]["y"].get<double>();
+        goal_taken = true;
+      }
+      if (pose["stamp"].get<double>() >= 90.0)
+        break;
+    }
+    const auto saved = http_request(mapping.port(), http::verb::post, "/api/v1/maps",
+                                    R"({"name":"yard.smls"})", kTestOperatorToken);
+    ASSERT_EQ(saved.result_int(), 201) << saved.body();
+  }
+
+  ServerProcess localizing({"--world", "yard", "--scanner", "tilting", "--time-scale", kTimeScale, "--seed",
+                            "2", "--maps-dir", maps.string(), "--map", "yard.smls", "--mode", "localize"});
+  const nlohmann::json before = get_json(localizing.port(), "/api/v1/status");
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(5);
+  int checked = 0;
+  while (checked < 10) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "no registered scans in the saved map";
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    const nlohmann::json status = get_json(localizing.port(), "/api/v1/status");
+    if (status["registration"]["full"].get<int>() + status["registration"]["partial"].get<int>() < 2)
+      continue;
+    const nlohmann::json pose = get_json(localizing.port(), "/api/v1/pose");
+    const nlohmann::json& truth = pose["truth"];
+    const double xy = std::hypot(pose["x"].get<double>() - truth["x"].get<double>(),
+                                 pose["y"].get<double>() - truth["y"].get<double>());
+    EXPECT_LT(xy, 0.2) << pose.dump();
+    EXPECT_EQ(status["map"]["patches"], before["map"]["patches"]) << "the saved map is not changed";
+    ++checked;
+  }
+  const auto goal = http_request(localizing.port(), http::verb::post, "/api/v1/goal",
+                                 nlohmann::json{{"x", goal_x}, {"y", goal_y}}.dump(), kTestOperatorToken);
+  ASSERT_EQ(goal.result_int(), 202) << goal.body();
+  std::string phase;
+  while (phase != "reached" && phase != "failed") {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the goal was not reached: " << phase;
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    phase = get_json(localizing.port(), "/api/v1/goal")["phase"].get<std::string>();
+  }
+  EXPECT_EQ(phase, "reached") << get_json(localizing.port(), "/api/v1/goal").dump();
+  std::filesystem::remove_all(maps);
 }
 
 }  // namespace

@@ -33,9 +33,16 @@ class Maps:
         """Saves the current map under `name` in the server's maps directory (atomic on the server)."""
         self._rest.request("POST", "/api/v1/maps", json_body={"name": check_map_name(name)}, operator=True)
 
-    def load(self, name: str) -> None:
-        """Replaces the current map by a saved one; raises StrataError not_found or corrupt_file."""
-        self._rest.request("POST", f"/api/v1/maps/{quote(check_map_name(name))}/load", operator=True)
+    def load(self, name: str, mode: str = "mapping") -> str:
+        """Replaces the current map by a saved one, for "mapping" (the scans go on into it) or to "localize"
+        in it (it is fixed). Returns the server's note on the load (an older file loads for viewing only);
+        raises StrataError not_found, corrupt_file, or bad_params (a file without localization data)."""
+        if mode not in ("mapping", "localize"):
+            raise ValueError(f"map mode {mode!r}: mapping or localize")
+        response = self._rest.request(
+            "POST", f"/api/v1/maps/{quote(check_map_name(name))}/load", json_body={"mode": mode}, operator=True
+        )
+        return response.json().get("message", "")
 
     def download(self, fmt: str = "strata") -> bytes:
         """The current map: strata (native), ply (patches as points), pgm or yaml (ROS map_server)."""

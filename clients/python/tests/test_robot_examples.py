@@ -88,3 +88,9 @@ def test_a_saved_map_reloads_identically(strata_operator):
     with pytest.raises(StrataError) as missing:
         robot.maps.load("no-such-map.strata")
     assert missing.value.code == "not_found"
+
+    # Saved with the pose graph's keyframes, the map can be localized in; then back to mapping.
+    assert "localizing" in robot.maps.load("reload-test.strata", mode="localize")
+    assert "mapping" in robot.maps.load("reload-test.strata")
+    with pytest.raises(ValueError):
+        robot.maps.load("reload-test.strata", mode="navigate")

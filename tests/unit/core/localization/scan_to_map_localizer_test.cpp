@@ -4,7 +4,11 @@
 
 #include <limits>
 #include <memory>
+#include <numbers>
+#include <vector>
 
+#include "core/localization/localization_map.hpp"
+#include "core/points/voxel_downsample.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
@@ -109,6 +113,60 @@ TEST(ScanToMapLocalizer, CorridorAxisComesFromOdometry) {
   }
   EXPECT_GE(partial, 4u);
   EXPECT_LT(worst_along, 0.1);
+}
+
+// A map saved from one run (its keyframes at their poses) and a second run that starts 0.5 m and 4 degrees
+// from where it believes: localizing in the saved map, its first scan already lands where the robot is,
+// and it stays there; mapping anew, the whole run keeps the error of its start (its map is its own).
+TEST(ScanToMapLocalizer, LocalizesInASavedMapFromAWrongStart) {
+  auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
+  std::vector<KeyframePose> keyframes;
+  {
+    sim::Simulator mapping_run(world, {.seed = 1});
+    while (keyframes.size() < 14) {
+      mapping_run.step(0.01);
+      for (const ScanEvent& scan : mapping_run.take_scans()) {
+        auto keyframe = std::make_shared<Keyframe>();
+        keyframe->points = voxel_downsample(pipeline::points_in_base(scan), 0.2);
+        keyframes.push_back({keyframe, scan.truth->to_isometry()});
+      }
+    }
+  }
+  auto saved = std::make_shared<const LocalizationMap>(make_localization_map(keyframes));
+  ASSERT_GT(saved->points.size(), 10000U);
+
+  const auto run = [&](bool localize, double& first_error, double& last_error) {
+    sim::Simulator simulator(world, {.seed = 2});
+    Eigen::Isometry3d wrong = Eigen::Isometry3d::Identity();
+    wrong.translation() = Eigen::Vector3d(0.4, -0.3, 0.0);
+    wrong.linear() =
+        Eigen::AngleAxisd(4.0 * std::numbers::pi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    // The robot believes it stands 0.5 m and 4 degrees from where it does.
+    const Eigen::Isometry3d believed =
+        simulator.sample().truth->to_isometry() * wrong * simulator.sample().odometry.to_isometry().inverse();
+    ScanToMapLocalizer localizer({}, believed);
+    if (localize)
+      localizer.localize_in(saved);
+    std::size_t scans = 0;
+    while (scans < 10) {
+      simulator.step(0.01);
+      for (const ScanEvent& scan : simulator.take_scans()) {
+        const LocalizationUpdate update =
+            localizer.add_scan(pipeline::points_in_base(scan), planar(scan.odometry));
+        const double error = (update.pose.translation() - scan.truth->position).norm();
+        if (scans++ == 0)
+          first_error = error;
+        last_error = error;
+      }
+    }
+  };
+  double first = 0.0, last = 0.0;
+  run(true, first, last);
+  EXPECT_LT(first, 0.1);
+  EXPECT_LT(last, 0.1);
+  run(false, first, last);
+  EXPECT_GT(first, 0.4);
+  EXPECT_GT(last, 0.3);
 }
 
 }  // namespace

@@ -152,30 +152,75 @@ TEST_F(MlsFileTest, DrivenMarksSurviveTheFileAndVersion1FilesStillLoad) {
   EXPECT_TRUE(loaded.same_content(map));
   EXPECT_TRUE(loaded.patches(loaded.cell_of(0.05, 0.05))[0].driven());
 
-  // One patch in one tile, written in format 2, then rewritten as format 1 (no flags byte): it loads,
-  // unmarked. Patches start after the header (112), the tile's x, y, version, total (20) and counts.
+  // One patch in one tile, written in format 3, then rewritten as format 2 (no localization byte after
+  // the tiles) and 1 (no flags byte either): both load, the first unmarked. Patches start after the header
+  // (112), the tile's x, y, version, total (20) and counts.
   MlsMap one;
   one.insert_scan({{0.05, 0.05, 0.0}}, {0, 0, 1});
   std::string bytes = serialize_mls_map(one);
   constexpr std::size_t kFlags = 112 + 20 + kMlsTileCells + 13;
-  ASSERT_EQ(bytes.size(), kFlags + 1 + 8);
+  ASSERT_EQ(bytes.size(), kFlags + 1 + 1 + 8);
   EXPECT_THROW(static_cast<void>(deserialize_mls_map(resealed(bytes, kFlags, "\x80"), "bad.smls")),
                MlsFileError)
       << "a flag this build does not know";
+  const auto rewritten_as = [&](std::uint32_t version) {
+    const std::uint64_t size = bytes.size();
+    bytes.replace(8, 4, std::string(reinterpret_cast<const char*>(&version), 4));
+    bytes.replace(12, 8, std::string(reinterpret_cast<const char*>(&size), 8));
+    return resealed(bytes, 0, "");
+  };
+  bytes.erase(kFlags + 1, 1);
+  const MapFile format2 = deserialize_map_file(rewritten_as(2), "format2.smls");
+  EXPECT_TRUE(format2.map.same_content(one));
+  EXPECT_EQ(format2.format_version, 2U);
+  EXPECT_FALSE(format2.localization);
   bytes.erase(kFlags, 1);
-  const std::uint32_t version1 = 1;
-  const std::uint64_t size = bytes.size();
-  bytes.replace(8, 4, std::string(reinterpret_cast<const char*>(&version1), 4));
-  bytes.replace(12, 8, std::string(reinterpret_cast<const char*>(&size), 8));
-  const MlsMap old = deserialize_mls_map(resealed(bytes, 0, ""), "old.smls");
+  const MlsMap old = deserialize_mls_map(rewritten_as(1), "old.smls");
   EXPECT_TRUE(old.same_content(one));
-  const std::uint32_t version3 = 3;
-  bytes.replace(8, 4, std::string(reinterpret_cast<const char*>(&version3), 4));
   try {
-    static_cast<void>(deserialize_mls_map(resealed(bytes, 0, ""), "new.smls"));
+    static_cast<void>(deserialize_mls_map(rewritten_as(4), "new.smls"));
     ADD_FAILURE() << "loaded a format from the future";
   } catch (const MlsFileError& error) {
-    EXPECT_NE(std::string(error.what()).find("reads 1 to 2"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("reads 1 to 3"), std::string::npos) << error.what();
+  }
+}
+
+// What localizing in a saved map needs comes back as it went in, and a lying count is refused before it
+// allocates anything.
+TEST_F(MlsFileTest, TheLocalizationMapSurvivesTheFile) {
+  const MlsMap map = scene_map();
+  LocalizationMap localization;
+  localization.voxel = 0.1;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.translation() = Eigen::Vector3d(1.5, -2.0, 0.3);
+  pose.linear() = Eigen::AngleAxisd(0.7, Eigen::Vector3d(0.1, 0.2, 1.0).normalized()).toRotationMatrix();
+  localization.keyframe_poses = {Eigen::Isometry3d::Identity(), pose};
+  localization.points = {{1.0F, 2.0F, 3.0F}, {-4.5F, 0.25F, 1e3F}};
+  const fs::path path = directory_ / "with_localization.smls";
+  save_map_file(map, &localization, path);
+  const MapFile loaded = load_map_file(path);
+  EXPECT_EQ(loaded.format_version, map_file_format_version());
+  EXPECT_TRUE(loaded.map.same_content(map));
+  ASSERT_TRUE(loaded.localization);
+  EXPECT_EQ(loaded.localization->voxel, 0.1);
+  EXPECT_EQ(loaded.localization->points, localization.points);
+  ASSERT_EQ(loaded.localization->keyframe_poses.size(), 2U);
+  EXPECT_TRUE(loaded.localization->keyframe_poses[1].isApprox(pose, 1e-12));
+
+  save_mls_map(map, directory_ / "without.smls");
+  EXPECT_FALSE(load_map_file(directory_ / "without.smls").localization);
+
+  // The point count (the last 8 bytes before the points and the checksum) claims far more than is there.
+  const std::string bytes = read_bytes(path);
+  const std::size_t count_at = bytes.size() - 8 - 2 * 12 - 8;
+  const std::uint64_t lie = std::uint64_t{1} << 60;
+  write_bytes(directory_ / "lying.smls",
+              resealed(bytes, count_at, std::string(reinterpret_cast<const char*>(&lie), 8)));
+  try {
+    static_cast<void>(load_map_file(directory_ / "lying.smls"));
+    ADD_FAILURE() << "loaded a lying count";
+  } catch (const MlsFileError& error) {
+    EXPECT_NE(std::string(error.what()).find("localization map's points"), std::string::npos) << error.what();
   }
 }
 

@@ -48,8 +48,9 @@ class RecordingMaps : public MapCommands {
     saved.push_back(name);
     return CommandResult::success();
   }
-  CommandResult load_map(const std::string& name) override {
+  CommandResult load_map(const std::string& name, MapMode mode) override {
     loaded.push_back(name);
+    modes.push_back(mode);
     if (name != "known")
       return CommandResult::failure(ErrorCode::kNotFound, "no map named " + name);
     return CommandResult::success();
@@ -64,6 +65,7 @@ class RecordingMaps : public MapCommands {
   }
   std::vector<std::string> saved;
   std::vector<std::string> loaded;
+  std::vector<MapMode> modes;
 };
 
 ServerServices services_for(const RobotState& robot, const MapState& map, MotionCommands& motion,
@@ -312,6 +314,19 @@ TEST_F(Router, MapDownloadsAndSavedMaps) {
   EXPECT_EQ(router_.handle(operator_request(http::verb::post, "/api/v1/maps/other/load")).result(),
             http::status::not_found);
   EXPECT_EQ(maps_.loaded, (std::vector<std::string>{"known", "other"}));
+  // The mode: mapping unless the body says localize; anything else is refused before the map is touched.
+  const auto localized =
+      router_.handle(operator_request(http::verb::post, "/api/v1/maps/known/load", R"({"mode":"localize"})"));
+  EXPECT_EQ(localized.result(), http::status::ok);
+  EXPECT_EQ(nlohmann::json::parse(localized.body())["mode"], "localize");
+  EXPECT_EQ(maps_.modes, (std::vector<MapMode>{MapMode::kMapping, MapMode::kMapping, MapMode::kLocalize}));
+  for (const char* body :
+       {R"({"mode":"navigate"})", R"({"mode":1})", R"({"name":"x"})", "[", R"("localize")"}) {
+    EXPECT_EQ(router_.handle(operator_request(http::verb::post, "/api/v1/maps/known/load", body)).result(),
+              http::status::bad_request)
+        << body;
+  }
+  EXPECT_EQ(maps_.loaded.size(), 3U);
 }
 
 // "/api/v1/maps/load" names no map: the name's length was computed as 5 - 1 - 5 (wrapping), so it loaded a

@@ -46,7 +46,7 @@ class MapStoreTest : public ::testing::Test {
 TEST_F(MapStoreTest, ListsOnlyWhatLoadsByItsName) {
   const MapStore store(directory_);  // creates the directory
   const MlsMap map = scene_map();
-  ASSERT_TRUE(store.save(map, "site.smls").ok);
+  ASSERT_TRUE(store.save(map, nullptr, "site.smls").ok);
   std::ofstream(directory_ / ".hidden") << "x";
   std::ofstream(directory_ / std::string(65, 'a')) << "x";  // a name the API refuses
   fs::create_directories(directory_ / "folder");
@@ -63,8 +63,8 @@ TEST_F(MapStoreTest, ListsOnlyWhatLoadsByItsName) {
 
 TEST_F(MapStoreTest, BadNamesMissingAndCorruptFilesSayWhich) {
   const MapStore store(directory_);
-  EXPECT_EQ(store.save(scene_map(), "../escape").code, ErrorCode::kBadParams);
-  EXPECT_EQ(store.save(scene_map(), "site.tmp.12").code, ErrorCode::kBadParams);
+  EXPECT_EQ(store.save(scene_map(), nullptr, "../escape").code, ErrorCode::kBadParams);
+  EXPECT_EQ(store.save(scene_map(), nullptr, "site.tmp.12").code, ErrorCode::kBadParams);
   EXPECT_FALSE(fs::exists(directory_ / "site.tmp.12"));
   EXPECT_EQ(store.load("nothing.smls").result.code, ErrorCode::kNotFound);
   std::ofstream(directory_ / "broken.smls") << "STRATMLS but not a map";
@@ -77,7 +77,7 @@ TEST_F(MapStoreTest, BadNamesMissingAndCorruptFilesSayWhich) {
 TEST_F(MapStoreTest, DownloadsAreTheBytesTheFilesWouldHold) {
   const MapStore store(directory_);
   const MlsMap map = scene_map();
-  ASSERT_TRUE(store.save(map, "site.smls").ok);
+  ASSERT_TRUE(store.save(map, nullptr, "site.smls").ok);
   EXPECT_EQ(text_of(MapStore::download("strata", map, nullptr, 3)), read_bytes(directory_ / "site.smls"));
   EXPECT_EQ(text_of(MapStore::download("ply", map, nullptr, 3)), mls_ply(map));
 

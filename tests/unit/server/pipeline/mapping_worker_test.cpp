@@ -169,7 +169,7 @@ TEST(MappingWorker, SavesListsLoadsAndDownloads) {
   EXPECT_EQ(text_of(worker.download("pgm", yaml.version).bytes), text_of(pgm.bytes));
   EXPECT_TRUE(worker.download("pgm", yaml.version + 100).version_gone);
   EXPECT_GT(grown->patches, mapped->patches);
-  const CommandResult loaded = worker.load_map("campus.smls");
+  const CommandResult loaded = worker.load_map("campus.smls", MapMode::kMapping);
   ASSERT_TRUE(loaded.ok) << loaded.message;
   const auto reloaded = state.snapshot();
   EXPECT_GT(reloaded->version, grown->version);
@@ -197,9 +197,9 @@ TEST(MappingWorker, RefusesBadNamesAndCorruptFilesWithoutTouchingTheMap) {
     const CommandResult saved = worker.save_map(name);
     EXPECT_FALSE(saved.ok) << name;
     EXPECT_EQ(saved.code, ErrorCode::kBadParams) << name;
-    EXPECT_EQ(worker.load_map(name).code, ErrorCode::kBadParams) << name;
+    EXPECT_EQ(worker.load_map(name, MapMode::kMapping).code, ErrorCode::kBadParams) << name;
   }
-  EXPECT_EQ(worker.load_map("missing.smls").code, ErrorCode::kNotFound);
+  EXPECT_EQ(worker.load_map("missing.smls", MapMode::kMapping).code, ErrorCode::kNotFound);
 
   ASSERT_TRUE(worker.save_map("good.smls").ok);
   std::string bytes;
@@ -215,7 +215,7 @@ TEST(MappingWorker, RefusesBadNamesAndCorruptFilesWithoutTouchingTheMap) {
     std::ofstream(dir.path() / "foreign.smls", std::ios::binary) << "not a map at all";
   }
   for (const char* name : {"flipped.smls", "truncated.smls", "foreign.smls"}) {
-    const CommandResult result = worker.load_map(name);
+    const CommandResult result = worker.load_map(name, MapMode::kMapping);
     EXPECT_FALSE(result.ok) << name;
     EXPECT_EQ(result.code, ErrorCode::kCorruptFile) << name;
     EXPECT_FALSE(result.message.empty());
@@ -239,7 +239,7 @@ TEST(MappingWorker, FullQueueDropsTheOldestScanAndStoppedWorkerRefusesCommands) 
   worker.flush();
   EXPECT_EQ(worker.status().scans, 2U);
   worker.stop();
-  EXPECT_EQ(worker.load_map("x.smls").code, ErrorCode::kNotFound);
+  EXPECT_EQ(worker.load_map("x.smls", MapMode::kMapping).code, ErrorCode::kNotFound);
   EXPECT_EQ(worker.save_map("x.smls").code, ErrorCode::kUnavailable);
 }
 
@@ -282,7 +282,7 @@ TEST(MappingWorker, EmptyNonFiniteAndAbsurdScansChangeNothing) {
   EXPECT_EQ(state.snapshot()->patches, reference_state.snapshot()->patches);
   EXPECT_EQ(state.snapshot()->cells, reference_state.snapshot()->cells);
   EXPECT_EQ(worker.save_map("after-faults.smls").ok, true);
-  EXPECT_EQ(worker.load_map("after-faults.smls").ok, true);
+  EXPECT_EQ(worker.load_map("after-faults.smls", MapMode::kMapping).ok, true);
   EXPECT_EQ(state.snapshot()->patches, reference_state.snapshot()->patches);
 }
 
@@ -342,7 +342,7 @@ TEST(MappingWorker, TheMapFollowsThePoseGraph) {
 
   // A loaded map is not in the keyframes: a rebuild would throw it away.
   ASSERT_TRUE(worker.save_map("room").ok);
-  ASSERT_TRUE(worker.load_map("room").ok);
+  ASSERT_TRUE(worker.load_map("room", MapMode::kMapping).ok);
   EXPECT_FALSE(worker.rebuild_from({{first, drifted}, {second, drifted}}));
   EXPECT_EQ(worker.status().rebuilds, 1U);
 }
@@ -362,7 +362,7 @@ TEST(MappingWorkerNames, TheProtocolsRuleForEveryCommand) {
             ErrorCode::kBadParams);  // 255 was allowed here before
   EXPECT_EQ(worker.save_map("a/b").code, ErrorCode::kBadParams);
   EXPECT_EQ(worker.save_map(".x").code, ErrorCode::kBadParams);
-  EXPECT_EQ(worker.load_map("my map.smls").code, ErrorCode::kBadParams);
+  EXPECT_EQ(worker.load_map("my map.smls", MapMode::kMapping).code, ErrorCode::kBadParams);
   // A file put there by hand under a name no command accepts is not listed: it could not be loaded.
   std::filesystem::copy_file(dir.path() / "site-2024_01.smls", dir.path() / "my map.smls");
   std::filesystem::copy_file(dir.path() / "site-2024_01.smls", dir.path() / std::string(100, 'b'));
@@ -370,7 +370,7 @@ TEST(MappingWorkerNames, TheProtocolsRuleForEveryCommand) {
   ASSERT_EQ(maps.size(), 1U);
   EXPECT_EQ(maps[0].name, "site-2024_01.smls");
   for (const auto& map : maps)
-    EXPECT_TRUE(worker.load_map(map.name).ok) << map.name;
+    EXPECT_TRUE(worker.load_map(map.name, MapMode::kMapping).ok) << map.name;
 }
 
 TEST(MappingWorker, ARebuildKeepsTheScansNewerThanItsKeyframes) {
@@ -392,6 +392,59 @@ TEST(MappingWorker, ARebuildKeepsTheScansNewerThanItsKeyframes) {
   const auto after = tile_at(*state.snapshot(), 10.0);
   ASSERT_NE(after, nullptr);
   EXPECT_GT(after->patches, 0U) << "the scan after the keyframe is in the rebuilt map";
+}
+
+// A map saved with the pose graph's keyframes can be localized in: loading it so hands its points to the
+// localizer and the scans after it leave it as it was. A map without them loads for mapping with a note,
+// and is refused for localizing with the reason.
+TEST(MappingWorker, AMapSavedWithKeyframesIsLocalizedInAndNotChanged) {
+  ASSERT_GE(campus_scans().size(), 2U);
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path());
+  const KeyframePtr room = strata::testing::room_keyframe(Eigen::Isometry3d::Identity(), 1.0);
+  worker.set_keyframe_source([&] {
+    return std::vector<KeyframePose>{{room, Eigen::Isometry3d::Identity()}};
+  });
+  std::vector<std::shared_ptr<const LocalizationMap>> handed;
+  worker.on_map_loaded([&](std::shared_ptr<const LocalizationMap> map) { handed.push_back(std::move(map)); });
+  worker.start();
+  const ScanEvent& first = campus_scans()[0];
+  worker.submit(first, map_from_sensor(first));
+  worker.flush();
+  ASSERT_TRUE(worker.save_map("with.smls").ok);
+  worker.set_keyframe_source({});  // before start() in the pipeline; here: what a run without keyframes saves
+  ASSERT_TRUE(worker.save_map("without.smls").ok);
+
+  const CommandResult refused = worker.load_map("without.smls", MapMode::kLocalize);
+  EXPECT_EQ(refused.code, ErrorCode::kBadParams);
+  EXPECT_NE(refused.message.find("no localization data"), std::string::npos) << refused.message;
+  EXPECT_TRUE(handed.empty()) << "a refused load changes nothing";
+  const CommandResult viewed = worker.load_map("without.smls", MapMode::kMapping);
+  ASSERT_TRUE(viewed.ok) << viewed.message;
+  EXPECT_NE(viewed.message.find("viewing"), std::string::npos) << viewed.message;
+  ASSERT_EQ(handed.size(), 1U);
+  EXPECT_EQ(handed.back(), nullptr) << "mapping: the localizer maps again";
+
+  const CommandResult localizing = worker.load_map("with.smls", MapMode::kLocalize);
+  ASSERT_TRUE(localizing.ok) << localizing.message;
+  ASSERT_EQ(handed.size(), 2U);
+  ASSERT_NE(handed.back(), nullptr);
+  EXPECT_EQ(handed.back()->points.size(),
+            make_localization_map({{room, Eigen::Isometry3d::Identity()}}).points.size());
+  const auto loaded = state.snapshot();
+  const ScanEvent& second = campus_scans()[1];
+  worker.submit(second, map_from_sensor(second));
+  worker.flush();
+  const auto after = state.snapshot();
+  EXPECT_EQ(after->patches, loaded->patches) << "a map localized in is not changed";
+  ASSERT_EQ(after->tiles.size(), loaded->tiles.size());
+  for (std::size_t i = 0; i < after->tiles.size(); ++i)
+    EXPECT_EQ(after->tiles[i]->version, loaded->tiles[i]->version);
+  // Saved again, it keeps the localization data it came with.
+  ASSERT_TRUE(worker.save_map("again.smls").ok);
+  EXPECT_TRUE(worker.load_map("again.smls", MapMode::kLocalize).ok);
+  worker.stop();
 }
 
 }  // namespace

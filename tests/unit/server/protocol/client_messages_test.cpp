@@ -34,6 +34,9 @@ TEST(ClientMessages, ValidRequests) {
   EXPECT_TRUE(parse_client_message(R"({"op":"cancel_goal"})").request);
   EXPECT_TRUE(parse_client_message(R"({"op":"save_map","name":"hall-2.strata"})").request);
   EXPECT_TRUE(parse_client_message(R"({"op":"load_map","name":"hall-2.strata"})").request);
+  const auto localize = parse_client_message(R"({"op":"load_map","name":"hall-2.strata","mode":"localize"})");
+  ASSERT_TRUE(localize.request);
+  EXPECT_EQ(std::get<LoadMapRequest>(*localize.request).mode, MapMode::kLocalize);
   EXPECT_TRUE(parse_client_message(R"({"op":"ping","id":"a"})").request);
 }
 
@@ -60,6 +63,8 @@ TEST(ClientMessages, EveryBadMessageGetsItsCode) {
       {R"({"op":"save_map","name":".hidden"})", ErrorCode::kBadParams},
       {R"({"op":"save_map","name":""})", ErrorCode::kBadParams},
       {R"({"op":"load_map"})", ErrorCode::kBadParams},
+      {R"({"op":"load_map","name":"a","mode":"navigate"})", ErrorCode::kBadParams},
+      {R"({"op":"load_map","name":"a","mode":null})", ErrorCode::kBadParams},
       {R"({"op":"subscribe","streams":["pose","weather"]})", ErrorCode::kBadParams},
       {R"({"op":"subscribe","streams":"pose"})", ErrorCode::kBadParams},
       {R"({"op":"ping","id":{"a":1}})", ErrorCode::kBadParams},
