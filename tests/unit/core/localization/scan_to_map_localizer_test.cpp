@@ -7,11 +7,10 @@
 #include <numbers>
 #include <vector>
 
-#include "core/localization/localization_map.hpp"
-#include "core/points/voxel_downsample.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
+#include "tests/support/sim_saved_map.hpp"
 
 namespace strata {
 namespace {
@@ -120,19 +119,7 @@ TEST(ScanToMapLocalizer, CorridorAxisComesFromOdometry) {
 // and it stays there; mapping anew, the whole run keeps the error of its start (its map is its own).
 TEST(ScanToMapLocalizer, LocalizesInASavedMapFromAWrongStart) {
   auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
-  std::vector<KeyframePose> keyframes;
-  {
-    sim::Simulator mapping_run(world, {.seed = 1});
-    while (keyframes.size() < 14) {
-      mapping_run.step(0.01);
-      for (const ScanEvent& scan : mapping_run.take_scans()) {
-        auto keyframe = std::make_shared<Keyframe>();
-        keyframe->points = voxel_downsample(pipeline::points_in_base(scan), 0.2);
-        keyframes.push_back({keyframe, scan.truth->to_isometry()});
-      }
-    }
-  }
-  auto saved = std::make_shared<const LocalizationMap>(make_localization_map(keyframes));
+  auto saved = std::make_shared<const LocalizationMap>(testing::saved_map_of_run(world, 14));
   ASSERT_GT(saved->points.size(), 10000U);
 
   const auto run = [&](bool localize, double& first_error, double& last_error) {

@@ -1,0 +1,175 @@
+#include "core/localization/relocalizer.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <utility>
+
+#include "core/localization/scan_to_map_localizer.hpp"
+#include "core/points/voxel_downsample.hpp"
+#include "core/points/voxel_key.hpp"
+
+namespace strata {
+namespace {
+
+Eigen::Isometry3d pose_at(double x, double y, double z, double yaw) {
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(x, y, z);
+  return pose;
+}
+
+double yaw_of(const Eigen::Isometry3d& pose) {
+  return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+}
+
+/// The registration the localizer uses, judged by nothing but its fit: the candidates are up to a step
+/// apart from where the robot is, which the scan path's jump limits would refuse.
+RegistrationOptions refinement() {
+  RegistrationOptions options = LocalizerOptions::default_registration();
+  options.limits.max_translation_jump = std::numeric_limits<double>::infinity();
+  options.limits.max_rotation_jump = std::numeric_limits<double>::infinity();
+  return options;
+}
+
+}  // namespace
+
+Relocalizer::Relocalizer(std::shared_ptr<const LocalizationMap> map, RelocalizationOptions options)
+    : map_(std::move(map)), options_(options), hits_(map_->points.size()), registration_(refinement()) {
+  const double inverse = 1.0 / options_.hit_voxel;
+  for (const Eigen::Vector3f& p : map_->points)
+    hits_.try_emplace(voxel_key(voxel_cell(p.cast<double>(), inverse)), 1);
+  registration_.set_thinned_target(map_->cloud());
+}
+
+double Relocalizer::score(const PointCloud& thinned, const Eigen::Isometry3d& pose) const {
+  const double inverse = 1.0 / options_.hit_voxel;
+  std::size_t hits = 0;
+  for (const Eigen::Vector3d& p : thinned)
+    hits += hits_.find(voxel_key(voxel_cell(pose * p, inverse))) != nullptr ? 1 : 0;
+  return thinned.empty() ? 0.0 : static_cast<double>(hits) / static_cast<double>(thinned.size());
+}
+
+RelocalizationResult Relocalizer::around(const PointCloud& scan, double x, double y, double yaw,
+                                         std::optional<double> z) {
+  if (!z) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const Eigen::Isometry3d& keyframe : map_->keyframe_poses) {
+      const double d = (keyframe.translation().head<2>() - Eigen::Vector2d(x, y)).norm();
+      if (d < nearest) {
+        nearest = d;
+        z = keyframe.translation().z();
+      }
+    }
+  }
+  std::vector<Eigen::Isometry3d> poses;
+  const int steps = static_cast<int>(std::floor(options_.hint_radius / options_.position_step));
+  const int turns = static_cast<int>(std::floor(options_.hint_yaw / options_.yaw_step));
+  for (int i = -steps; i <= steps; ++i)
+    for (int j = -steps; j <= steps; ++j) {
+      const double dx = i * options_.position_step;
+      const double dy = j * options_.position_step;
+      if (std::hypot(dx, dy) > options_.hint_radius + 1e-9)
+        continue;
+      for (int k = -turns; k <= turns; ++k)
+        poses.push_back(pose_at(x + dx, y + dy, z.value_or(0.0), yaw + k * options_.yaw_step));
+    }
+  return search(scan, std::move(poses));
+}
+
+RelocalizationResult Relocalizer::anywhere(const PointCloud& scan) {
+  std::vector<Eigen::Isometry3d> poses;
+  std::vector<Eigen::Vector3d> places;
+  for (const Eigen::Isometry3d& keyframe : map_->keyframe_poses) {
+    const Eigen::Vector3d place = keyframe.translation();
+    const bool seen = std::ranges::any_of(
+        places, [&](const Eigen::Vector3d& p) { return (p - place).norm() < options_.position_step; });
+    if (seen)
+      continue;
+    places.push_back(place);
+    const int turns = static_cast<int>(std::lround(2.0 * std::numbers::pi / options_.yaw_step));
+    for (int k = 0; k < turns; ++k)
+      poses.push_back(pose_at(place.x(), place.y(), place.z(), k * 2.0 * std::numbers::pi / turns));
+  }
+  return search(scan, std::move(poses));
+}
+
+RelocalizationResult Relocalizer::search(const PointCloud& scan, std::vector<Eigen::Isometry3d> poses) {
+  const auto start = std::chrono::steady_clock::now();
+  RelocalizationResult result;
+  result.candidates = poses.size();
+  const PointCloud thinned = voxel_downsample(scan, options_.score_voxel);
+  if (thinned.empty() || poses.empty()) {
+    result.message = poses.empty() ? "the map has no places to search" : "the scan has no points";
+    return result;
+  }
+  std::vector<Candidate> candidates;
+  candidates.reserve(poses.size());
+  for (const Eigen::Isometry3d& pose : poses)
+    candidates.push_back({pose, score(thinned, pose)});
+  const std::size_t kept = std::min(options_.refined, candidates.size());
+  std::partial_sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(kept),
+                    candidates.end(),
+                    [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
+
+  struct Refined {
+    Eigen::Isometry3d pose;
+    double share = 0.0;
+    double rmse = 0.0;
+  };
+  std::vector<Refined> refined;
+  for (std::size_t i = 0; i < kept; ++i) {
+    const RegistrationResult fit = registration_.register_scan(scan, candidates[i].pose);
+    if (!fit.refined.matrix().allFinite() || fit.source_points == 0)
+      continue;
+    refined.push_back(
+        {fit.refined, static_cast<double>(fit.pairs) / static_cast<double>(fit.source_points), fit.rmse});
+  }
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (refined.empty()) {
+    result.message = "no candidate could be registered";
+    return result;
+  }
+  const auto best = std::ranges::max_element(refined, {}, &Refined::share);
+  result.pose = best->pose;
+  result.inlier_share = best->share;
+  result.rmse = best->rmse;
+  for (const Refined& other : refined) {
+    const Eigen::Isometry3d apart = best->pose.inverse() * other.pose;
+    const bool elsewhere = apart.translation().norm() > options_.distinct_metres ||
+                           Eigen::AngleAxisd(apart.linear()).angle() > options_.distinct_radians;
+    if (elsewhere && other.share >= best->share - options_.ambiguity_margin &&
+        other.share >= options_.min_inlier_share) {
+      char text[160];
+      std::snprintf(
+          text, sizeof(text),
+          "two places fit as well (%.0f %% and %.0f %% of the scan, %.1f m apart): give a hint nearer "
+          "the robot",
+          100.0 * best->share, 100.0 * other.share,
+          (best->pose.translation() - other.pose.translation()).norm());
+      result.message = text;
+      return result;
+    }
+  }
+  if (best->share < options_.min_inlier_share || best->rmse > options_.max_rmse) {
+    char text[160];
+    std::snprintf(text, sizeof(text),
+                  "no place fits: at best %.0f %% of the scan on the map (RMSE %.2f m), %.0f %% needed",
+                  100.0 * best->share, best->rmse, 100.0 * options_.min_inlier_share);
+    result.message = text;
+    return result;
+  }
+  result.found = true;
+  const Eigen::Vector3d t = best->pose.translation();
+  char text[160];
+  std::snprintf(text, sizeof(text),
+                "found at x %.2f, y %.2f, heading %.0f degrees (%.0f %% of the scan on the map)", t.x(),
+                t.y(), yaw_of(best->pose) * 180.0 / std::numbers::pi, 100.0 * best->share);
+  result.message = text;
+  return result;
+}
+
+}  // namespace strata

@@ -1,0 +1,83 @@
+#pragma once
+
+#include <Eigen/Geometry>
+#include <cstddef>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/localization/localization_map.hpp"
+#include "core/points/point_cloud.hpp"
+#include "core/points/voxel_key_map.hpp"
+#include "core/registration/register_scan.hpp"
+
+namespace strata {
+
+struct RelocalizationOptions {
+  /// Around a hint: positions this far from it, metres, every `position_step`; headings this far either
+  /// side of its heading, radians, every `yaw_step`. Without a hint: every keyframe's place (where the
+  /// robot that made the map drove), at every `yaw_step` all round.
+  double hint_radius = 2.0;
+  double hint_yaw = 0.55;  // a little over 30 degrees
+  double position_step = 0.5;
+  double yaw_step = 0.175;  // 10 degrees
+  /// Scoring a candidate: the scan thinned to one point per `score_voxel`, and the share of those whose
+  /// voxel of `hit_voxel` holds a map point. Cheap: a hash lookup per point, so thousands of candidates
+  /// take milliseconds; ICP then refines only the best `refined` of them.
+  double score_voxel = 0.5;
+  double hit_voxel = 0.3;
+  std::size_t refined = 6;
+  /// Accepting the best refined candidate: this share of its points paired within ICP's fine bound at
+  /// an RMSE below `max_rmse`, and no other refined candidate elsewhere (more than `distinct_metres` or
+  /// `distinct_radians` away) within `ambiguity_margin` of its share: two places that fit as well are not
+  /// told apart by guessing.
+  double min_inlier_share = 0.55;
+  double max_rmse = 0.12;
+  double ambiguity_margin = 0.05;
+  double distinct_metres = 1.0;
+  double distinct_radians = 0.35;
+};
+
+/// What a search found, and why not when it did not.
+struct RelocalizationResult {
+  bool found = false;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< base in the map frame, when found
+  double inlier_share = 0.0;                               ///< of the best refined candidate
+  double rmse = 0.0;
+  std::size_t candidates = 0;  ///< poses scored
+  double seconds = 0.0;
+  std::string message;  ///< plain words: where it was found, or why not
+};
+
+/// Finding the robot in a saved map (issue 22): around an operator's hint, or anywhere. Candidate poses
+/// are scored cheaply by how many of the scan's points land on the map, the best few refined by ICP against
+/// the whole map, and the best of those accepted only if it fits well and no other place fits as well.
+/// Not thread-safe (the registration keeps its normals); one per thread.
+class Relocalizer {
+ public:
+  explicit Relocalizer(std::shared_ptr<const LocalizationMap> map, RelocalizationOptions options = {});
+
+  /// `scan` in the base frame (cleaned, as the localizer takes it); the hint's heading `yaw` and position
+  /// in the map frame; `z` its height, or none: the height of the nearest keyframe (the level the robot
+  /// that made the map drove there).
+  [[nodiscard]] RelocalizationResult around(const PointCloud& scan, double x, double y, double yaw,
+                                            std::optional<double> z = std::nullopt);
+  /// The same without a hint: every place a keyframe was.
+  [[nodiscard]] RelocalizationResult anywhere(const PointCloud& scan);
+
+ private:
+  struct Candidate {
+    Eigen::Isometry3d pose;
+    double score = 0.0;
+  };
+  [[nodiscard]] double score(const PointCloud& thinned, const Eigen::Isometry3d& pose) const;
+  [[nodiscard]] RelocalizationResult search(const PointCloud& scan, std::vector<Eigen::Isometry3d> poses);
+
+  std::shared_ptr<const LocalizationMap> map_;
+  RelocalizationOptions options_;
+  VoxelKeyMap hits_;  // the map's voxels of hit_voxel
+  ScanRegistration registration_;
+};
+
+}  // namespace strata
