@@ -31,6 +31,7 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
       scan_matching_.correct(*correction);
     map_moved = correction.has_value();
   }
+  map_moved = std::exchange(placed_, false) || map_moved;
   LocalizationUpdate update;
   if (odometry) {
     update = scan_matching_.add_scan(points, *odometry, gravity);
@@ -180,6 +181,13 @@ void GraphLocalizer::localize_in(std::shared_ptr<const LocalizationMap> map) {
   searched_ = 0;
   pending_correction_.reset();
   ++generation_;
+}
+
+void GraphLocalizer::place(const Eigen::Isometry3d& pose, const std::optional<Pose2>& odometry,
+                           double stamp) {
+  const Pose2 at = odometry ? *odometry : motion_.predict(stamp);
+  scan_matching_.correct(pose * scan_matching_.pose(at).inverse());
+  placed_ = true;  // a jump the motion model must not take for a velocity
 }
 
 PoseGraphStatus GraphLocalizer::status() const {

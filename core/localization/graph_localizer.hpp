@@ -75,6 +75,9 @@ class GraphLocalizer {
   /// On the scan path's thread.
   void localize_in(std::shared_ptr<const LocalizationMap> map);
   [[nodiscard]] bool localizing() const { return scan_matching_.localizing(); }
+  /// The robot is at `pose` (map frame) for `odometry` (none: a base without; then at `stamp`): found by
+  /// a search (Relocalizer). The next scan starts from there. On the scan path's thread.
+  void place(const Eigen::Isometry3d& pose, const std::optional<Pose2>& odometry, double stamp);
 
   [[nodiscard]] PoseGraphStatus status() const;
   /// The keyframes and their current pose estimates (map frame), oldest first, for rebuilding the map.
@@ -100,6 +103,7 @@ class GraphLocalizer {
   std::size_t searched_ = 0;  ///< keyframes looked at for loops so far
   /// Counts the graph's restarts: an optimization of a graph since replaced is thrown away.
   std::uint64_t generation_ = 0;
+  bool placed_ = false;  // scan path only: place() moved the estimate since the last scan
   /// map <- scan matcher correction from the last optimization, not yet applied on the scan path.
   std::optional<Eigen::Isometry3d> pending_correction_;
   PoseGraphStatus status_;

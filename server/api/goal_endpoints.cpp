@@ -1,4 +1,4 @@
-// REST: the goal (GET, POST to set, DELETE to cancel) and the planned path.
+// REST: the goal (GET, POST to set, DELETE to cancel), the planned path, and the operator's pose estimate.
 #include <nlohmann/json.hpp>
 #include <variant>
 
@@ -61,6 +61,32 @@ protocol::HttpResponse HttpRouter::path(const protocol::HttpRequest& request) co
   }
   const auto planned = services_.motion->path();
   return json_response(request, http::status::ok, protocol::path_fields(planned.get()).dump());
+}
+
+protocol::HttpResponse HttpRouter::pose_estimate(const protocol::HttpRequest& request) const {
+  if (request.method() != http::verb::post)
+    return method_not_allowed(request, "POST");
+  if (auto refusal = require_operator(request))
+    return std::move(*refusal);
+  // The body is the WebSocket set_pose message without "op": one validation for both.
+  nlohmann::json body = nlohmann::json::parse(request.body(), nullptr, /*allow_exceptions=*/false);
+  if (body.is_discarded() || !body.is_object()) {
+    return error_response(request, http::status::bad_request, ErrorCode::kBadJson,
+                          "the body must be a JSON object {\"x\": ..., \"y\": ..., \"yaw\": ...}");
+  }
+  body["op"] = "set_pose";
+  const auto parsed = protocol::parse_client_message(body.dump());
+  if (!parsed.request)
+    return error_response(request, http::status::bad_request, parsed.error, parsed.error_message);
+  if (services_.localization == nullptr) {
+    return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
+                          "localization is not available on this server");
+  }
+  const CommandResult result =
+      services_.localization->set_pose_estimate(std::get<protocol::SetPoseRequest>(*parsed.request).estimate);
+  if (!result.ok)
+    return command_error(request, result.code, result.message);
+  return json_response(request, http::status::accepted, nlohmann::json{{"message", result.message}}.dump());
 }
 
 }  // namespace strata::api

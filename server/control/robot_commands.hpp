@@ -63,6 +63,24 @@ struct MapDownload {
 /// Saving and loading the map (pipeline::MappingWorker). Names are plain file names inside the configured
 /// maps directory, never paths.
 
+/// Where an operator says the robot is, in the map frame: a hint the localizer searches around.
+struct PoseEstimate {
+  double x = 0.0;
+  double y = 0.0;
+  double yaw = 0.0;         ///< radians, counter-clockwise from +x
+  std::optional<double> z;  ///< the level; none: the level the map's robot drove at (x, y)
+};
+
+/// Telling the localizer where the robot is (pipeline::LocalizerWorker).
+class LocalizationCommands {
+ public:
+  virtual ~LocalizationCommands() = default;
+  /// At the next scan the robot is searched for around `estimate` in the map it localizes in and, when
+  /// found, placed there; the status's `relocalization` says how it went. kBadParams when it localizes in
+  /// no saved map (mapping: the map is where the robot's scans put it) or the estimate is not finite.
+  virtual CommandResult set_pose_estimate(const PoseEstimate& estimate) = 0;
+};
+
 /// What a loaded map is for (docs/architecture.md 4.1, "Localizing in a saved map").
 enum class MapMode {
   kMapping,   ///< it replaces the live map, and the scans go on into it

@@ -228,6 +228,11 @@ void WebSocketSession<Stream>::handle_request(const protocol::ClientRequest& req
           if (maps == nullptr)
             return unavailable("map loading");
           reply(maps->load_map(r.name, r.mode), op, id);
+        } else if constexpr (std::is_same_v<T, protocol::SetPoseRequest>) {
+          LocalizationCommands* localization = context_->services.localization;
+          if (localization == nullptr)
+            return unavailable("pose estimates");
+          reply(localization->set_pose_estimate(r.estimate), op, id);
         }
       },
       request);

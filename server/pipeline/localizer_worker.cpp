@@ -3,6 +3,8 @@
 #include <spdlog/spdlog.h>
 
 #include <chrono>
+#include <cmath>
+#include <numbers>
 #include <string>
 #include <utility>
 
@@ -132,7 +134,29 @@ void LocalizerWorker::classify(const ScanEvent& scan, const LocalizationUpdate& 
 
 void LocalizerWorker::localize_in(std::shared_ptr<const LocalizationMap> map) {
   std::lock_guard lock(mutex_);
+  localizing_ = map != nullptr;
+  pending_estimate_.reset();
   pending_map_ = std::move(map);
+}
+
+CommandResult LocalizerWorker::set_pose_estimate(const PoseEstimate& estimate) {
+  if (!std::isfinite(estimate.x) || !std::isfinite(estimate.y) || !std::isfinite(estimate.yaw) ||
+      (estimate.z && !std::isfinite(*estimate.z)))
+    return CommandResult::failure(ErrorCode::kBadParams, "the pose estimate must be finite numbers");
+  std::lock_guard lock(mutex_);
+  if (!localizing_) {
+    return CommandResult::failure(
+        ErrorCode::kBadParams,
+        "the robot localizes in no saved map: a pose estimate needs a map loaded "
+        "to localize in (mode localize); while mapping, the map is where the scans put "
+        "the robot");
+  }
+  pending_estimate_ = estimate;
+  CommandResult result = CommandResult::success();
+  result.message =
+      "the next scan searches within 2 m and 30 degrees of it; the status's relocalization says "
+      "how it went";
+  return result;
 }
 
 void LocalizerWorker::process(ScanEvent event) {
@@ -141,9 +165,15 @@ void LocalizerWorker::process(ScanEvent event) {
     std::lock_guard lock(mutex_);
     map = std::exchange(pending_map_, std::nullopt);
   }
+  std::optional<PoseEstimate> estimate;
+  {
+    std::lock_guard lock(mutex_);
+    estimate = std::exchange(pending_estimate_, std::nullopt);
+  }
   if (map) {
     const auto start = std::chrono::steady_clock::now();
     const std::size_t points = *map ? (*map)->points.size() : 0;
+    relocalizer_ = *map ? std::make_unique<Relocalizer>(*map) : nullptr;
     localizer_.localize_in(std::move(*map));
     if (localizer_.localizing()) {
       spdlog::info("localizing in the loaded map ({} points, indexed in {:.2f} s): it is not changed", points,
@@ -159,6 +189,16 @@ void LocalizerWorker::process(ScanEvent event) {
       scan.has_odometry ? std::optional<Pose2>(Pose2{scan.odometry.position.x(), scan.odometry.position.y(),
                                                      scan.odometry.yaw})
                         : std::nullopt;
+  if (estimate && relocalizer_) {
+    const RelocalizationResult found =
+        relocalizer_->around(preprocessed.points, estimate->x, estimate->y, estimate->yaw, estimate->z);
+    status_.relocalization = RegistrationStatus::Relocalization{stamp, found.found, found.message};
+    if (found.found)
+      localizer_.place(found.pose, odometry, stamp);
+    spdlog::info("pose estimate ({:.2f}, {:.2f}, {:.0f} degrees): {} ({} candidates, {:.2f} s)", estimate->x,
+                 estimate->y, estimate->yaw * 180.0 / std::numbers::pi, found.message, found.candidates,
+                 found.seconds);
+  }
   const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, stamp,
                                                         scan.sensor_to_base.translation(), scan.gravity);
   ++status_.scans;

@@ -11,7 +11,9 @@
 
 #include "core/localization/graph_localizer.hpp"
 #include "core/localization/localization_health.hpp"
+#include "core/localization/relocalizer.hpp"
 #include "drivers/scan_event.hpp"
+#include "server/control/robot_commands.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 #include "server/state/robot_state.hpp"
 
@@ -23,11 +25,11 @@ namespace strata::pipeline {
 /// stays current and the driver never waits (docs/architecture.md 3). Behind it, on a thread of its own,
 /// the pose graph looks for loop closures and optimizes; its corrections reach the scan path at the next
 /// scan, so registration never waits for it.
-class LocalizerWorker {
+class LocalizerWorker final : public LocalizationCommands {
  public:
   LocalizerWorker(RobotState& state, GraphLocalizerOptions options,
                   const Eigen::Isometry3d& initial_map_from_odom);
-  ~LocalizerWorker();
+  ~LocalizerWorker() override;
   LocalizerWorker(const LocalizerWorker&) = delete;
   LocalizerWorker& operator=(const LocalizerWorker&) = delete;
 
@@ -52,6 +54,8 @@ class LocalizerWorker {
   /// From the next scan on, localizes in `map` (a loaded map's, map frame; GraphLocalizer::localize_in), or
   /// with null maps again. Any thread; returns at once.
   void localize_in(std::shared_ptr<const LocalizationMap> map);
+  /// Any thread; the search runs at the next scan (Relocalizer::around).
+  CommandResult set_pose_estimate(const PoseEstimate& estimate) override;
   /// The pose graph's keyframes at their current poses (what a saved map keeps). Any thread.
   [[nodiscard]] std::vector<KeyframePose> keyframes() const { return localizer_.keyframes(); }
   /// Waits until every scan submitted so far has been registered and handed on (or dropped): what a replay
@@ -79,6 +83,9 @@ class LocalizerWorker {
   std::optional<ScanEvent> pending_;
   /// A map to localize in (or null: to map again) for the next scan to take up.
   std::optional<std::shared_ptr<const LocalizationMap>> pending_map_;
+  bool localizing_ = false;  ///< a map to localize in was handed over (pose estimates need one)
+  std::optional<PoseEstimate> pending_estimate_;
+  std::unique_ptr<Relocalizer> relocalizer_;  // scan path only: searches the map localized in
   std::size_t dropped_ = 0;
   bool stopping_ = false;
   std::size_t scans_for_the_graph_ = 0;  ///< processed scans the loop thread has not looked at

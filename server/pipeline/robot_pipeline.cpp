@@ -140,6 +140,7 @@ ServerServices RobotPipeline::services() {
   services.map = &map_state_;
   services.motion = &navigator_;
   services.maps = &mapping_;
+  services.localization = &localizer_;
   services.sim_world = driver_->world();  // null for a replay or a lidar: no simulated world to draw
   return services;
 }

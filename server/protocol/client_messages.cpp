@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 #include <initializer_list>
+#include <numbers>
 
 namespace strata::protocol {
 namespace {
@@ -90,6 +91,16 @@ ClientRequest parse_request(const std::string& op, const json& message) {
     request.goal.y = number(message, "y", kMaxCoordinate);
     if (message.contains("z"))
       request.goal.z = number(message, "z", kMaxCoordinate);
+    return request;
+  }
+  if (op == "set_pose") {
+    only_fields(message, {"x", "y", "yaw", "z"});
+    SetPoseRequest request;
+    request.estimate.x = number(message, "x", kMaxCoordinate);
+    request.estimate.y = number(message, "y", kMaxCoordinate);
+    request.estimate.yaw = number(message, "yaw", 2.0 * std::numbers::pi);
+    if (message.contains("z"))
+      request.estimate.z = number(message, "z", kMaxCoordinate);
     return request;
   }
   if (op == "cancel_goal") {
@@ -180,7 +191,7 @@ bool needs_operator(const ClientRequest& request) {
   return std::holds_alternative<SetGoalRequest>(request) ||
          std::holds_alternative<CancelGoalRequest>(request) ||
          std::holds_alternative<TeleopRequest>(request) || std::holds_alternative<SaveMapRequest>(request) ||
-         std::holds_alternative<LoadMapRequest>(request);
+         std::holds_alternative<LoadMapRequest>(request) || std::holds_alternative<SetPoseRequest>(request);
 }
 
 }  // namespace strata::protocol

@@ -44,13 +44,16 @@ struct TeleopRequest {
 struct SaveMapRequest {
   std::string name;
 };
+struct SetPoseRequest {
+  PoseEstimate estimate;
+};
 struct LoadMapRequest {
   std::string name;
   MapMode mode = MapMode::kMapping;
 };
 
 using ClientRequest = std::variant<PingRequest, SubscribeRequest, SetGoalRequest, CancelGoalRequest,
-                                   TeleopRequest, SaveMapRequest, LoadMapRequest>;
+                                   TeleopRequest, SaveMapRequest, LoadMapRequest, SetPoseRequest>;
 
 /// A client message, validated: either a request or the error to answer it with. `id` is the message's
 /// optional "id" (any JSON scalar), echoed in the reply so a client can match answers to requests.

@@ -73,7 +73,14 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
   if (extras.sensor.seconds_since_last_scan)
     sensor["seconds_since_last_scan"] = *extras.sensor.seconds_since_last_scan;
   const LocalizationHealth& health = registration.localization;
+  nlohmann::json relocalization = nullptr;
+  if (registration.relocalization) {
+    relocalization = {{"stamp", registration.relocalization->stamp},
+                      {"found", registration.relocalization->found},
+                      {"message", registration.relocalization->message}};
+  }
   return {{"localization", {{"state", to_string(health.state)}, {"reason", health.reason}}},
+          {"relocalization", std::move(relocalization)},
           {"registration", std::move(reg)},
           {"pose_graph", std::move(pose_graph)},
           {"clients", extras.clients},

@@ -39,6 +39,13 @@ struct RegistrationStatus {
   };
   std::optional<Last> last;
   PoseGraphStatus graph;  ///< keyframes and loop closures (docs/architecture.md 4.1)
+  /// The last search for the robot in a saved map (an operator's pose estimate).
+  struct Relocalization {
+    double stamp = 0.0;  ///< of the scan it searched with
+    bool found = false;
+    std::string message;
+  };
+  std::optional<Relocalization> relocalization;
   /// ok, degraded or lost, and why in plain words (docs/architecture.md 4.1, "Localization state").
   LocalizationHealth localization = LocalizationHealth::no_scan_yet();
 };

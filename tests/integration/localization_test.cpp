@@ -67,8 +67,9 @@ TEST(Localization, TheSecondLapLandsOnTheFirst) {
 
 // Map reuse (issue #22): a map one run saved is what the next run localizes in. The first server maps the
 // start of the yard lap and saves it; the second starts with it (--map, --mode localize) and another seed:
-// its estimate is on the truth from its first scans, the map it serves does not grow, and a goal on ground
-// the first run drove is reached without any further mapping.
+// its estimate is on the truth from its first scans, the map it serves does not grow, an operator's pose
+// estimate a metre off is searched around and the robot found where it is, and a goal on ground the first
+// run drove is reached without any further mapping.
 TEST(Localization, ARestartLocalizesInTheSavedMapAndGoalsWorkAtOnce) {
   const std::filesystem::path maps = private_temp_path("strata-localize-maps", "");
   std::filesystem::remove_all(maps);
@@ -94,6 +95,11 @@ TEST(Localization, ARestartLocalizesInTheSavedMapAndGoalsWorkAtOnce) {
     const auto saved = http_request(mapping.port(), http::verb::post, "/api/v1/maps",
                                     R"({"name":"yard.smls"})", kTestOperatorToken);
     ASSERT_EQ(saved.result_int(), 201) << saved.body();
+    // While mapping there is no saved map to search: a pose estimate is refused with the reason.
+    const auto refused = http_request(mapping.port(), http::verb::post, "/api/v1/pose/estimate",
+                                      R"({"x":0,"y":0,"yaw":0})", kTestOperatorToken);
+    EXPECT_EQ(refused.result_int(), 400) << refused.body();
+    EXPECT_NE(refused.body().find("localizes in no saved map"), std::string::npos) << refused.body();
   }
 
   ServerProcess localizing({"--world", "yard", "--scanner", "tilting", "--time-scale", kTimeScale, "--seed",
@@ -115,6 +121,27 @@ TEST(Localization, ARestartLocalizesInTheSavedMapAndGoalsWorkAtOnce) {
     EXPECT_EQ(status["map"]["patches"], before["map"]["patches"]) << "the saved map is not changed";
     ++checked;
   }
+  // An operator's pose estimate 1 m and 17 degrees off: the robot is found where it is, and stays there.
+  const nlohmann::json now = get_json(localizing.port(), "/api/v1/pose");
+  const nlohmann::json estimate{{"x", now["truth"]["x"].get<double>() + 0.8},
+                                {"y", now["truth"]["y"].get<double>() - 0.6},
+                                {"yaw", now["truth"]["yaw"].get<double>() + 0.3}};
+  const auto hinted = http_request(localizing.port(), http::verb::post, "/api/v1/pose/estimate",
+                                   estimate.dump(), kTestOperatorToken);
+  ASSERT_EQ(hinted.result_int(), 202) << hinted.body();
+  nlohmann::json relocalization;
+  while (relocalization.is_null()) {
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "the pose estimate was never searched around";
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    relocalization = get_json(localizing.port(), "/api/v1/status")["relocalization"];
+  }
+  EXPECT_TRUE(relocalization["found"].get<bool>()) << relocalization.dump();
+  const nlohmann::json placed = get_json(localizing.port(), "/api/v1/pose");
+  EXPECT_LT(std::hypot(placed["x"].get<double>() - placed["truth"]["x"].get<double>(),
+                       placed["y"].get<double>() - placed["truth"]["y"].get<double>()),
+            0.2)
+      << placed.dump();
+
   const auto goal = http_request(localizing.port(), http::verb::post, "/api/v1/goal",
                                  nlohmann::json{{"x", goal_x}, {"y", goal_y}}.dump(), kTestOperatorToken);
   ASSERT_EQ(goal.result_int(), 202) << goal.body();
