@@ -183,11 +183,12 @@ void GraphLocalizer::localize_in(std::shared_ptr<const LocalizationMap> map) {
   ++generation_;
 }
 
-void GraphLocalizer::place(const Eigen::Isometry3d& pose, const std::optional<Pose2>& odometry,
-                           double stamp) {
+Eigen::Isometry3d GraphLocalizer::place(const Eigen::Isometry3d& pose, const std::optional<Pose2>& odometry,
+                                        double stamp) {
   const Pose2 at = odometry ? *odometry : motion_.predict(stamp);
   scan_matching_.correct(pose * scan_matching_.pose(at).inverse());
   placed_ = true;  // a jump the motion model must not take for a velocity
+  return odometry ? scan_matching_.map_from_odom() : pose;
 }
 
 PoseGraphStatus GraphLocalizer::status() const {

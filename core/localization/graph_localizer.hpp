@@ -76,8 +76,9 @@ class GraphLocalizer {
   void localize_in(std::shared_ptr<const LocalizationMap> map);
   [[nodiscard]] bool localizing() const { return scan_matching_.localizing(); }
   /// The robot is at `pose` (map frame) for `odometry` (none: a base without; then at `stamp`): found by
-  /// a search (Relocalizer). The next scan starts from there. On the scan path's thread.
-  void place(const Eigen::Isometry3d& pose, const std::optional<Pose2>& odometry, double stamp);
+  /// a search (Relocalizer). The next scan starts from there. On the scan path's thread. Returns the new
+  /// map <- odometry correction (as LocalizationUpdate::map_from_odom: the pose itself without odometry).
+  Eigen::Isometry3d place(const Eigen::Isometry3d& pose, const std::optional<Pose2>& odometry, double stamp);
 
   [[nodiscard]] PoseGraphStatus status() const;
   /// The keyframes and their current pose estimates (map frame), oldest first, for rebuilding the map.

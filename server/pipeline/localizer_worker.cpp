@@ -194,7 +194,7 @@ void LocalizerWorker::process(ScanEvent event) {
         relocalizer_->around(preprocessed.points, estimate->x, estimate->y, estimate->yaw, estimate->z);
     status_.relocalization = RegistrationStatus::Relocalization{stamp, found.found, found.message};
     if (found.found)
-      localizer_.place(found.pose, odometry, stamp);
+      static_cast<void>(localizer_.place(found.pose, odometry, stamp));
     spdlog::info("pose estimate ({:.2f}, {:.2f}, {:.0f} degrees): {} ({} candidates, {:.2f} s)", estimate->x,
                  estimate->y, estimate->yaw * 180.0 / std::numbers::pi, found.message, found.candidates,
                  found.seconds);
@@ -224,6 +224,23 @@ void LocalizerWorker::process(ScanEvent event) {
       spdlog::info("registration rejected at t={:.1f}: {}", scan.stamp, r.assessment.message);
     }
   }
+  // Lost in a saved map: the robot is looked for everywhere the map's robot drove, at the first lost scan
+  // and every 5th after (a search takes 0.1-0.5 s on the scan path: docs/benchmarks.md, "Finding the
+  // robot"); found, the next scan starts there.
+  Eigen::Isometry3d map_from_odom = update.map_from_odom;
+  if (relocalizer_ && status_.localization.state == LocalizationState::kLost) {
+    if (lost_scans_++ % 5 == 0) {
+      const RelocalizationResult found = relocalizer_->anywhere(preprocessed.points);
+      status_.relocalization =
+          RegistrationStatus::Relocalization{stamp, found.found, "lost: " + found.message};
+      if (found.found)
+        map_from_odom = localizer_.place(found.pose, odometry, stamp);
+      spdlog::info("lost at t={:.1f}, searched the whole map: {} ({} candidates, {:.2f} s)", stamp,
+                   found.message, found.candidates, found.seconds);
+    }
+  } else {
+    lost_scans_ = 0;
+  }
   const bool rejected = update.registration && update.correction == Correction::kNone;
   if (sink_ && !rejected) {
     const Eigen::Isometry3d map_from_sensor = update.pose * scan.sensor_to_base;
@@ -231,7 +248,7 @@ void LocalizerWorker::process(ScanEvent event) {
   }
   // Published after the scan is handed on: whoever sees the count can queue a map command (a save) knowing
   // it runs after this scan is mapped.
-  state_.set_correction(update.map_from_odom, true, stamp);
+  state_.set_correction(map_from_odom, true, stamp);
   status_.graph = localizer_.status();
   state_.set_registration(status_);
   {

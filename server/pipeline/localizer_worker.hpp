@@ -86,6 +86,7 @@ class LocalizerWorker final : public LocalizationCommands {
   bool localizing_ = false;  ///< a map to localize in was handed over (pose estimates need one)
   std::optional<PoseEstimate> pending_estimate_;
   std::unique_ptr<Relocalizer> relocalizer_;  // scan path only: searches the map localized in
+  std::size_t lost_scans_ = 0;                // scan path only: in a row, while lost
   std::size_t dropped_ = 0;
   bool stopping_ = false;
   std::size_t scans_for_the_graph_ = 0;  ///< processed scans the loop thread has not looked at
