@@ -301,10 +301,11 @@ CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
     try {
-      live_.set_localizing(mode == MapMode::kLocalize);
+      live_.set_localizing(mode == MapMode::kLocalize);  // before: the new map's snapshot says it
       live_.replace(std::move(loaded.map), LiveMap::Replacement::kLoaded);
       loaded_ = true;
     } catch (const std::exception& failure) {
+      live_.set_localizing(mode_ == MapMode::kLocalize);
       result = CommandResult::failure(ErrorCode::kIoError, failure.what());
       return;
     }
@@ -318,7 +319,7 @@ CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
     } else if (!localizable) {
       result.message =
           "loaded for viewing and mapping only: the file has no localization data (saved by an older "
-          "Strata or without the pose graph); save it again after mapping to localize in it later";
+          "Strata or without the pose graph), so it cannot be localized in";
     } else {
       result.message = "mapping on in the loaded map";
     }
