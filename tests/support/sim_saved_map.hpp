@@ -10,7 +10,7 @@
 #include "drivers/sim/simulator.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 
-namespace strata::testing {
+namespace strata::test {
 
 /// The localization map a run of `scans` stop-and-go scans through `world` would save (seed `seed`), every
 /// scan a keyframe at its true pose, thinned as the pose graph thins them.
@@ -29,4 +29,4 @@ inline LocalizationMap saved_map_of_run(const std::shared_ptr<const sim::World>&
   return make_localization_map(keyframes);
 }
 
-}  // namespace strata::testing
+}  // namespace strata::test

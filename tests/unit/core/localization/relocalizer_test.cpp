@@ -44,7 +44,7 @@ double heading_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
 // without a hint every place the map's robot drove is tried; a scan of somewhere else is not placed.
 TEST(Relocalizer, FindsTheRobotFromAHintAndWithoutOne) {
   auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
-  Relocalizer relocalizer(std::make_shared<const LocalizationMap>(testing::saved_map_of_run(world, 14)));
+  Relocalizer relocalizer(std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 14)));
   const std::vector<Seen> seen = second_run(world, 12);
   for (const std::size_t i : {2U, 3U, 7U, 11U}) {
     const Eigen::Isometry3d& truth = seen[i].truth;

@@ -119,7 +119,7 @@ TEST(ScanToMapLocalizer, CorridorAxisComesFromOdometry) {
 // and it stays there; mapping anew, the whole run keeps the error of its start (its map is its own).
 TEST(ScanToMapLocalizer, LocalizesInASavedMapFromAWrongStart) {
   auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
-  auto saved = std::make_shared<const LocalizationMap>(testing::saved_map_of_run(world, 14));
+  auto saved = std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 14));
   ASSERT_GT(saved->points.size(), 10000U);
 
   const auto run = [&](bool localize, double& first_error, double& last_error) {

@@ -19,7 +19,7 @@ namespace {
 // scans later finds it; from there its scans register where it is.
 TEST(LocalizerWorker, ARobotLostInASavedMapIsFoundAgain) {
   auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
-  auto saved = std::make_shared<const LocalizationMap>(testing::saved_map_of_run(world, 21));
+  auto saved = std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 21));
   sim::Simulator run(world, {.seed = 2});
   Eigen::Isometry3d wrong = Eigen::Isometry3d::Identity();
   wrong.translation() = Eigen::Vector3d(4.0, -4.0, 0.0);
