@@ -90,23 +90,51 @@ bool LocalizerWorker::flush() {
 
 void LocalizerWorker::run() {
   while (true) {
-    ScanEvent scan;
+    std::optional<ScanEvent> scan;
+    std::optional<std::shared_ptr<const LocalizationMap>> map;
+    std::optional<PoseEstimate> estimate;
     {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [this] { return stopping_ || pending_.has_value(); });
+      // A map or a pose estimate is taken up at once: a stop-and-go scanner standing still takes no next
+      // scan. The estimate is searched with the latest scan, or the next when there is none yet.
+      wake_.wait(lock, [this] {
+        return stopping_ || pending_ || pending_map_ || (pending_estimate_ && latest_scan_kept_);
+      });
       if (stopping_)
         return;
-      scan = std::move(*pending_);
-      pending_.reset();
-      status_.dropped = dropped_;
+      map = std::exchange(pending_map_, std::nullopt);
+      if (pending_) {
+        scan = std::exchange(pending_, std::nullopt);
+        status_.dropped = dropped_;
+      } else if (latest_scan_kept_) {
+        estimate = std::exchange(pending_estimate_, std::nullopt);
+      }
       busy_ = true;
     }
-    process(std::move(scan));
+    if (map)
+      take_up(std::move(*map));
+    if (scan)
+      process(std::move(*scan));
+    else if (estimate)
+      search_with_latest_scan(*estimate);
     {
       std::lock_guard lock(mutex_);
       busy_ = false;
     }
     idle_.notify_all();
+  }
+}
+
+void LocalizerWorker::take_up(std::shared_ptr<const LocalizationMap> map) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::size_t points = map ? map->points.size() : 0;
+  relocalizer_ = map ? std::make_unique<Relocalizer>(map) : nullptr;
+  localizer_.localize_in(std::move(map));
+  if (localizer_.localizing()) {
+    spdlog::info("localizing in the loaded map ({} points, indexed in {:.2f} s): it is not changed", points,
+                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  } else {
+    spdlog::info("mapping: scans are registered against the recent scans and go into the map");
   }
 }
 
@@ -137,6 +165,7 @@ void LocalizerWorker::localize_in(std::shared_ptr<const LocalizationMap> map) {
   localizing_ = map != nullptr;
   pending_estimate_.reset();
   pending_map_ = std::move(map);
+  wake_.notify_one();
 }
 
 CommandResult LocalizerWorker::set_pose_estimate(const PoseEstimate& estimate) {
@@ -152,35 +181,58 @@ CommandResult LocalizerWorker::set_pose_estimate(const PoseEstimate& estimate) {
         "the robot");
   }
   pending_estimate_ = estimate;
+  wake_.notify_one();
   CommandResult result = CommandResult::success();
   result.message =
-      "the next scan searches within 2 m and 30 degrees of it; the status's relocalization says "
+      "the robot is searched for within 2 m and 30 degrees of it; the status's relocalization says "
       "how it went";
   return result;
 }
 
-void LocalizerWorker::process(ScanEvent event) {
-  std::optional<std::shared_ptr<const LocalizationMap>> map;
-  {
-    std::lock_guard lock(mutex_);
-    map = std::exchange(pending_map_, std::nullopt);
+std::optional<Eigen::Isometry3d> LocalizerWorker::search_around(const PoseEstimate& estimate,
+                                                                const PointCloud& points,
+                                                                const std::optional<Pose2>& odometry,
+                                                                double stamp) {
+  const RelocalizationResult found =
+      relocalizer_->around(points, estimate.x, estimate.y, estimate.yaw, estimate.z);
+  status_.relocalization = RegistrationStatus::Relocalization{stamp, found.found, found.message};
+  spdlog::info("pose estimate ({:.2f}, {:.2f}, {:.0f} degrees): {} ({} candidates, {:.2f} s)", estimate.x,
+               estimate.y, estimate.yaw * 180.0 / std::numbers::pi, found.message, found.candidates,
+               found.seconds);
+  if (!found.found)
+    return std::nullopt;
+  return localizer_.place(found.pose, odometry, stamp);
+}
+
+void LocalizerWorker::search_with_latest_scan(const PoseEstimate& estimate) {
+  if (!relocalizer_ || !latest_scan_)
+    return;
+  const LatestScan& scan = *latest_scan_;
+  // The estimate is where the robot is now; the scan was taken where it was then. The odometry since
+  // carries the estimate back (nothing, for a robot standing still).
+  PoseEstimate at_scan = estimate;
+  const std::optional<RobotSnapshot> now = state_.snapshot();
+  if (now && scan.odometry) {
+    const Pose2 odometry_now{now->sample.odometry.position.x(), now->sample.odometry.position.y(),
+                             now->sample.odometry.yaw};
+    const Pose2 back =
+        Pose2{estimate.x, estimate.y, estimate.yaw}.compose(scan.odometry->relative_to(odometry_now));
+    at_scan.x = back.x;
+    at_scan.y = back.y;
+    at_scan.yaw = back.theta;
   }
+  const std::optional<Eigen::Isometry3d> map_from_odom =
+      search_around(at_scan, scan.points, scan.odometry, scan.stamp);
+  if (map_from_odom)
+    state_.set_correction(*map_from_odom, true, scan.stamp);
+  state_.set_registration(status_);
+}
+
+void LocalizerWorker::process(ScanEvent event) {
   std::optional<PoseEstimate> estimate;
   {
     std::lock_guard lock(mutex_);
     estimate = std::exchange(pending_estimate_, std::nullopt);
-  }
-  if (map) {
-    const auto start = std::chrono::steady_clock::now();
-    const std::size_t points = *map ? (*map)->points.size() : 0;
-    relocalizer_ = *map ? std::make_unique<Relocalizer>(*map) : nullptr;
-    localizer_.localize_in(std::move(*map));
-    if (localizer_.localizing()) {
-      spdlog::info("localizing in the loaded map ({} points, indexed in {:.2f} s): it is not changed", points,
-                   std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
-    } else {
-      spdlog::info("mapping: scans are registered against the recent scans and go into the map");
-    }
   }
   PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
   const ScanEvent& scan = preprocessed.event;
@@ -189,16 +241,8 @@ void LocalizerWorker::process(ScanEvent event) {
       scan.has_odometry ? std::optional<Pose2>(Pose2{scan.odometry.position.x(), scan.odometry.position.y(),
                                                      scan.odometry.yaw})
                         : std::nullopt;
-  if (estimate && relocalizer_) {
-    const RelocalizationResult found =
-        relocalizer_->around(preprocessed.points, estimate->x, estimate->y, estimate->yaw, estimate->z);
-    status_.relocalization = RegistrationStatus::Relocalization{stamp, found.found, found.message};
-    if (found.found)
-      static_cast<void>(localizer_.place(found.pose, odometry, stamp));
-    spdlog::info("pose estimate ({:.2f}, {:.2f}, {:.0f} degrees): {} ({} candidates, {:.2f} s)", estimate->x,
-                 estimate->y, estimate->yaw * 180.0 / std::numbers::pi, found.message, found.candidates,
-                 found.seconds);
-  }
+  if (estimate && relocalizer_)
+    static_cast<void>(search_around(*estimate, preprocessed.points, odometry, stamp));
   const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, stamp,
                                                         scan.sensor_to_base.translation(), scan.gravity);
   ++status_.scans;
@@ -240,6 +284,12 @@ void LocalizerWorker::process(ScanEvent event) {
     }
   } else {
     lost_scans_ = 0;
+  }
+  // Kept whatever the mode: a map loaded to localize in is searched with it before the next scan comes.
+  latest_scan_ = LatestScan{preprocessed.points, odometry, stamp};
+  {
+    std::lock_guard lock(mutex_);
+    latest_scan_kept_ = true;
   }
   const bool rejected = update.registration && update.correction == Correction::kNone;
   if (sink_ && !rejected) {

@@ -51,10 +51,12 @@ class LocalizerWorker final : public LocalizationCommands {
   void stop();
   /// Called from the driver thread; returns at once.
   void submit(ScanEvent scan);
-  /// From the next scan on, localizes in `map` (a loaded map's, map frame; GraphLocalizer::localize_in), or
+  /// From now on, localizes in `map` (a loaded map's, map frame; GraphLocalizer::localize_in), or
   /// with null maps again. Any thread; returns at once.
   void localize_in(std::shared_ptr<const LocalizationMap> map);
-  /// Any thread; the search runs at the next scan (Relocalizer::around).
+  /// Any thread; the localizer's thread searches around it at once with the latest scan, carried back to
+  /// where the robot took that scan by the odometry since (Relocalizer::around), or with the next scan
+  /// when there is none yet.
   CommandResult set_pose_estimate(const PoseEstimate& estimate) override;
   /// The pose graph's keyframes at their current poses (what a saved map keeps). Any thread.
   [[nodiscard]] std::vector<KeyframePose> keyframes() const { return localizer_.keyframes(); }
@@ -65,6 +67,15 @@ class LocalizerWorker final : public LocalizationCommands {
  private:
   void run();
   void process(ScanEvent scan);
+  /// Localizes in `map` from now on (null: maps again).
+  void take_up(std::shared_ptr<const LocalizationMap> map);
+  /// An operator's pose estimate, searched with the latest scan: a stop-and-go scanner standing still
+  /// takes no next scan, and waiting for one would leave the estimate unanswered.
+  void search_with_latest_scan(const PoseEstimate& estimate);
+  /// Searches around `estimate` (the robot's pose when it took `points`) and, found, places the robot
+  /// there; the status's relocalization says how it went. The new map <- odometry correction, if found.
+  std::optional<Eigen::Isometry3d> search_around(const PoseEstimate& estimate, const PointCloud& points,
+                                                 const std::optional<Pose2>& odometry, double stamp);
   /// The pose graph's thread: closes loops whenever the scan path made keyframes.
   void close_loops();
   /// The localization state after a scan, into status_.localization.
@@ -87,6 +98,14 @@ class LocalizerWorker final : public LocalizationCommands {
   std::optional<PoseEstimate> pending_estimate_;
   std::unique_ptr<Relocalizer> relocalizer_;  // scan path only: searches the map localized in
   std::size_t lost_scans_ = 0;                // scan path only: in a row, while lost
+  /// The latest scan, what a pose estimate is searched with at once.
+  struct LatestScan {
+    PointCloud points;  // base frame, preprocessed
+    std::optional<Pose2> odometry;
+    double stamp = 0.0;
+  };
+  std::optional<LatestScan> latest_scan_;  // scan path only
+  bool latest_scan_kept_ = false;          // under mutex_: latest_scan_ holds one
   std::size_t dropped_ = 0;
   bool stopping_ = false;
   std::size_t scans_for_the_graph_ = 0;  ///< processed scans the loop thread has not looked at

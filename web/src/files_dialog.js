@@ -53,7 +53,9 @@ export function setUpFilesDialog({ command, notices }) {
       command({ op: 'save_map', name });
     } else if (mode === 'load') {
       const name = $('load-name').value;
-      if (name) command({ op: 'load_map', name });
+      // Mapping goes on in the loaded map; localizing keeps it as saved and places the robot in it.
+      const loadMode = document.querySelector('input[name="load-mode"]:checked')?.value ?? 'mapping';
+      if (name) command({ op: 'load_map', name, mode: loadMode });
     } else if (mode === 'download') {
       const link = document.createElement('a');
       link.href = downloadUrl($('download-format').value);

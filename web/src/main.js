@@ -10,6 +10,7 @@ import { MapFeed } from './map_feed.js';
 import { Notices } from './notices.js';
 import { COLOR_MODES } from './patch_colors.js';
 import { createPerfProbe } from './perf_probe.js';
+import { PosePanel } from './pose_panel.js';
 import { SceneView } from './scene_view.js';
 import { StatusPanel } from './status_panel.js';
 import { installTestHandle } from './test_handle.js';
@@ -48,6 +49,11 @@ function command(message) {
 }
 
 const goals = new GoalPanel(view, { command, notices });
+let lastPose = null;
+const poses = new PosePanel(view, { command, notices, currentYaw: () => lastPose?.yaw ?? 0 });
+// One picking tool at a time: arming one disarms the other.
+$('goal-arm').addEventListener('click', () => poses.tool.armed && poses.tool.setArmed(false));
+$('pose-arm').addEventListener('click', () => goals.tool.armed && goals.tool.setArmed(false));
 
 // ---- server messages ------------------------------------------------------------------------------
 const ackText = {
@@ -55,6 +61,7 @@ const ackText = {
   load_map: 'Map loaded',
   set_goal: 'Goal sent',
   cancel_goal: 'Stopped',
+  set_pose: 'Pose estimate sent: the robot is searched for around it',
 };
 
 function showRole(newRole) {
@@ -78,11 +85,13 @@ const handlers = {
     view.requestRender();
   },
   pose: (m) => {
+    lastPose = m;
     panel.showPose(m);
     view.setPose(m);
   },
   status: (m) => {
     panel.showStatus(m);
+    poses.showStatus(m);
     if (m.map?.tiles > 0) mapArrived();
   },
   goal: (m) => goals.show(m),
@@ -91,7 +100,10 @@ const handlers = {
     view.requestRender();
   },
   ack: (m) => {
-    if (ackText[m.request]) notices.show(ackText[m.request], 'ok', 3);
+    if (!ackText[m.request]) return;
+    // A load's note says what the server does with the map now (maps on in it, localizes in it, why not).
+    const note = m.request === 'load_map' && m.message;
+    notices.show(note ? `${ackText[m.request]}: ${note}` : ackText[m.request], 'ok', note ? 6 : 3);
   },
   pong: (m) => {
     const sent = pings.get(m.id);
@@ -100,6 +112,7 @@ const handlers = {
   },
   error: (m) => {
     console.warn(`strata: server error ${m.code}: ${m.message}`);
+    if (m.request === 'set_pose') poses.refused();
     notices.serverError(m);
   },
 };
@@ -171,4 +184,4 @@ $('follow').addEventListener('click', () => {
 // ---- dialogs and the test handle --------------------------------------------------------------------
 setUpTokenDialog(connection, notices);
 setUpFilesDialog({ command, notices });
-installTestHandle({ view, goals, joystick, notices, perf, state: () => ({ connection: connectionState, role }) });
+installTestHandle({ view, goals, poses, joystick, notices, perf, state: () => ({ connection: connectionState, role }) });

@@ -17,6 +17,7 @@ const ACTIONS = {
   teleop: 'Driving',
   save_map: 'Saving the map',
   load_map: 'Loading the map',
+  set_pose: 'Setting the pose',
 };
 
 export class Notices {

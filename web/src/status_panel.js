@@ -55,6 +55,10 @@ export class StatusPanel {
       field('driver').textContent = `${status.driver.kind}${finished}`;
     }
     if (status.map) {
+      // Localizing, the map is fixed: it stays as it was saved, and the scans only place the robot in it.
+      const mode = field('map-mode');
+      mode.textContent = status.map.mode === 'localize' ? 'localizing (fixed)' : 'mapping';
+      mode.dataset.mode = status.map.mode;
       const kib = status.map.bytes / 1024;
       const patches = status.map.patches >= 10000 ? `${(status.map.patches / 1000).toFixed(0)}k` : status.map.patches;
       field('map-size').textContent = `${status.map.tiles} tiles · ${patches} patches`;

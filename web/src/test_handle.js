@@ -28,7 +28,7 @@ function screenPoint(view, [x, y, z]) {
 }
 
 /** `state()` gives the page's own state: { connection, role }. */
-export function installTestHandle({ view, goals, joystick, notices, perf, state }) {
+export function installTestHandle({ view, goals, poses, joystick, notices, perf, state }) {
   window.strata = {
     robotPosition: () => view.robot.position.toArray(),
     robotVisible: () => view.robot.visible,
@@ -49,6 +49,11 @@ export function installTestHandle({ view, goals, joystick, notices, perf, state 
     goal: () => ({ ...goals.lastGoal }),
     goalSent: () => goals.lastGoalSent && { ...goals.lastGoalSent },
     goalArmed: () => goals.tool.armed,
+    poseSent: () => poses.lastSent && { ...poses.lastSent },
+    poseArmed: () => poses.tool.armed,
+    poseArrow: () => poses.tool.arrow.visible,
+    relocalization: () => poses.lastSearch && { ...poses.lastSearch },
+    mapMode: () => poses.mapMode,
     pathPoints: () => view.paths.pointCount,
     joystick: () => joystick.state,
     notice: () => (document.getElementById('notice').hidden ? null : notices.last),

@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <memory>
 #include <optional>
+#include <thread>
 #include <vector>
 
 #include "drivers/sim/simulator.hpp"
@@ -57,6 +59,59 @@ TEST(LocalizerWorker, ARobotLostInASavedMapIsFoundAgain) {
                      << " scans: " << state.registration().relocalization->message;
   ASSERT_TRUE(last_error) << "no scan registered after it was found";
   EXPECT_LT(*last_error, 0.2);
+}
+
+// A stop-and-go scanner standing still takes no next scan: an operator's pose estimate is searched at once
+// with the latest scan. Here the robot drove on 8 m after it (its scans not handed over, its odometry
+// published as the driver does); the estimate, 0.6 m and 11 degrees from where it is now, is carried back
+// by that odometry to where the scan was taken: found there, the estimate now is on the truth. Without the
+// carrying back the search looks 8 m from the scan's place and is refused (two places fit as well).
+TEST(LocalizerWorker, APoseEstimateIsSearchedWithTheLatestScanWithoutWaitingForAnother) {
+  auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
+  auto saved = std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 21));
+  sim::Simulator run(world, {.seed = 2});
+  const Eigen::Isometry3d start =
+      run.sample().truth->to_isometry() * run.sample().odometry.to_isometry().inverse();
+  RobotState state;
+  LocalizerWorker worker(state, GraphLocalizerOptions{}, start);
+  worker.localize_in(saved);
+  worker.start();
+  std::size_t scans = 0;
+  Eigen::Vector2d last_scan_at = Eigen::Vector2d::Zero();
+  while (scans < 3) {
+    run.step(0.01);
+    state.publish(run.sample());
+    for (ScanEvent& scan : run.take_scans()) {
+      last_scan_at = scan.truth->position.head<2>();
+      worker.submit(std::move(scan));
+      ASSERT_TRUE(worker.flush());
+      ++scans;
+    }
+  }
+  while ((run.sample().truth->position.head<2>() - last_scan_at).norm() < 8.0) {
+    run.step(0.01);
+    state.publish(run.sample());
+    static_cast<void>(run.take_scans());  // taken, never handed over
+  }
+  const Pose3 truth = *run.sample().truth;
+  ASSERT_TRUE(worker
+                  .set_pose_estimate({.x = truth.position.x() + 0.5,
+                                      .y = truth.position.y() - 0.3,
+                                      .yaw = truth.yaw + 0.2,
+                                      .z = std::nullopt})
+                  .ok);
+  // The search runs on the worker's thread: wait for its answer (no scan comes meanwhile).
+  std::optional<RegistrationStatus::Relocalization> answer;
+  for (int waited = 0; waited < 1000 && !answer; ++waited) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    answer = state.registration().relocalization;
+  }
+  worker.stop();
+  ASSERT_TRUE(answer) << "the estimate was not searched without a new scan";
+  EXPECT_TRUE(answer->found) << answer->message;
+  const Pose3 estimate = state.snapshot()->estimate;
+  EXPECT_LT((estimate.position.head<2>() - truth.position.head<2>()).norm(), 0.2)
+      << "estimate " << estimate.position.transpose() << ", truth " << truth.position.transpose();
 }
 
 }  // namespace
