@@ -5,7 +5,7 @@ from .connection import PROTOCOL_MAJOR, SUBPROTOCOL
 from .errors import ConnectionClosed, GoalReplaced, ProtocolVersionError, StrataError
 from .frames import FrameHeader, OccupancyFrame, TileFrame, decode_frame
 from .goals import Goal, GoalOutcome
-from .messages import GoalState, Hello, Path, Pose, Pose3, SavedMap, ServerInfo, Status
+from .messages import GoalState, Hello, Path, Pose, Pose3, Relocalization, SavedMap, ServerInfo, Status
 from .rest import OccupancyImage
 from .teleop import Teleop
 
@@ -14,6 +14,6 @@ __version__ = "0.1.0"
 __all__ = [
     "StrataClient", "connect", "PROTOCOL_MAJOR", "SUBPROTOCOL", "ConnectionClosed", "GoalReplaced",
     "ProtocolVersionError", "StrataError", "FrameHeader", "OccupancyFrame", "TileFrame", "decode_frame", "Goal",
-    "GoalOutcome", "GoalState", "Hello", "Path", "Pose", "Pose3", "SavedMap", "ServerInfo", "Status",
+    "GoalOutcome", "GoalState", "Hello", "Path", "Pose", "Pose3", "Relocalization", "SavedMap", "ServerInfo", "Status",
     "OccupancyImage", "Teleop",
 ]

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import re
 import time
 from typing import Any, Callable, Iterable, Optional
@@ -11,7 +12,7 @@ from .errors import StrataError
 from .frames import OccupancyFrame, TileFrame
 from .goals import Goal, check_coordinate
 from .maps import Maps
-from .messages import STREAMS, GoalState, Hello, Path, Pose, Status
+from .messages import STREAMS, GoalState, Hello, Path, Pose, Relocalization, Status
 from .rest import RestClient, http_base_url
 from .teleop import Teleop
 
@@ -152,6 +153,24 @@ class StrataClient:
         after_id = self.connection.max_goal_id()
         self.connection.request(message)
         return Goal(self.connection, message["x"], message["y"], message.get("z"), after_id)
+
+    def set_pose(self, x: float, y: float, yaw: float, z: Optional[float] = None,
+                 timeout: float = 30.0) -> Relocalization:
+        """Operator: the robot is at (x, y) facing `yaw` (radians) on the level nearest z, in the saved map it
+        localizes in (`maps.load(name, mode="localize")`). The server searches within 2 m and 30 degrees of it
+        and places the robot where it finds it; returns what the search found (`found`, and `message`: where,
+        or why not). Refused (StrataError bad_params) while the robot maps."""
+        if isinstance(yaw, bool) or not isinstance(yaw, (int, float)) or not abs(yaw) <= 2 * math.pi:
+            raise ValueError(f"the pose's yaw must be radians within +-2 pi, not {yaw!r}")
+        message: dict[str, Any] = {"op": "set_pose", "x": check_coordinate("x", x), "y": check_coordinate("y", y),
+                                   "yaw": float(yaw)}
+        if z is not None:
+            message["z"] = check_coordinate("z", z)
+        before = self.connection.latest("status")
+        earlier = before.raw.get("relocalization") if before is not None else None
+        self.connection.request(message)
+        status = self.wait_for("status", lambda s: s.raw.get("relocalization") not in (None, earlier), timeout)
+        return Relocalization.from_json(status.raw["relocalization"])
 
     def cancel_goal(self) -> None:
         """Operator: cancel the goal and stop."""

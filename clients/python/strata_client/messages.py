@@ -102,6 +102,18 @@ class Status:
 
 
 @dataclass(frozen=True)
+class Relocalization:
+    """The last search for the robot in a saved map: after a pose estimate (`set_pose`), or when it was lost."""
+    stamp: float  # of the scan it searched with
+    found: bool
+    message: str  # where it was found, or why not ("two places fit as well ..."): for people, not for parsing
+
+    @staticmethod
+    def from_json(m: Optional[JsonObject]) -> Optional["Relocalization"]:
+        return None if m is None else Relocalization(m["stamp"], m["found"], m["message"])
+
+
+@dataclass(frozen=True)
 class GoalState:
     """The current (or last) goal and its phase: accepted -> planning -> driving -> reached | failed | cancelled."""
     id: int  # 0: there has never been a goal

@@ -91,6 +91,16 @@ def test_a_saved_map_reloads_identically(strata_operator):
 
     # Saved with the pose graph's keyframes, the map can be localized in; then back to mapping.
     assert "localizing" in robot.maps.load("reload-test.strata", mode="localize")
+    # Told it stands half a metre and 11 degrees from where it does, the robot is searched for and found
+    # where it is (standing still: the latest scan is searched with).
+    here = robot.wait_until_still()
+    found = robot.set_pose(here.x + 0.4, here.y - 0.3, here.yaw + 0.2)
+    assert found.found, found.message
+    placed = robot.wait_for("pose", lambda p: p.stamp > here.stamp)
+    assert math.hypot(placed.x - here.x, placed.y - here.y) < 0.15, (placed, here)
     assert "mapping" in robot.maps.load("reload-test.strata")
+    with pytest.raises(StrataError) as mapping:
+        robot.set_pose(here.x, here.y, here.yaw)
+    assert mapping.value.code == "bad_params" and "no saved map" in mapping.value.message
     with pytest.raises(ValueError):
         robot.maps.load("reload-test.strata", mode="navigate")
