@@ -57,4 +57,8 @@ Pose3 Pose3::from_pose2(const Pose2& pose, double z) {
   return result;
 }
 
+double heading_of(const Eigen::Isometry3d& pose) {
+  return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+}
+
 }  // namespace strata

@@ -31,4 +31,8 @@ struct Pose3 {
   [[nodiscard]] static Pose3 from_pose2(const Pose2& pose, double z = 0.0);
 };
 
+/// The heading of a pose: where its x axis points in the ground plane, radians counter-clockwise from +x
+/// (its yaw, when roll and pitch are small).
+[[nodiscard]] double heading_of(const Eigen::Isometry3d& pose);
+
 }  // namespace strata

@@ -26,7 +26,7 @@ void ConstantVelocityPrediction::update(double stamp, const Pose2& odometry, con
   if (last_ && registered && !map_moved && stamp > last_->stamp) {
     const Eigen::Isometry3d moved = last_->pose.inverse() * pose;
     const double dt = stamp - last_->stamp;
-    const double turn = std::atan2(moved.linear()(1, 0), moved.linear()(0, 0));
+    const double turn = heading_of(moved);
     velocity_ = Pose2{moved.translation().x() / dt, moved.translation().y() / dt, turn / dt};
   }
   last_ = Scan{stamp, odometry, pose};

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/geometry/pose.hpp"
+
 namespace strata {
 namespace {
 
@@ -52,7 +54,7 @@ Eigen::Matrix3d GravityLeveling::level(const Eigen::Isometry3d& pose, const Grav
   // reading tilted by b about the base's axes asks for a turn of about -b).
   Eigen::Vector3d in_base = pose.linear().transpose() * error;
   in_base.z() = 0.0;
-  const double heading = std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
+  const double heading = heading_of(pose);
   const double turned =
       last_heading_ ? std::abs(std::remainder(heading - *last_heading_, 2.0 * std::numbers::pi)) : 0.0;
   last_heading_ = heading;

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <utility>
 
+#include "core/geometry/pose.hpp"
 #include "core/localization/scan_to_map_localizer.hpp"
 #include "core/points/voxel_downsample.hpp"
 #include "core/points/voxel_key.hpp"
@@ -22,10 +23,6 @@ Eigen::Isometry3d pose_at(double x, double y, double z, double yaw) {
   return pose;
 }
 
-double yaw_of(const Eigen::Isometry3d& pose) {
-  return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
-}
-
 /// The registration the localizer uses, judged by nothing but its fit: the candidates are up to a step
 /// apart from where the robot is, which the scan path's jump limits would refuse.
 RegistrationOptions refinement() {
@@ -38,7 +35,11 @@ RegistrationOptions refinement() {
 }  // namespace
 
 Relocalizer::Relocalizer(std::shared_ptr<const LocalizationMap> map, RelocalizationOptions options)
-    : map_(std::move(map)), options_(options), hits_(map_->points.size()), registration_(refinement()) {
+    : map_(std::move(map)),
+      options_(options),
+      hits_(map_->points.size()),
+      tree_(map_->cloud()),
+      registration_(refinement()) {
   const double inverse = 1.0 / options_.hit_voxel;
   for (const Eigen::Vector3f& p : map_->points)
     hits_.try_emplace(voxel_key(voxel_cell(p.cast<double>(), inverse)), 1);
@@ -51,6 +52,13 @@ double Relocalizer::score(const PointCloud& thinned, const Eigen::Isometry3d& po
   for (const Eigen::Vector3d& p : thinned)
     hits += hits_.find(voxel_key(voxel_cell(pose * p, inverse))) != nullptr ? 1 : 0;
   return thinned.empty() ? 0.0 : static_cast<double>(hits) / static_cast<double>(thinned.size());
+}
+
+double Relocalizer::structure_fit(const PointCloud& structure, const Eigen::Isometry3d& pose) const {
+  std::size_t near = 0;
+  for (const Eigen::Vector3d& p : structure)
+    near += tree_.nearest(pose * p, options_.tight_distance) ? 1 : 0;
+  return structure.empty() ? 0.0 : static_cast<double>(near) / static_cast<double>(structure.size());
 }
 
 RelocalizationResult Relocalizer::around(const PointCloud& scan, double x, double y, double yaw,
@@ -77,7 +85,7 @@ RelocalizationResult Relocalizer::around(const PointCloud& scan, double x, doubl
       for (int k = -turns; k <= turns; ++k)
         poses.push_back(pose_at(x + dx, y + dy, z.value_or(0.0), yaw + k * options_.yaw_step));
     }
-  return search(scan, std::move(poses));
+  return search(scan, std::move(poses), true);
 }
 
 RelocalizationResult Relocalizer::anywhere(const PointCloud& scan) {
@@ -94,10 +102,11 @@ RelocalizationResult Relocalizer::anywhere(const PointCloud& scan) {
     for (int k = 0; k < turns; ++k)
       poses.push_back(pose_at(place.x(), place.y(), place.z(), k * 2.0 * std::numbers::pi / turns));
   }
-  return search(scan, std::move(poses));
+  return search(scan, std::move(poses), false);
 }
 
-RelocalizationResult Relocalizer::search(const PointCloud& scan, std::vector<Eigen::Isometry3d> poses) {
+RelocalizationResult Relocalizer::search(const PointCloud& scan, std::vector<Eigen::Isometry3d> poses,
+                                         bool hinted) {
   const auto start = std::chrono::steady_clock::now();
   RelocalizationResult result;
   result.candidates = poses.size();
@@ -105,6 +114,21 @@ RelocalizationResult Relocalizer::search(const PointCloud& scan, std::vector<Eig
   if (thinned.empty() || poses.empty()) {
     result.message = poses.empty() ? "the map has no places to search" : "the scan has no points";
     return result;
+  }
+  PointCloud structure;
+  for (const Eigen::Vector3d& p : scan)
+    if (p.z() > options_.structure_height)
+      structure.push_back(p);
+  structure = voxel_downsample(structure, options_.structure_voxel);
+  // A scan of nothing but ground (open, uneven terrain): near a hint the terrain's shape is all there is
+  // to go by; anywhere, too many places have ground like it (measured: docs/benchmarks.md).
+  if (structure.size() < options_.min_structure_points) {
+    if (!hinted) {
+      result.message = "the scan sees nothing but ground, which too many places have: give a hint";
+      result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      return result;
+    }
+    structure = voxel_downsample(scan, options_.structure_voxel);
   }
   std::vector<Candidate> candidates;
   candidates.reserve(poses.size());
@@ -119,55 +143,62 @@ RelocalizationResult Relocalizer::search(const PointCloud& scan, std::vector<Eig
     Eigen::Isometry3d pose;
     double share = 0.0;
     double rmse = 0.0;
+    double structure = 0.0;
   };
   std::vector<Refined> refined;
   for (std::size_t i = 0; i < kept; ++i) {
     const RegistrationResult fit = registration_.register_scan(scan, candidates[i].pose);
     if (!fit.refined.matrix().allFinite() || fit.source_points == 0)
       continue;
-    refined.push_back(
-        {fit.refined, static_cast<double>(fit.pairs) / static_cast<double>(fit.source_points), fit.rmse});
+    refined.push_back({fit.refined, static_cast<double>(fit.pairs) / static_cast<double>(fit.source_points),
+                       fit.rmse, structure_fit(structure, fit.refined)});
   }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (refined.empty()) {
     result.message = "no candidate could be registered";
     return result;
   }
-  const auto best = std::ranges::max_element(refined, {}, &Refined::share);
+  const auto best = std::ranges::max_element(refined, {}, &Refined::structure);
   result.pose = best->pose;
   result.inlier_share = best->share;
   result.rmse = best->rmse;
+  result.structure_share = best->structure;
+
   for (const Refined& other : refined) {
     const Eigen::Isometry3d apart = best->pose.inverse() * other.pose;
     const bool elsewhere = apart.translation().norm() > options_.distinct_metres ||
                            Eigen::AngleAxisd(apart.linear()).angle() > options_.distinct_radians;
-    if (elsewhere && other.share >= best->share - options_.ambiguity_margin &&
+    if (elsewhere && other.structure >= best->structure - options_.ambiguity_margin &&
         other.share >= options_.min_inlier_share) {
-      char text[160];
-      std::snprintf(
-          text, sizeof(text),
-          "two places fit as well (%.0f %% and %.0f %% of the scan, %.1f m apart): give a hint nearer "
-          "the robot",
-          100.0 * best->share, 100.0 * other.share,
-          (best->pose.translation() - other.pose.translation()).norm());
+      char text[192];
+      std::snprintf(text, sizeof(text),
+                    "two places fit as well (%.0f %% and %.0f %% of the scan's walls and objects, %.1f m "
+                    "apart): give a hint nearer the robot",
+                    100.0 * best->structure, 100.0 * other.structure,
+                    (best->pose.translation() - other.pose.translation()).norm());
       result.message = text;
       return result;
     }
   }
-  if (best->share < options_.min_inlier_share || best->rmse > options_.max_rmse) {
-    char text[160];
+  if (best->share < options_.min_inlier_share || best->rmse > options_.max_rmse ||
+      best->structure < options_.min_structure_share) {
+    char text[192];
     std::snprintf(text, sizeof(text),
-                  "no place fits: at best %.0f %% of the scan on the map (RMSE %.2f m), %.0f %% needed",
-                  100.0 * best->share, best->rmse, 100.0 * options_.min_inlier_share);
+                  "no place fits: at best %.0f %% of the scan on the map (RMSE %.2f m), %.0f %% of its walls "
+                  "and objects within %.0f cm; %.0f %% and %.0f %% needed",
+                  100.0 * best->share, best->rmse, 100.0 * best->structure, 100.0 * options_.tight_distance,
+                  100.0 * options_.min_inlier_share, 100.0 * options_.min_structure_share);
     result.message = text;
     return result;
   }
   result.found = true;
   const Eigen::Vector3d t = best->pose.translation();
-  char text[160];
+  char text[192];
   std::snprintf(text, sizeof(text),
-                "found at x %.2f, y %.2f, heading %.0f degrees (%.0f %% of the scan on the map)", t.x(),
-                t.y(), yaw_of(best->pose) * 180.0 / std::numbers::pi, 100.0 * best->share);
+                "found at x %.2f, y %.2f, heading %.0f degrees (%.0f %% of the scan on the map, %.0f %% of "
+                "its walls and objects within %.0f cm)",
+                t.x(), t.y(), heading_of(best->pose) * 180.0 / std::numbers::pi, 100.0 * best->share,
+                100.0 * best->structure, 100.0 * options_.tight_distance);
   result.message = text;
   return result;
 }

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "core/ann/kdtree.hpp"
 #include "core/localization/localization_map.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/points/voxel_key_map.hpp"
@@ -34,9 +35,20 @@ struct RelocalizationOptions {
   /// told apart by guessing.
   double min_inlier_share = 0.55;
   double max_rmse = 0.12;
-  double ambiguity_margin = 0.05;
-  double distinct_metres = 1.0;
+  double distinct_metres = 0.3;
   double distinct_radians = 0.35;
+  /// Telling refined candidates apart: by the scan's structure alone (points `structure_height` above
+  /// the ground the robot stands on, thinned to `structure_voxel`), the share within `tight_distance` of
+  /// a map point. The ground fits anywhere at any heading, and within ICP's 0.25 m bound a hallway fits
+  /// 100 % a metre along itself; the walls' and doors' centimetres tell where. The best is taken when it
+  /// holds `min_structure_share`, no candidate elsewhere comes within `ambiguity_margin` of it, and the
+  /// scan has `min_structure_points` to judge by.
+  double structure_height = 0.3;
+  double structure_voxel = 0.2;
+  double tight_distance = 0.1;
+  double min_structure_share = 0.4;
+  double ambiguity_margin = 0.05;
+  std::size_t min_structure_points = 30;
 };
 
 /// What a search found, and why not when it did not.
@@ -45,7 +57,8 @@ struct RelocalizationResult {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< base in the map frame, when found
   double inlier_share = 0.0;                               ///< of the best refined candidate
   double rmse = 0.0;
-  std::size_t candidates = 0;  ///< poses scored
+  double structure_share = 0.0;  ///< of the best refined candidate
+  std::size_t candidates = 0;    ///< poses scored
   double seconds = 0.0;
   std::string message;  ///< plain words: where it was found, or why not
 };
@@ -72,11 +85,16 @@ class Relocalizer {
     double score = 0.0;
   };
   [[nodiscard]] double score(const PointCloud& thinned, const Eigen::Isometry3d& pose) const;
-  [[nodiscard]] RelocalizationResult search(const PointCloud& scan, std::vector<Eigen::Isometry3d> poses);
+  /// The share of `structure` (base frame) within tight_distance of a map point at `pose`.
+  [[nodiscard]] double structure_fit(const PointCloud& structure, const Eigen::Isometry3d& pose) const;
+  /// `hinted`: the poses are around an operator's hint (a scan of bare ground is searched only there).
+  [[nodiscard]] RelocalizationResult search(const PointCloud& scan, std::vector<Eigen::Isometry3d> poses,
+                                            bool hinted);
 
   std::shared_ptr<const LocalizationMap> map_;
   RelocalizationOptions options_;
   VoxelKeyMap hits_;  // the map's voxels of hit_voxel
+  KdTree tree_;       // the map's points, for structure_fit
   ScanRegistration registration_;
 };
 

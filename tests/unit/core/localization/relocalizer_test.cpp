@@ -5,8 +5,10 @@
 #include <cmath>
 #include <memory>
 #include <numbers>
+#include <string>
 #include <vector>
 
+#include "core/geometry/pose.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
@@ -32,12 +34,8 @@ std::vector<Seen> second_run(const std::shared_ptr<const sim::World>& world, std
   return seen;
 }
 
-double yaw_of(const Eigen::Isometry3d& pose) {
-  return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
-}
-
 double heading_error(const Eigen::Isometry3d& a, const Eigen::Isometry3d& b) {
-  return std::abs(std::remainder(yaw_of(a) - yaw_of(b), 2.0 * std::numbers::pi));
+  return std::abs(std::remainder(heading_of(a) - heading_of(b), 2.0 * std::numbers::pi));
 }
 
 // A hint 1.4 m and 25 degrees off finds the robot to centimetres, on the ground and up on the platform;
@@ -48,18 +46,33 @@ TEST(Relocalizer, FindsTheRobotFromAHintAndWithoutOne) {
   const std::vector<Seen> seen = second_run(world, 12);
   for (const std::size_t i : {2U, 3U, 7U, 11U}) {
     const Eigen::Isometry3d& truth = seen[i].truth;
-    const RelocalizationResult hinted = relocalizer.around(
-        seen[i].points, truth.translation().x() + 1.0, truth.translation().y() - 1.0, yaw_of(truth) + 0.44);
+    const RelocalizationResult hinted =
+        relocalizer.around(seen[i].points, truth.translation().x() + 1.0, truth.translation().y() - 1.0,
+                           heading_of(truth) + 0.44);
     ASSERT_TRUE(hinted.found) << "scan " << i << ": " << hinted.message;
     EXPECT_LT((hinted.pose.translation() - truth.translation()).norm(), 0.1) << "scan " << i;
     EXPECT_LT(heading_error(hinted.pose, truth), 1.0 * std::numbers::pi / 180.0) << "scan " << i;
 
+    // Told apart by the walls and the platform, not the ground: found, and in the right place (the ground
+    // alone fitted the yard's mirror image 14 m away as well).
     const RelocalizationResult anywhere = relocalizer.anywhere(seen[i].points);
     EXPECT_GT(anywhere.candidates, 100U);
-    if (anywhere.found) {  // never placed wrong
-      EXPECT_LT((anywhere.pose.translation() - truth.translation()).norm(), 0.2) << "scan " << i;
-    }
+    ASSERT_TRUE(anywhere.found) << "scan " << i << ": " << anywhere.message;
+    EXPECT_LT((anywhere.pose.translation() - truth.translation()).norm(), 0.2) << "scan " << i;
   }
+  // The same scan with nothing above the ground: too many places have ground like it to search them all,
+  // but near a hint its shape is searched.
+  PointCloud ground;
+  for (const Eigen::Vector3d& p : seen[3].points)
+    if (p.z() < 0.2)
+      ground.push_back(p);
+  const RelocalizationResult bare = relocalizer.anywhere(ground);
+  EXPECT_FALSE(bare.found);
+  EXPECT_NE(bare.message.find("nothing but ground"), std::string::npos) << bare.message;
+  const RelocalizationResult near =
+      relocalizer.around(ground, seen[3].truth.translation().x() + 0.3, seen[3].truth.translation().y(),
+                         heading_of(seen[3].truth));
+  EXPECT_EQ(near.message.find("nothing but ground"), std::string::npos) << near.message;
   // The corridor world's scan, looked for in the yard.
   auto corridor = std::make_shared<const sim::World>(sim::builtin_world("campus"));
   const std::vector<Seen> elsewhere = second_run(corridor, 1);

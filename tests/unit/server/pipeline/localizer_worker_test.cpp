@@ -17,8 +17,7 @@ namespace {
 
 // A robot that believes it starts 5.7 m from where it does, in a saved map of the yard: its scans cannot
 // register (the jump limit is 1 m), it is lost after ten of them, and then it is searched for over the whole
-// map: the first search is refused (the yard's mirror image 14 m away fits 97 % to its 100 %), the one five
-// scans later finds it; from there its scans register where it is.
+// map (at the first lost scan and every 5th after, until found); from there its scans register where it is.
 TEST(LocalizerWorker, ARobotLostInASavedMapIsFoundAgain) {
   auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
   auto saved = std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 21));
