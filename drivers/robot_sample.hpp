@@ -23,6 +23,8 @@ struct RobotSample {
   /// display and evaluation only, never for control.
   std::optional<Pose3> truth;
   VelocityCommand velocity;
+  /// Whether `velocity` is the base's own (the simulator): a replay or a lidar alone does not know it.
+  bool velocity_known = false;
   /// Which way is up, where the base has an accelerometer (the simulator's IMU): with the odometry it
   /// gives the height and tilt between scans (PoseExtrapolator). None where the driver has no IMU.
   std::optional<GravityReading> gravity;

@@ -92,6 +92,7 @@ RobotSample Simulator::sample() const {
   sample.truth = stance_.pose;
   sample.odometry = Pose3::from_pose2(odometry_.pose());
   sample.velocity = base_.velocity();
+  sample.velocity_known = true;
   sample.gravity = streamed_gravity_;
   sample.scanning = tilting_.scanning();
   sample.blocked_by = blocked_by_;

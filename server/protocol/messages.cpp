@@ -24,7 +24,12 @@ nlohmann::json pose_fields(const RobotSnapshot& robot) {
   fields["odometry"] = pose_json(sample.odometry);
   if (sample.truth)  // none from a lidar: nothing knows where it truly is
     fields["truth"] = pose_json(*sample.truth);
-  fields["mode"] = !sample.blocked_by.empty() ? "blocked" : sample.scanning ? "scanning" : "driving";
+  // Standing only where the base says so: a replay or a lidar alone does not know its velocity.
+  const bool standing = sample.velocity_known && sample.velocity.v == 0.0 && sample.velocity.w == 0.0;
+  fields["mode"] = !sample.blocked_by.empty() ? "blocked"
+                   : sample.scanning          ? "scanning"
+                   : standing                 ? "standing"
+                                              : "driving";
   return fields;
 }
 

@@ -178,7 +178,7 @@ $('world-toggle').addEventListener('click', () => {
 $('follow').addEventListener('click', () => {
   view.setFollow(!view.follow);
   $('follow').setAttribute('aria-pressed', String(view.follow));
-  $('follow').textContent = view.follow ? 'Follow robot' : 'Free camera';
+  // A toggle: its label stays, its pressed state (lit) says whether the camera follows.
 });
 
 // ---- dialogs and the test handle --------------------------------------------------------------------

@@ -73,6 +73,13 @@ export class SceneView {
     this.controls.addEventListener('end', () => {
       this.interactingUntil = performance.now() + 1000;
     });
+    // Every camera change the user makes is drawn at once: a mouse-wheel zoom moves the camera inside the
+    // event handler, and the loop's controls.update() then reports nothing new (issue 24). The loop's own
+    // updates (the damped glide, following the robot) are drawn as it paces them.
+    this.updatingControls = false;
+    this.controls.addEventListener('change', () => {
+      if (!this.updatingControls) this.requestRender({ now: true });
+    });
     this.renderer.setAnimationLoop((now) => {
       if (this.justRendered) {
         // The first tick after a frame arrives when the GPU has taken it: that gap is the frame's cost.
@@ -80,7 +87,9 @@ export class SceneView {
         this.justRendered = false;
       }
       // The camera moves when the user moves it (and glides on, damped), or when it follows the robot.
+      this.updatingControls = true;
       if (this.controls.update()) this.dirty = true;
+      this.updatingControls = false;
       const interacting = now < this.interactingUntil;
       const due = now - this.renderedAt >= Math.min(2 * this.frameCostMs, 1000);
       if (this.dirty && (interacting || this.urgent || due)) {

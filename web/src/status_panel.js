@@ -7,6 +7,7 @@ const field = (id) => document.getElementById(id);
 export class StatusPanel {
   constructor() {
     this.latency = { roundTripMs: null, poseAgeMs: null };
+    this.driverFinished = false;
   }
 
   showPose(pose) {
@@ -15,7 +16,9 @@ export class StatusPanel {
     field('pose-z').textContent = `${pose.z.toFixed(2)} m`;
     field('pose-yaw').textContent = `${degrees(pose.yaw).toFixed(1)}°`;
     field('pose-tilt').textContent = `${degrees(pose.roll).toFixed(1)}° / ${degrees(pose.pitch).toFixed(1)}°`;
-    field('pose-mode').textContent = pose.mode ?? '–';
+    // A replay that has played everything stands, whatever its base could tell.
+    const mode = this.driverFinished && pose.mode === 'driving' ? 'standing' : pose.mode;
+    field('pose-mode').textContent = mode ?? '–';
     field('loc-source').textContent = pose.source === 'registration' ? 'scan matching' : 'odometry only';
     if (pose.server_time) this.latency.poseAgeMs = Date.now() - pose.server_time * 1000;
   }
@@ -51,6 +54,7 @@ export class StatusPanel {
     if (stalled) rate.textContent += ` · sensor stalled, ${status.sensor.overdue_seconds.toFixed(0)} s without a scan`;
     if (status.driver) {
       // A replay plays a recording and cannot move; say so, and when it has played everything.
+      this.driverFinished = Boolean(status.driver.finished);
       const finished = status.driver.finished ? ' (finished)' : '';
       field('driver').textContent = `${status.driver.kind}${finished}`;
     }

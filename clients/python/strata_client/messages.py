@@ -67,7 +67,7 @@ class Pose:
     yaw: float
     stamp: float  # robot time, s
     source: str  # "odometry" until the first scan registered, then "registration"
-    mode: Optional[str]  # "driving", "scanning" or "blocked"
+    mode: Optional[str]  # "driving", "standing", "scanning" or "blocked"
     truth: Optional[Pose3]  # simulator only: the ground truth, for evaluation
     odometry: Optional[Pose3]
     raw: JsonObject = field(repr=False, compare=False)

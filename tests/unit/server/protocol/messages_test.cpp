@@ -42,6 +42,25 @@ TEST(Messages, PoseHasNoTruthWhenNothingKnowsIt) {
   EXPECT_DOUBLE_EQ(message["odometry"]["y"], 2.0);
 }
 
+// Issue 24: "doing: driving" while the robot stood. A base that knows its velocity (the simulator) and
+// reports none stands; a base that does not know it (a replay, a lidar alone) is not said to stand.
+TEST(Messages, PoseSaysStandingOnlyWhereTheBaseKnowsItStands) {
+  RobotSample sample;
+  sample.velocity_known = true;
+  const auto mode = [&] {
+    return nlohmann::json::parse(pose_message({sample, sample.odometry, true}))["mode"];
+  };
+  EXPECT_EQ(mode(), "standing");
+  sample.velocity.w = 0.2;
+  EXPECT_EQ(mode(), "driving");
+  sample.scanning = true;
+  EXPECT_EQ(mode(), "scanning");
+  sample.blocked_by = "step";
+  EXPECT_EQ(mode(), "blocked");
+  RobotSample replay;  // velocity unknown, zero
+  EXPECT_EQ(nlohmann::json::parse(pose_message({replay, replay.odometry, true}))["mode"], "driving");
+}
+
 TEST(Messages, HelloNamesTheProtocol) {
   const auto hello = nlohmann::json::parse(hello_message());
   EXPECT_EQ(hello["op"], "hello");
