@@ -138,7 +138,7 @@ test('a saved map is loaded to localize in, and a pose set by press-and-drag pla
       return now && (!earlier || now.stamp !== earlier.stamp) && now;
     },
     before,
-    30000,
+    90000, // a sanitized build takes seconds for the search
   );
   assert.equal(search.found, true, search.message);
   await page.locator('#loc-search', { hasText: 'found at' }).waitFor();

@@ -99,9 +99,10 @@ TEST(LocalizerWorker, APoseEstimateIsSearchedWithTheLatestScanWithoutWaitingForA
                                       .yaw = truth.yaw + 0.2,
                                       .z = std::nullopt})
                   .ok);
-  // The search runs on the worker's thread: wait for its answer (no scan comes meanwhile).
+  // The search runs on the worker's thread: wait for its answer (no scan comes meanwhile; a sanitized build
+  // takes seconds for it).
   std::optional<RegistrationStatus::Relocalization> answer;
-  for (int waited = 0; waited < 1000 && !answer; ++waited) {
+  for (int waited = 0; waited < 6000 && !answer; ++waited) {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
     answer = state.registration().relocalization;
   }
