@@ -46,7 +46,7 @@ struct RelocalizationOptions {
   double structure_height = 0.3;
   double structure_voxel = 0.2;
   double tight_distance = 0.1;
-  double min_structure_share = 0.9;
+  double min_structure_share = 0.75;
   double ambiguity_margin = 0.05;
   std::size_t min_structure_points = 30;
 };
