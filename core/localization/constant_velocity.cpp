@@ -14,11 +14,15 @@ Pose2 ConstantVelocityPrediction::predict(double stamp) const {
   return last_->odometry.compose({velocity_->x * dt, velocity_->y * dt, velocity_->theta * dt});
 }
 
-std::optional<GuessUncertainty> ConstantVelocityPrediction::uncertainty(double stamp) const {
-  if (velocity_)
-    return std::nullopt;
+GuessUncertainty ConstantVelocityPrediction::uncertainty(double stamp) const {
   const double dt = last_ ? std::max(0.0, stamp - last_->stamp) : 0.0;
-  return GuessUncertainty{options_.max_speed * dt, options_.max_turn_rate * dt};
+  const GuessUncertainty anything{options_.max_speed * dt, options_.max_turn_rate * dt};
+  if (!velocity_)
+    return anything;
+  // A change of motion over dt, but never more than the fastest base could have moved at all.
+  const double half_dt2 = 0.5 * dt * dt;
+  return {std::min(anything.translation, options_.max_acceleration * half_dt2),
+          std::min(anything.rotation, options_.max_angular_acceleration * half_dt2)};
 }
 
 void ConstantVelocityPrediction::update(double stamp, const Pose2& odometry, const Eigen::Isometry3d& pose,

@@ -13,10 +13,16 @@ struct ConstantVelocityOptions {
   /// drives at 14.8 m/s); 2 rad/s a walking person's turn.
   double max_speed = 20.0;
   double max_turn_rate = 2.0;
+  /// How fast the base can change that motion, for the scans after: the guess may be off by what this
+  /// does over the time since the last scan (a dt^2 / 2). 5 m/s^2 is a car braking hard or a walker
+  /// stopping; 4 rad/s^2 a walker turning into a side corridor. At 10 Hz that adds 2.5 cm and 1 degree
+  /// to the fixed jump limits; at 1 Hz, 2.5 m and 115 degrees: a slow scan stream may turn a corner.
+  double max_acceleration = 5.0;
+  double max_angular_acceleration = 4.0;
 };
 
-/// How far a guess may be from the truth, where the fixed jump limits do not know: before the first
-/// velocity, anything the base can do in the time since the last scan.
+/// How far a guess may be from the truth, beyond the fixed jump limits: before the first velocity,
+/// anything the base can do in the time since the last scan; after, what a change of its motion can.
 struct GuessUncertainty {
   double translation = 0.0;  ///< metres
   double rotation = 0.0;     ///< radians
@@ -32,8 +38,10 @@ class ConstantVelocityPrediction {
 
   /// The odometry pose for a scan at `stamp`: the last one moved on by the velocity.
   [[nodiscard]] Pose2 predict(double stamp) const;
-  /// Before the first velocity: how far off the prediction may be. None once the velocity is known.
-  [[nodiscard]] std::optional<GuessUncertainty> uncertainty(double stamp) const;
+  /// How far off the prediction for a scan at `stamp` may be (GuessUncertainty).
+  [[nodiscard]] GuessUncertainty uncertainty(double stamp) const;
+  /// Whether a velocity is known (two scans registered one after the other, the map not moved between).
+  [[nodiscard]] bool knows_velocity() const { return velocity_.has_value(); }
   /// The scan at `stamp`, predicted at `odometry`, was found at `pose` (map frame); `registered` false
   /// when the match was rejected (the pose is then the guess and says nothing of the velocity).
   /// `map_moved`: the map frame was moved since the last scan (a pose graph correction), so the two

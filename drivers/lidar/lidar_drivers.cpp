@@ -17,8 +17,8 @@ RobotSample sample_at(double stamp) {
   return sample;
 }
 
-void prepare(ScanEvent& scan, const LidarDriverOptions& options) {
-  scan.sensor_to_base = options.sensor_to_base;
+void prepare(ScanEvent& scan, SensorMount& mount) {
+  mount.apply(scan);
   scan.odometry = Pose3{};
   scan.has_odometry = false;
 }
@@ -40,7 +40,11 @@ std::string describe_counters(const LidarScanBuilder& builder) {
 
 PcapLidarDriver::PcapLidarDriver(std::filesystem::path pcap, LidarDriverOptions options,
                                  PlaybackPacing pacing)
-    : pcap_(std::move(pcap)), options_(std::move(options)), clock_(pacing), source_(pcap_, options_.setup) {}
+    : pcap_(std::move(pcap)),
+      options_(std::move(options)),
+      mount_(options_.sensor_to_base, "pcap"),
+      clock_(pacing),
+      source_(pcap_, options_.setup) {}
 
 PcapLidarDriver::~PcapLidarDriver() {
   stop();
@@ -69,7 +73,7 @@ void PcapLidarDriver::run(Outputs outputs) {
     while (std::optional<ScanEvent> scan = source_.next()) {
       if (clock_.stopped())
         return;
-      prepare(*scan, options_);
+      prepare(*scan, mount_);
       if (!clock_.wait_until_due(scan->stamp))
         return;
       outputs.on_sample(sample_at(scan->stamp));
@@ -98,6 +102,7 @@ void PcapLidarDriver::run(Outputs outputs) {
 LiveLidarDriver::LiveLidarDriver(LidarDriverOptions options, const std::string& address,
                                  std::chrono::seconds counters_period)
     : options_(std::move(options)),
+      mount_(options_.sensor_to_base, "lidar"),
       address_(address),
       counters_period_(counters_period),
       source_(io_, options_.setup, address),
@@ -118,7 +123,7 @@ void LiveLidarDriver::start(Outputs outputs) {
   // Everything on the socket and the timer starts on the driver's own io thread, like all that follows.
   boost::asio::post(io_, [this, outputs = std::move(outputs)]() mutable {
     source_.start([this, outputs = std::move(outputs)](ScanEvent&& scan) {
-      prepare(scan, options_);
+      prepare(scan, mount_);
       ++scans_;
       outputs.on_sample(sample_at(scan.stamp));
       outputs.on_scan(std::move(scan));

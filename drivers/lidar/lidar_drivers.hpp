@@ -7,6 +7,7 @@
 #include <chrono>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <thread>
 
@@ -15,6 +16,7 @@
 #include "drivers/lidar/udp_scan_source.hpp"
 #include "drivers/playback_clock.hpp"
 #include "drivers/robot_driver.hpp"
+#include "drivers/sensor_mount.hpp"
 
 namespace strata::lidar {
 
@@ -23,7 +25,8 @@ namespace strata::lidar {
 struct LidarDriverOptions {
   LidarSetup setup;
   /// The sensor's mounting on the base (--lidar-mount): where the map puts the ground relative to it.
-  Eigen::Isometry3d sensor_to_base = Eigen::Isometry3d::Identity();
+  /// Nothing: estimated from the ground under the sensor in the first scans (SensorMount).
+  std::optional<Eigen::Isometry3d> sensor_to_base;
 };
 
 /// Plays a packet capture (strata serve --pcap FILE --lidar MODEL): its revolutions as scans, paced by the
@@ -50,6 +53,7 @@ class PcapLidarDriver final : public RobotDriver {
 
   std::filesystem::path pcap_;
   LidarDriverOptions options_;
+  SensorMount mount_;
   PlaybackClock clock_;
   PcapScanSource source_;
   std::atomic<bool> finished_{false};
@@ -78,6 +82,7 @@ class LiveLidarDriver final : public RobotDriver {
   void schedule_counters();
 
   LidarDriverOptions options_;
+  SensorMount mount_;  // on the io thread
   std::string address_;
   std::chrono::seconds counters_period_;
   boost::asio::io_context io_;

@@ -166,6 +166,8 @@ std::vector<DatasetScan> read_scan_list(const fs::path& directory) {
           mount.push_back(table.number(row, fmt::format("mount_{}{}", r, c)));
       }
       scan.sensor_to_base = from_row_major(mount);
+    } else {
+      scan.mount_known = false;
     }
     if (table.has("up_x") && !table.text(row, "up_x").empty())
       scan.gravity = read_gravity(table, row, name);

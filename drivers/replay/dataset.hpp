@@ -40,6 +40,9 @@ struct DatasetScan {
   std::optional<Pose3>
       reference;  ///< a reference pose of the base (ground truth, or an offline registration)
   Eigen::Isometry3d sensor_to_base = Eigen::Isometry3d::Identity();
+  /// False where the dataset does not say where the sensor sits (a scan list without mount columns): the
+  /// replay then estimates it from the ground (SensorMount).
+  bool mount_known = true;
   std::string sensor = "replay";
   double duration = 0.0;
   std::size_t rays = 0;                   ///< 0: as many as points

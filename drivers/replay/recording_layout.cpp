@@ -34,8 +34,11 @@ std::string scans_csv_header() {
 std::string scans_csv_row(const ScanEvent& scan, const std::string& file) {
   std::string sensor = scan.sensor;
   std::replace(sensor.begin(), sensor.end(), ',', '_');  // a CSV field
+  // A lidar alone's scans have no odometry: empty fields, so that the replay predicts the motion from the
+  // scans again rather than taking the constant pose for a robot standing still.
   std::string row = fmt::format("{},{},{},{},{},{},{},{}", file, number(scan.stamp), number(scan.duration),
-                                sensor, scan.rays, number(scan.max_range), pose(scan.odometry),
+                                sensor, scan.rays, number(scan.max_range),
+                                scan.has_odometry ? pose(scan.odometry) : std::string(",,,,,"),
                                 scan.truth ? pose(*scan.truth) : std::string(",,,,,"));
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 4; ++c)

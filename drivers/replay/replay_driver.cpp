@@ -29,8 +29,11 @@ ReplayDriver::ReplayDriver(Dataset dataset, ReplayOptions options)
   const bool has_reference =
       std::all_of(scans.begin(), scans.end(), [](const DatasetScan& s) { return s.reference.has_value(); });
   OdometrySource source = options_.odometry;
-  if (source == OdometrySource::kAuto)
-    source = has_odometry ? OdometrySource::kDataset : OdometrySource::kReference;
+  if (source == OdometrySource::kAuto) {
+    source = has_odometry    ? OdometrySource::kDataset
+             : has_reference ? OdometrySource::kReference
+                             : OdometrySource::kNone;
+  }
   if (source == OdometrySource::kDataset && !has_odometry)
     throw DatasetError(dataset_.directory.string() +
                        ": the dataset has no odometry for every scan (try the reference poses)");
@@ -38,7 +41,13 @@ ReplayDriver::ReplayDriver(Dataset dataset, ReplayOptions options)
     throw DatasetError(dataset_.directory.string() + ": the dataset has no reference pose for every scan");
 
   std::vector<Pose3> odometry;
-  if (source == OdometrySource::kReference) {
+  if (source == OdometrySource::kNone) {
+    // A plain list of scans (or one replayed as if by a lidar alone): the pipeline predicts the motion
+    // from the scans themselves, as it does for a pcap or a live lidar.
+    odometry.assign(scans.size(), Pose3{});
+    has_odometry_ = false;
+    odometry_from_ = "none (the scans' own motion)";
+  } else if (source == OdometrySource::kReference) {
     std::vector<Pose3> reference;
     for (const DatasetScan& scan : scans)
       reference.push_back(*scan.reference);
@@ -55,12 +64,17 @@ ReplayDriver::ReplayDriver(Dataset dataset, ReplayOptions options)
   }
 
   // The map frame: as recorded; else the reference's frame, so that estimates and reference compare;
-  // else where the odometry starts.
+  // else where the odometry starts. (Without odometry, the constant odometry is the first scan's pose.)
   if (dataset_.initial_map_from_odom && source == OdometrySource::kDataset)
     initial_map_from_odom_ = *dataset_.initial_map_from_odom;
   else if (has_reference)
     initial_map_from_odom_ =
         scans.front().reference->to_isometry() * odometry.front().to_isometry().inverse();
+
+  const bool mount_unknown =
+      std::any_of(scans.begin(), scans.end(), [](const DatasetScan& s) { return !s.mount_known; });
+  if (options_.mount || mount_unknown)
+    mount_.emplace(options_.mount, "replay");
 
   const auto sample_of = [](double stamp, const Pose3& pose, const std::optional<Pose3>& reference) {
     RobotSample sample;
@@ -128,8 +142,11 @@ void ReplayDriver::run(Outputs outputs) {
         scan->duration = source.duration;
         scan->sensor = source.sensor;
         scan->sensor_to_base = source.sensor_to_base;
+        if (mount_)
+          mount_->apply(*scan);
         scan->gravity = source.gravity;
         scan->odometry = event.sample.odometry;
+        scan->has_odometry = has_odometry_;
         scan->truth = source.reference;
         scan->rays = source.rays != 0 ? source.rays : scan->points.size();
         scan->max_range = source.max_range;

@@ -11,15 +11,18 @@
 #include "drivers/replay/dataset.hpp"
 #include "drivers/replay/reference_odometry.hpp"
 #include "drivers/robot_driver.hpp"
+#include "drivers/sensor_mount.hpp"
 
 namespace strata::replay {
 
 /// Where a replay's odometry comes from.
 enum class OdometrySource {
-  kAuto,       ///< the dataset's odometry when it has one, else its reference poses
+  kAuto,       ///< the dataset's odometry when it has one, else its reference poses, else none
   kDataset,    ///< the dataset's odometry (3DTK .pose, a recording's odometry.csv)
   kReference,  ///< made from the reference poses (KITTI poses.txt, 3DTK .frames, a recording's truth), with
                ///< noise
+  kNone,       ///< none: a lidar alone (ScanEvent::has_odometry false), its motion predicted from its scans;
+               ///< reference poses, where there are any, are only shown as the truth
 };
 
 struct ReplayOptions {
@@ -29,6 +32,9 @@ struct ReplayOptions {
   OdometrySource odometry = OdometrySource::kAuto;
   OdometryNoise noise;     ///< only for odometry made from reference poses
   std::uint64_t seed = 1;  ///< of the noise
+  /// The sensor on the base for every scan (--lidar-mount), in place of the dataset's; where neither says,
+  /// it is estimated from the ground (SensorMount).
+  std::optional<Eigen::Isometry3d> mount;
 };
 
 /// Plays a dataset (open_dataset) through the RobotDriver seam on its own thread: odometry samples and scans
@@ -62,6 +68,8 @@ class ReplayDriver final : public RobotDriver {
   Dataset dataset_;
   ReplayOptions options_;
   std::string odometry_from_;
+  bool has_odometry_ = true;          ///< false when the scans are handed on as a lidar alone's (kNone)
+  std::optional<SensorMount> mount_;  ///< when --lidar-mount is given or the dataset has no mount
   std::vector<Event> events_;
   Eigen::Isometry3d initial_map_from_odom_ = Eigen::Isometry3d::Identity();
   PlaybackClock clock_;

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
@@ -22,6 +23,18 @@ PlaybackPacing playback_pacing(const ServeOptions& options) {
   return {.time_scale = options.time_scale, .as_fast_as_possible = options.replay.rate == ReplayRate::kMax};
 }
 
+/// --lidar-mount "x,y,z[,roll,pitch,yaw]" (m, degrees): the sensor's pose on the base; not given: nothing
+/// (the drivers estimate it from the ground under the sensor).
+std::optional<Eigen::Isometry3d> parse_mount(const std::string& text) {
+  if (text.empty())
+    return std::nullopt;
+  try {
+    return parse_pose_text(text).to_isometry();
+  } catch (const std::invalid_argument& error) {
+    throw std::runtime_error("--lidar-mount '" + text + "': " + error.what());
+  }
+}
+
 std::unique_ptr<RobotDriver> make_replay(const ServeOptions& options) {
   replay::ReplayOptions replay;
   replay.pacing = playback_pacing(options);
@@ -29,6 +42,7 @@ std::unique_ptr<RobotDriver> make_replay(const ServeOptions& options) {
   replay.noise.translation = options.replay.noise_translation;
   replay.noise.rotation = options.replay.noise_rotation_deg * std::numbers::pi / 180.0;
   replay.seed = options.seed;
+  replay.mount = parse_mount(options.lidar.mount);
   return std::make_unique<replay::ReplayDriver>(replay::open_dataset(options.replay.directory), replay);
 }
 
@@ -72,15 +86,6 @@ std::unique_ptr<RobotDriver> make_simulator(const ServeOptions& options) {
   return std::make_unique<sim::SimulatorDriver>(
       sim::Simulator(std::move(world), config),
       sim::SimulatedRobotConfig{.step_rate = 100.0, .time_scale = options.time_scale}, description);
-}
-
-/// --lidar-mount "x,y,z[,roll,pitch,yaw]" (m, degrees): the sensor's pose on the base.
-Eigen::Isometry3d parse_mount(const std::string& text) {
-  try {
-    return parse_pose_text(text).to_isometry();
-  } catch (const std::invalid_argument& error) {
-    throw std::runtime_error("--lidar-mount '" + text + "': " + error.what());
-  }
 }
 
 std::unique_ptr<RobotDriver> make_lidar(const ServeOptions& options) {

@@ -29,7 +29,8 @@ inline const std::map<std::string, ReplayRate> kReplayRateNames{{"recorded", Rep
 inline const std::map<std::string, replay::OdometrySource> kOdometrySourceNames{
     {"auto", replay::OdometrySource::kAuto},
     {"dataset", replay::OdometrySource::kDataset},
-    {"reference", replay::OdometrySource::kReference}};
+    {"reference", replay::OdometrySource::kReference},
+    {"none", replay::OdometrySource::kNone}};
 
 /// The name of an option value, for logs and recordings.
 template <class Enum>
@@ -57,8 +58,9 @@ struct LidarParameters {
   std::filesystem::path calibration;  ///< Velodyne YAML (optional), Ouster metadata JSON (required)
   std::uint16_t port = 0;             ///< live UDP port; 0: the model's (2368 Velodyne, 7502 Ouster)
   std::string address = "0.0.0.0";    ///< live: the address to receive on
-  std::string mount = "0,0,0";        ///< x,y,z[,roll,pitch,yaw] of the sensor on the base, m and degrees
-  bool keep_partial = false;          ///< also hand on partial revolutions (stream ends, dropped packets)
+  /// x,y,z[,roll,pitch,yaw] of the sensor on the base, m and degrees; empty: estimated from the ground
+  std::string mount;
+  bool keep_partial = false;  ///< also hand on partial revolutions (stream ends, dropped packets)
 };
 
 /// Everything `strata serve` is told (server/app/serve_command.cpp declares the options).

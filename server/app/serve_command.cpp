@@ -120,7 +120,8 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
              "scans (none dropped)");
   add_choice(command, "--replay-odometry", options.replay.odometry, kOdometrySourceNames,
              "Replay odometry: dataset (its odometry), reference (made from its reference poses, with "
-             "--replay-noise-*), auto (dataset if it has odometry)");
+             "--replay-noise-*), none (the scans alone, as a lidar without wheels: the motion is predicted "
+             "from the scans), auto (dataset if it has odometry, else reference, else none)");
   command
       ->add_option(
           "--replay-noise-translation", options.replay.noise_translation,
@@ -152,11 +153,12 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
   command
       ->add_option("--lidar-address", options.lidar.address, "Live lidar: address to receive its packets on")
       ->capture_default_str();
-  command
-      ->add_option("--lidar-mount", options.lidar.mount,
-                   "The lidar on the robot: x,y,z[,roll,pitch,yaw] in m and degrees (z: its height above the "
-                   "ground, which the map needs below it)")
-      ->capture_default_str();
+  command->add_option(
+      "--lidar-mount", options.lidar.mount,
+      "The lidar on the robot: x,y,z[,roll,pitch,yaw] in m and degrees (z: its height above the "
+      "ground, which the map needs below it). Default: estimated from the ground under the sensor "
+      "in the first scans (logged); 0,0,0 keeps the sensor's frame as the base's. Also for "
+      "--replay: replaces the dataset's mount");
   command->add_option("--record", options.record,
                       "Record the scans and odometry the pipeline receives into this directory (replay "
                       "layout), to replay the run later with --replay");

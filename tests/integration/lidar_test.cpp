@@ -94,9 +94,10 @@ TEST(Lidar, Hdl32eCaptureRunsThroughThePipelineAndItsRoadIsDrivable) {
   const fs::path pcap = lidar_data() / "hdl32_example.pcap";
   SKIP_WITHOUT_CAPTURE(pcap);
   const fs::path maps = scratch_dir("hdl-maps");
+  // No --lidar-mount: the sensor's height over the road is estimated from its first revolution (issue 23).
   ServerProcess server({"--pcap", pcap.string(), "--lidar", "hdl32e", "--lidar-calibration",
-                        (lidar_data() / "32db.yaml").string(), "--lidar-mount", "0,0,2.15", "--replay-rate",
-                        "max", "--maps-dir", maps.string()});
+                        (lidar_data() / "32db.yaml").string(), "--replay-rate", "max", "--maps-dir",
+                        maps.string()});
   WsClient client(server.port());
   const auto status =
       wait_for_status(client, [](const nlohmann::json& s) { return s["driver"]["finished"] == true; });
@@ -118,7 +119,8 @@ TEST(Lidar, Hdl32eCaptureRunsThroughThePipelineAndItsRoadIsDrivable) {
 
   // Issue 21: the road around the car is free in the drivable map the server serves. The lidar, 2.15 m up,
   // sees no ground within 3.7 m of the car, so until the ground under the car (and the track it drove)
-  // counted, nothing was: no level to judge the rings by, 0 free cells.
+  // counted, nothing was: no level to judge the rings by, 0 free cells. Issue 23: with the mount estimated
+  // (not given), the road is at the car's level; with the sensor's frame as the base's it was 2 m below.
   const Eigen::Vector3d car(pose["x"].get<double>(), pose["y"].get<double>(), pose["z"].get<double>());
   const RoadCoverage road = road_coverage(server.port(), car);
   std::printf("hdl32_example.pcap: %zu road cells within 20 m, %.1f %% free, %.1f %% occupied\n", road.cells,

@@ -136,6 +136,32 @@ TEST(Replay, ThreeDtkScansThroughThePipeline) {
   fs::remove_all(maps);
 }
 
+TEST(Replay, ThreeDtkScansAloneAreRegisteredWithoutOdometry) {
+  const fs::path data = data_dir() / "3dtk_dat";
+  if (!fs::exists(data / "scan000.3d"))
+    GTEST_SKIP() << "no 3DTK example data at " << data << " (set STRATA_DATA_DIR)";
+  const fs::path maps = temporary("3dtk-alone-maps");
+  // As a lidar alone (issue 23): no odometry at all, the motion predicted from the scans; the reference
+  // poses are only shown as the truth.
+  ServerProcess server({"--replay", data.string(), "--replay-rate", "max", "--replay-odometry", "none",
+                        "--maps-dir", maps.string()});
+  WsClient client(server.port());
+  const auto status =
+      wait_for_status(client, [](const nlohmann::json& s) { return s["driver"]["finished"] == true; });
+  EXPECT_EQ(status["registration"]["scans"], 3);
+  EXPECT_EQ(status["registration"]["accepted"], 2) << status.dump();
+  const auto pose = nlohmann::json::parse(http_get(server.port(), "/api/v1/pose").body());
+  const double estimate_error = distance(pose, pose["truth"]);
+  const double yaw_error = std::abs(pose["yaw"].get<double>() - pose["truth"]["yaw"].get<double>());
+  const double driven = std::hypot(pose["truth"]["x"].get<double>(), pose["truth"]["y"].get<double>());
+  std::printf("3DTK scan002 without odometry: estimate %.3f m / %.4f rad from the reference, %.2f m driven\n",
+              estimate_error, yaw_error, driven);
+  EXPECT_GT(driven, 3.0);           // the scans are 1.5 and 1.8 m apart: found without any guess of that
+  EXPECT_LT(estimate_error, 0.12);  // as with odometry: the registration's own 10 cm offset from slam6D's
+  EXPECT_LT(yaw_error, 0.01);
+  fs::remove_all(maps);
+}
+
 TEST(Replay, NoisyOdometryFromReferencePosesIsCorrected) {
   const fs::path data = data_dir() / "3dtk_dat";
   if (!fs::exists(data / "scan000.3d"))

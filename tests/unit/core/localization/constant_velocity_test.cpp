@@ -18,10 +18,10 @@ TEST(ConstantVelocityPrediction, BeforeAVelocityItPredictsNoMotionAndAllowsForTh
   const Pose2 predicted = motion.predict(5.1);
   EXPECT_EQ(predicted.x, 0.0);
   EXPECT_EQ(predicted.theta, 0.0);
-  const std::optional<GuessUncertainty> uncertainty = motion.uncertainty(5.1);
-  ASSERT_TRUE(uncertainty.has_value());
-  EXPECT_NEAR(uncertainty->translation, 2.0, 1e-9);
-  EXPECT_NEAR(uncertainty->rotation, 0.2, 1e-9);
+  EXPECT_FALSE(motion.knows_velocity());
+  const GuessUncertainty uncertainty = motion.uncertainty(5.1);
+  EXPECT_NEAR(uncertainty.translation, 2.0, 1e-9);
+  EXPECT_NEAR(uncertainty.rotation, 0.2, 1e-9);
 }
 
 TEST(ConstantVelocityPrediction, TheMotionBetweenTwoScansIsCarriedOnPerSecond) {
@@ -30,7 +30,7 @@ TEST(ConstantVelocityPrediction, TheMotionBetweenTwoScansIsCarriedOnPerSecond) {
   motion.update(10.0, {}, planar(3.0, 1.0, 0.5), false, false);
   const Eigen::Isometry3d second = planar(3.0, 1.0, 0.5) * planar(1.2, 0.0, 0.05);
   motion.update(10.1, {}, second, true, false);
-  EXPECT_FALSE(motion.uncertainty(10.2).has_value());
+  EXPECT_TRUE(motion.knows_velocity());
   // 0.2 s later (a scan was dropped): twice the motion, in the base's frame.
   const Pose2 predicted = motion.predict(10.3);
   EXPECT_NEAR(predicted.x, 2.4, 1e-9);
@@ -47,12 +47,29 @@ TEST(ConstantVelocityPrediction, ARejectedMatchOrAMovedMapSaysNothingOfTheVeloci
   ConstantVelocityPrediction motion;
   motion.update(0.0, {}, planar(0.0, 0.0, 0.0), false, false);
   motion.update(0.1, {}, planar(1.0, 0.0, 0.0), false, false);  // rejected: the pose is the guess
-  EXPECT_TRUE(motion.uncertainty(0.2).has_value());
+  EXPECT_FALSE(motion.knows_velocity());
   motion.update(0.2, {}, planar(5.0, 0.0, 0.0), true, true);  // a pose graph correction moved the map
-  EXPECT_TRUE(motion.uncertainty(0.3).has_value());
+  EXPECT_FALSE(motion.knows_velocity());
   motion.update(0.3, {}, planar(6.0, 0.0, 0.0), true, false);
-  EXPECT_FALSE(motion.uncertainty(0.4).has_value());
+  EXPECT_TRUE(motion.knows_velocity());
   EXPECT_NEAR(motion.predict(0.4).x, 1.0, 1e-9);
+}
+
+TEST(ConstantVelocityPrediction, OnceTheVelocityIsKnownTheGuessMayBeOffByAChangeOfMotion) {
+  ConstantVelocityPrediction motion(
+      {.max_speed = 20.0, .max_turn_rate = 2.0, .max_acceleration = 5.0, .max_angular_acceleration = 4.0});
+  motion.update(0.0, {}, planar(0.0, 0.0, 0.0), false, false);
+  motion.update(0.1, {}, planar(0.1, 0.0, 0.0), true, false);
+  ASSERT_TRUE(motion.knows_velocity());
+  // 10 Hz: a little (a dt^2 / 2) beyond the fixed limits.
+  EXPECT_NEAR(motion.uncertainty(0.2).translation, 0.025, 1e-9);
+  EXPECT_NEAR(motion.uncertainty(0.2).rotation, 0.02, 1e-9);
+  // A scan a second later (a slow stream, or scans dropped): a walker may have turned a corner.
+  EXPECT_NEAR(motion.uncertainty(1.1).translation, 2.5, 1e-9);
+  EXPECT_NEAR(motion.uncertainty(1.1).rotation, 2.0, 1e-9);
+  // Never more than the fastest base could move at all since the last scan.
+  EXPECT_NEAR(motion.uncertainty(10.1).translation, 200.0, 1e-9);
+  EXPECT_NEAR(motion.uncertainty(10.1).rotation, 20.0, 1e-9);
 }
 
 }  // namespace

@@ -252,5 +252,71 @@ TEST_F(Recording, ReferenceOdometryNeedsReferencePoses) {
   EXPECT_NO_THROW({ const ReplayDriver driver(open_dataset(dir_), options); });
 }
 
+TEST_F(Recording, AListOfScansWithoutPosesReplaysAsALidarAlone) {
+  fs::create_directories(dir_);
+  const std::string pcd =
+      "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 1\nHEIGHT 1\nPOINTS 1\n"
+      "DATA ascii\n1 2 3\n";
+  std::ofstream(dir_ / "a.pcd") << pcd;
+  std::ofstream(dir_ / "b.pcd") << pcd;
+  std::ofstream(dir_ / "scans.csv") << "file,stamp\na.pcd,0.0\nb.pcd,0.1\n";
+  ReplayOptions options;
+  options.pacing.as_fast_as_possible = true;
+  ReplayDriver driver(open_dataset(dir_), options);  // was: "the dataset has no reference pose ..."
+  EXPECT_NE(driver.description().find("odometry from none"), std::string::npos) << driver.description();
+  std::vector<ScanEvent> scans;
+  std::mutex mutex;
+  std::condition_variable done;
+  bool finished = false;
+  RobotDriver::Outputs outputs;
+  outputs.on_sample = [](const RobotSample&) {};
+  outputs.on_scan = [&](ScanEvent s) { scans.push_back(std::move(s)); };
+  outputs.wait_for_pipeline = [] { return true; };
+  outputs.on_finished = [&] {
+    std::lock_guard lock(mutex);
+    finished = true;
+    done.notify_all();
+  };
+  driver.start(outputs);
+  {
+    std::unique_lock lock(mutex);
+    ASSERT_TRUE(done.wait_for(lock, std::chrono::seconds(30), [&] { return finished; }));
+  }
+  driver.stop();
+  // Handed on as a lidar alone's: the localizer predicts the motion from the scans (a constant odometry
+  // would say the sensor stood still, and every real turn would be "too far from the guess").
+  ASSERT_EQ(scans.size(), 2u);
+  for (const ScanEvent& scan : scans) {
+    EXPECT_FALSE(scan.has_odometry);
+    EXPECT_EQ(scan.odometry.position, Eigen::Vector3d::Zero());
+  }
+}
+
+TEST_F(Recording, ALidarAlonesRecordingReplaysAsALidarAlone) {
+  {
+    Recorder recorder(dir_, {{"source", "test"}}, initial());
+    for (int i = 0; i < 2; ++i) {
+      ScanEvent alone = scan(0.1 * i, 1.0f);
+      alone.has_odometry = false;  // a pcap or a live lidar: its odometry is a constant
+      alone.odometry = Pose3{};
+      alone.truth.reset();
+      recorder.record(alone);
+    }
+  }
+  const Dataset dataset = open_dataset(dir_);
+  ASSERT_EQ(dataset.scans.size(), 2u);
+  EXPECT_FALSE(dataset.scans[0].odometry.has_value());  // not "standing still at the origin"
+  const ReplayDriver driver(dataset, {});
+  EXPECT_NE(driver.description().find("odometry from none"), std::string::npos) << driver.description();
+}
+
+TEST_F(Recording, ADatasetWithOdometryCanBeReplayedAsALidarAlone) {
+  record_run();
+  ReplayOptions options;
+  options.odometry = OdometrySource::kNone;
+  const ReplayDriver driver(open_dataset(dir_), options);
+  EXPECT_NE(driver.description().find("odometry from none"), std::string::npos) << driver.description();
+}
+
 }  // namespace
 }  // namespace strata::replay
