@@ -109,6 +109,13 @@ for (const { name, width, height, phone } of SCREENS) {
     assert.deepEqual(await outOfReach(page, BAR_TOOLS), []);
     assert.deepEqual(await clippedInBar(page), []);
 
+    if (phone) { // a touch on the map closes the menu
+      await page.touchscreen.tap(width / 2, height / 2);
+      await page.locator('#menu-toggle[aria-expanded="false"]').waitFor();
+      assert.equal(await page.locator('#token-button').isVisible(), false, 'the menu is closed');
+      await page.locator('#menu-toggle').tap();
+    }
+
     // The operator enters the token with the bar's Token button (behind Menu on a phone, which is then closed).
     await page.locator('#token-button').tap();
     await page.locator('#token-input').fill(TOKEN);

@@ -9,12 +9,16 @@ export function setUpToggles() {
       toggle.setAttribute('aria-expanded', String(toggle.getAttribute('aria-expanded') !== 'true'));
     });
   }
-  // The menu closes once a choice is made; Colour cycles through its modes, so it stays open for another.
+  // The menu closes once a choice is made (Colour cycles through its modes, so it stays open for another),
+  // when the user turns to the map, or on Escape.
   const menu = document.getElementById('menu-toggle');
+  const closeMenu = () => menu.setAttribute('aria-expanded', 'false');
   document.getElementById('bar-tools').addEventListener('click', (event) => {
     const button = event.target.closest('button');
-    if (button && button.id !== 'color-mode') menu.setAttribute('aria-expanded', 'false');
+    if (button && button.id !== 'color-mode') closeMenu();
   });
+  document.getElementById('view').addEventListener('pointerdown', closeMenu);
+  document.addEventListener('keydown', (event) => event.key === 'Escape' && closeMenu());
 }
 
 /**
