@@ -40,7 +40,9 @@ const SCREENS = [
 ];
 const ALWAYS_IN_SIGHT = ['#connection', '#role', '#goal-arm', '#goal-cancel', '#joystick'];
 const PHONE_TOGGLES = ['#menu-toggle', '#panel-toggle'];
-const BAR_TOOLS = ['#views [data-view="3d"]', '#views [data-view="top"]', '#views [data-view="occupancy"]', '#color-mode', '#follow', '#token-button'];
+const BAR_TOOLS = [
+  '#views [data-view="3d"]', '#views [data-view="top"]', '#views [data-view="occupancy"]', '#color-mode', '#follow', '#token-button',
+];
 const PANEL_CONTROLS = ['#world-toggle', '#pose-arm', '#map-save', '#map-load', '#map-download'];
 
 /** What keeps these elements from being used: out of the viewport, covered at their centre by another
@@ -53,7 +55,7 @@ function outOfReach(page, selectors) {
     const box = element.getBoundingClientRect();
     const problems = [];
     if (box.width === 0 || box.left < 0 || box.top < 0 || box.right > innerWidth + 0.5 || box.bottom > innerHeight + 0.5) {
-      problems.push(`not in the viewport (${Math.round(box.left)}, ${Math.round(box.top)}, ${Math.round(box.right)}, ${Math.round(box.bottom)})`);
+      problems.push(`not in the viewport (${[box.left, box.top, box.right, box.bottom].map(Math.round).join(', ')})`);
     }
     const hit = document.elementFromPoint(box.left + box.width / 2, box.top + box.height / 2);
     if (!element.contains(hit)) problems.push(`covered by ${hit ? hit.id || hit.className || hit.tagName : 'nothing'}`);
@@ -67,7 +69,7 @@ function outOfReach(page, selectors) {
 function clippedInBar(page) {
   return page.evaluate(() => [document.querySelector('.bar'), ...document.querySelectorAll('.bar *')]
     .filter((element) => element.getClientRects().length && element.scrollWidth > element.clientWidth + 1)
-    .map((element) => `${element.id || element.className || element.tagName}: ${element.scrollWidth} > ${element.clientWidth} px`));
+    .map((element) => `${element.id || element.className || element.tagName}: ${element.scrollWidth} > ${element.clientWidth}`));
 }
 
 const placesOfSetGoalAndStop = (page) => page.evaluate(() => ['goal-arm', 'goal-cancel'].map((id) => {
@@ -95,10 +97,11 @@ for (const { name, width, height, phone } of SCREENS) {
     const covers = await page.evaluate(() => {
       const panel = document.querySelector('.panel');
       const box = panel.getBoundingClientRect();
-      const alpha = (element) => Number(getComputedStyle(element).backgroundColor.match(/rgba?\((.*)\)/)[1].split(',')[3] ?? 1);
-      return { share: (box.width * box.height) / (innerWidth * innerHeight), panel: alpha(panel), bar: alpha(document.querySelector('.bar')) };
+      const alpha = (element) => Number(getComputedStyle(element).backgroundColor.split(',')[3]?.slice(0, -1) ?? 1);
+      const share = (box.width * box.height) / (innerWidth * innerHeight);
+      return { share, panel: alpha(panel), bar: alpha(document.querySelector('.bar')) };
     });
-    assert.ok(covers.panel >= 0.95 && covers.bar >= 0.95, `the bar and the panel are opaque, readable over the map (${JSON.stringify(covers)})`);
+    assert.ok(covers.panel >= 0.95 && covers.bar >= 0.95, `the bar and the panel are opaque: ${JSON.stringify(covers)}`);
     if (phone) assert.ok(covers.share < 0.25, `the folded panel covers ${Math.round(covers.share * 100)} % of the screen`);
 
     // The bar's tools (behind Menu on a phone), their labels whole, Colour's longest too.
@@ -157,7 +160,8 @@ for (const { name, width, height, phone } of SCREENS) {
     });
     const detail = JSON.stringify(sight);
     assert.ok(sight.area.top >= sight.barBottom - 1, `the area starts below the bar: ${detail}`);
-    assert.ok(sight.area.right <= sight.panel.left + 1 || sight.area.bottom <= sight.panel.top + 1, `the area is clear of the panel: ${detail}`);
+    const clearOfPanel = sight.area.right <= sight.panel.left + 1 || sight.area.bottom <= sight.panel.top + 1;
+    assert.ok(clearOfPanel, `the area is clear of the panel: ${detail}`);
     assert.ok(sight.share > 0.5, `most of the map is in sight: ${detail}`);
     assert.ok(Math.abs(sight.robot.x - (sight.area.left + sight.area.right) / 2) < 2, `the robot is centred across: ${detail}`);
     assert.ok(Math.abs(sight.robot.y - (sight.area.top + sight.area.bottom) / 2) < 2, `the robot is centred up and down: ${detail}`);
