@@ -1,9 +1,9 @@
-// Opening the app in a test: a 1280 x 800 page (the robot's touch screen), collecting uncaught errors,
-// waiting for the live connection.
+// Opening the app in a test: a 1280 x 800 page (the robot's touch screen) unless another viewport is
+// asked for (`mobile`: a phone's browser), collecting uncaught errors, waiting for the live connection.
 export const TOKEN = 'browser-test-operator-token-0123';
 
-export async function openApp(browser, url, { touch = false, token = null } = {}) {
-  const context = await browser.newContext({ viewport: { width: 1280, height: 800 }, hasTouch: touch, isMobile: false });
+export async function openApp(browser, url, { touch = false, token = null, viewport = { width: 1280, height: 800 }, mobile = false } = {}) {
+  const context = await browser.newContext({ viewport, hasTouch: touch, isMobile: mobile });
   const page = await context.newPage();
   page.errors = [];
   page.on('pageerror', (error) => page.errors.push(error.message));

@@ -5,6 +5,7 @@ import { Connection, websocketUrl } from './connection.js';
 import { setUpFilesDialog } from './files_dialog.js';
 import { GoalPanel } from './goal_panel.js';
 import { Joystick } from './joystick.js';
+import { setUpToggles, trackUncoveredArea } from './layout.js';
 import { tokenRefused } from './map_files.js';
 import { MapFeed } from './map_feed.js';
 import { Notices } from './notices.js';
@@ -22,6 +23,8 @@ const view = new SceneView($('view'));
 const panel = new StatusPanel();
 const notices = new Notices($('notice'));
 const perf = createPerfProbe(view);
+setUpToggles();
+trackUncoveredArea(view, document.querySelector('.bar'), document.querySelector('.panel'));
 
 let role = null;
 let nextRequestId = 1;

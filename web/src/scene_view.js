@@ -54,6 +54,7 @@ export class SceneView {
     this.view = null;
     this.frames = 0;
     this.onFrame = null;
+    this.uncoveredArea = null; // client px: where the bar and the panel leave the map in sight
     applyView(this, '3d');
 
     this.resize(container);
@@ -111,7 +112,30 @@ export class SceneView {
     this.renderer.setSize(width, height);
     this.requestRender();
     this.camera.aspect = width / Math.max(height, 1);
-    this.camera.updateProjectionMatrix();
+    this.centreOnUncoveredArea();
+  }
+
+  /** The part of the view the page's bar and panel leave uncovered ({ left, top, right, bottom }, px). */
+  setUncoveredArea(area) {
+    this.uncoveredArea = area;
+    this.centreOnUncoveredArea();
+    this.requestRender({ now: true });
+  }
+
+  /**
+   * What the camera looks at (the robot, when following it) is drawn in the centre of the uncovered area
+   * rather than of the whole canvas, half hidden behind the panel: the projection's centre is shifted there.
+   */
+  centreOnUncoveredArea() {
+    const { width, height } = this.renderer.domElement.getBoundingClientRect();
+    const area = this.uncoveredArea;
+    if (!area || width === 0 || height === 0) {
+      this.camera.clearViewOffset();
+      return;
+    }
+    const shiftX = width / 2 - (area.left + area.right) / 2;
+    const shiftY = height / 2 - (area.top + area.bottom) / 2;
+    this.camera.setViewOffset(width, height, shiftX, shiftY, width, height);
   }
 
   /** A flat ground with a 1 m grid, for worlds without terrain. */

@@ -42,6 +42,7 @@ export function installTestHandle({ view, goals, poses, joystick, notices, perf,
     view: () => view.view,
     colorMode: () => view.tiles.colorMode,
     follow: () => view.follow,
+    uncoveredArea: () => view.uncoveredArea && { ...view.uncoveredArea }, // the bar and the panel cover the rest
     cameraDistance: () => view.controls.getDistance(),
     cameraAzimuth: () => view.controls.getAzimuthalAngle(),
     frames: () => view.frames,
