@@ -27,6 +27,16 @@ function screenPoint(view, [x, y, z]) {
   return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height, visible: Math.abs(p.z) <= 1 };
 }
 
+/** Looks at `target` ([x, y, z], map frame) from `distance` m, keeping the view's direction. */
+function aimCamera(view, target, distance) {
+  const { camera, controls } = view;
+  const direction = camera.position.clone().sub(controls.target).normalize();
+  controls.target.set(...target);
+  camera.position.copy(controls.target).addScaledVector(direction, distance);
+  controls.update();
+  view.requestRender({ now: true });
+}
+
 /** `state()` gives the page's own state: { connection, role }. */
 export function installTestHandle({ view, goals, poses, joystick, notices, perf, state }) {
   window.strata = {
@@ -61,5 +71,9 @@ export function installTestHandle({ view, goals, poses, joystick, notices, perf,
     findSurface: (query) => findSurface(view, query),
     screenPoint: (point) => screenPoint(view, point),
     surfaceAt: (clientX, clientY) => goals.tool.surfaceAt(clientX, clientY), // what a tap there would pick
+    // For bench_render.mjs: draw again now (to measure frame rates), aim the camera, what a frame cost.
+    redraw: () => view.requestRender({ now: true }),
+    aimCamera: (target, distance) => aimCamera(view, target, distance),
+    renderInfo: () => ({ calls: view.renderer.info.render.calls, triangles: view.renderer.info.render.triangles }),
   };
 }
