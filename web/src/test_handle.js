@@ -9,7 +9,7 @@ function findSurface(view, { x, y, radius = 3, minDistance = 0, level = null }) 
   let best = null;
   for (const tile of view.tiles.tiles.values()) {
     const { position, classBits } = tile.patches;
-    for (const i of tile.meshes.flatMap((mesh) => [...mesh.userData.shown])) {
+    for (const i of tile.shown) {
       if (classBits[i] & CLASS_VERTICAL || !(classBits[i] & CLASS_TRAVERSABLE)) continue;
       if (level !== null && Math.abs(position[3 * i + 2] - level) > 0.5) continue;
       const d = Math.hypot(position[3 * i] - x, position[3 * i + 1] - y);
@@ -74,6 +74,7 @@ export function installTestHandle({ view, goals, poses, joystick, notices, perf,
     // For bench_render.mjs: draw again now (to measure frame rates), aim the camera, what a frame cost.
     redraw: () => view.requestRender({ now: true }),
     aimCamera: (target, distance) => aimCamera(view, target, distance),
+    lodLevels: () => [...view.tiles.tilesPerLevel], // tiles drawn in the last frame, by level of detail
     renderInfo: () => ({ calls: view.renderer.info.render.calls, triangles: view.renderer.info.render.triangles }),
   };
 }
