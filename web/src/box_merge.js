@@ -53,18 +53,24 @@ const EDGE = 1e-4; // m: boxes closer than this touch
  * y extent, heights within `tolerance`) joined, then likewise along y: a straight wall is one box.
  */
 export function mergeWalls(walls, tolerance = MERGE_TOLERANCE) {
-  const alongX = joinRuns(walls, 'x', 'y', tolerance);
+  return joinBoxes(walls, tolerance);
+}
+
+/** Boxes { x0, x1, y0, y1, z0, z1, bits? } joined as mergeWalls joins walls, only boxes of equal `bits`. */
+export function joinBoxes(boxes, tolerance = MERGE_TOLERANCE) {
+  const alongX = joinRuns(boxes, 'x', 'y', tolerance);
   return joinRuns(alongX, 'y', 'x', tolerance);
 }
 
 function joinRuns(boxes, along, across, tolerance) {
   const [a0, a1, c0, c1] = [`${along}0`, `${along}1`, `${across}0`, `${across}1`];
-  const sorted = [...boxes].sort((p, q) => p[c0] - q[c0] || p[c1] - q[c1] || p[a0] - q[a0]);
+  const sorted = [...boxes].sort((p, q) => p[c0] - q[c0] || p[c1] - q[c1] || p[a0] - q[a0] || (p.bits ?? 0) - (q.bits ?? 0));
   const joined = [];
   let last = null;
   for (const box of sorted) {
     const touches =
       last &&
+      box.bits === last.bits &&
       Math.abs(box[c0] - last[c0]) < EDGE &&
       Math.abs(box[c1] - last[c1]) < EDGE &&
       Math.abs(box[a0] - last[a1]) < EDGE &&

@@ -83,6 +83,7 @@ export class SceneView {
         // The first tick after a frame arrives when the GPU has taken it: that gap is the frame's cost.
         this.frameCostMs = 0.7 * this.frameCostMs + 0.3 * (now - this.renderedAt);
         this.justRendered = false;
+        this.tiles.adaptDetail(this.frameCostMs);
       }
       // The camera moves when the user moves it (and glides on, damped), or when it follows the robot.
       this.updatingControls = true;

@@ -5,6 +5,7 @@
 // (lights.js), so an unlit material draws them.
 import * as THREE from 'three';
 import { lambertShade } from './lights.js';
+import { CLASS_VERTICAL } from './tile_decoder.js';
 
 // The faces of a wall box: outward normal, and its four corners as (x: 0 = x0, 1 = x1; y; z) choices,
 // counter-clockwise seen from outside.
@@ -19,13 +20,13 @@ const FACE_SHADES = WALL_FACES.map((face) => lambertShade(new THREE.Vector3(...f
 const TOP_SHADE = FACE_SHADES[4];
 
 /**
- * A BufferGeometry for `boxes` (tile_lod.js's box list: extents x0..x1, y0..y1, z0..z1, vertical flags and
+ * A BufferGeometry for `boxes` (tile_lod.js's box list: extents x0..x1, y0..y1, z0..z1, class bits and
  * linear RGB colours), its bounds set to `sphere` (the tile's, for culling) rather than computed.
  */
 export function buildTileGeometry(boxes, sphere) {
-  const { count, x0, x1, y0, y1, z0, z1, vertical, color } = boxes;
+  const { count, x0, x1, y0, y1, z0, z1, bits, color } = boxes;
   let walls = 0;
-  for (let b = 0; b < count; b++) walls += vertical[b];
+  for (let b = 0; b < count; b++) walls += bits[b] & CLASS_VERTICAL;
   const vertexCount = 4 * (count - walls) + 4 * WALL_FACES.length * walls;
   const positions = new Float32Array(3 * vertexCount);
   const colors = new Float32Array(3 * vertexCount);
@@ -63,7 +64,7 @@ export function buildTileGeometry(boxes, sphere) {
     ys[1] = y1[b];
     zs[0] = z0[b];
     zs[1] = z1[b];
-    if (vertical[b]) {
+    if (bits[b] & CLASS_VERTICAL) {
       for (let f = 0; f < WALL_FACES.length; f++) quad(WALL_FACES[f].corners, b, FACE_SHADES[f]);
     } else {
       quad(WALL_FACES[4].corners, b, TOP_SHADE); // the top face, at z1 (= z0 for a floor)

@@ -3,7 +3,7 @@
 // level whose cells stay small on screen (LOD_CELL_PIXELS): far away a 0.1 m cell is under a pixel, and its
 // patch's 2 to 10 triangles are work a software GPU cannot afford a million times a frame.
 import * as THREE from 'three';
-import { mergeFloors, mergeWalls } from './box_merge.js';
+import { joinBoxes, mergeFloors, mergeWalls } from './box_merge.js';
 import { patchColor } from './patch_colors.js';
 import { CLASS_TRAVERSABLE, CLASS_VERTICAL } from './tile_decoder.js';
 
@@ -29,7 +29,7 @@ function boxList(capacity) {
     y1: new Float32Array(capacity),
     z0: new Float32Array(capacity),
     z1: new Float32Array(capacity),
-    vertical: new Uint8Array(capacity),
+    bits: new Uint8Array(capacity), // class bits (tile_decoder.js): vertical, traversable
     color: new Float32Array(3 * capacity),
   };
 }
@@ -44,7 +44,7 @@ function pushBox(boxes, x0, x1, y0, y1, z0, z1, classBits, colorMode, colorZ) {
   boxes.y1[b] = y1;
   boxes.z0[b] = z0;
   boxes.z1[b] = z1;
-  boxes.vertical[b] = classBits & CLASS_VERTICAL;
+  boxes.bits[b] = classBits;
   patchColor(colorMode, colorZ, classBits, scratchColor).toArray(boxes.color, 3 * b);
 }
 
@@ -62,12 +62,12 @@ export function levelBoxes(patches, shown, level, colorMode) {
 function patchBoxes(patches, shown, colorMode) {
   const { position, classBits } = patches;
   const boxes = boxList(shown.length);
-  const half = CELL / 2;
   for (const i of shown) {
-    const x = position[3 * i];
-    const y = position[3 * i + 1];
+    // The cell's edges from its index, so that neighbours' edges are the very same numbers: no cracks.
+    const cx = Math.floor(position[3 * i] / CELL);
+    const cy = Math.floor(position[3 * i + 1] / CELL);
     const top = position[3 * i + 2];
-    pushBox(boxes, x - half, x + half, y - half, y + half, patchBottom(patches, i), top, classBits[i], colorMode, top);
+    pushBox(boxes, cx * CELL, (cx + 1) * CELL, cy * CELL, (cy + 1) * CELL, patchBottom(patches, i), top, classBits[i], colorMode, top);
   }
   return boxes;
 }
@@ -134,6 +134,41 @@ function coarseBoxes(patches, shown, size, colorMode) {
   return boxes;
 }
 
+/** One box list holding all of `lists`. */
+export function concatBoxes(lists) {
+  const count = lists.reduce((n, list) => n + list.count, 0);
+  const out = boxList(count);
+  out.count = count;
+  for (const name of ['x0', 'x1', 'y0', 'y1', 'z0', 'z1', 'bits', 'color']) {
+    const width = name === 'color' ? 3 : 1;
+    let at = 0;
+    for (const list of lists) {
+      out[name].set(list[name].subarray(0, width * list.count), at);
+      at += width * list.count;
+    }
+  }
+  return out;
+}
+
+/**
+ * `boxes` with the ones that touch end to end and match (class, heights within box_merge.js's tolerance)
+ * joined, recoloured: a region's tiles' coarse boxes, whose floors and walls run on across tile borders.
+ */
+export function joinBoxList(boxes, colorMode) {
+  const list = [];
+  for (let b = 0; b < boxes.count; b++) {
+    list.push({ x0: boxes.x0[b], x1: boxes.x1[b], y0: boxes.y0[b], y1: boxes.y1[b], z0: boxes.z0[b], z1: boxes.z1[b], bits: boxes.bits[b] });
+  }
+  const joined = joinBoxes(list);
+  const out = boxList(joined.length);
+  for (const j of joined) {
+    // A floor is drawn at its top: joined floors at the highest of theirs, within the tolerance.
+    const z0 = j.bits & CLASS_VERTICAL ? j.z0 : j.z1;
+    pushBox(out, j.x0, j.x1, j.y0, j.y1, z0, j.z1, j.bits, colorMode, j.z1);
+  }
+  return out;
+}
+
 /** How many drawing-buffer pixels a metre at `box` covers, seen by `camera` on a buffer `height` px tall. */
 export function pixelsPerMetre(box, camera, height) {
   if (camera.isOrthographicCamera) return (height * camera.zoom) / (camera.top - camera.bottom);
@@ -141,10 +176,13 @@ export function pixelsPerMetre(box, camera, height) {
   return (height * camera.zoom) / (2 * distance * Math.tan(THREE.MathUtils.degToRad(camera.fov) / 2));
 }
 
-/** The coarsest level whose cells cover at most LOD_CELL_PIXELS at `pixelsPerMetre`. */
-export function levelFor(pixelsPerMetre) {
+/**
+ * The coarsest level whose cells cover at most LOD_CELL_PIXELS at `pixelsPerMetre`, or `detailScale` times
+ * that when the GPU cannot keep up (TileLayer.adaptDetail).
+ */
+export function levelFor(pixelsPerMetre, detailScale = 1) {
   for (let level = LOD_CELL_SIZES.length - 1; level > 0; level--) {
-    if (LOD_CELL_SIZES[level] * pixelsPerMetre <= LOD_CELL_PIXELS) return level;
+    if (LOD_CELL_SIZES[level] * pixelsPerMetre <= LOD_CELL_PIXELS * detailScale) return level;
   }
   return 0;
 }
