@@ -5,6 +5,7 @@
 // Far away, whole regions of tiles are drawn as one mesh (tile_regions.js). Picking works on the
 // full-detail patches (tile_pick.js), whatever level is drawn.
 import * as THREE from 'three';
+import { createMapMaterials } from './map_material.js';
 import { CLASS_VERTICAL } from './tile_decoder.js';
 import { buildTileGeometry } from './tile_geometry.js';
 import {
@@ -53,8 +54,7 @@ export class TileLayer {
     this.group = new THREE.Group();
     this.group.name = 'map';
     scene.add(this.group);
-    // Unlit, the lighting is in the vertex colours; double-sided, as floors are seen from below too.
-    this.material = new THREE.MeshBasicMaterial({ vertexColors: true, side: THREE.DoubleSide });
+    this.materials = createMapMaterials(); // [floors, walls]: unlit, the lighting is in the vertex colours
     // "x,y" -> { version, patches, shown, box, sphere, levels (geometries), boxes (coarse), mesh, region }
     this.tiles = new Map();
     this.regions = new Map(); // "rx,ry" -> Region
@@ -92,7 +92,7 @@ export class TileLayer {
       this.tiles.delete(key);
       return;
     }
-    const mesh = new THREE.Mesh(emptyGeometry, this.material);
+    const mesh = new THREE.Mesh(emptyGeometry, this.materials);
     mesh.matrixAutoUpdate = false; // the map frame: never moves
     mesh.visible = false; // until update() gives it a geometry
     const region = this.regionOf(tileX, tileY);
@@ -108,7 +108,7 @@ export class TileLayer {
     const key = regionKey(tileX, tileY);
     let region = this.regions.get(key);
     if (!region) {
-      region = new Region(this.material, emptyGeometry);
+      region = new Region(this.materials, emptyGeometry);
       region.key = key;
       this.regions.set(key, region);
       this.group.add(region.mesh);

@@ -13,13 +13,13 @@ export function regionKey(tileX, tileY) {
 }
 
 export class Region {
-  constructor(material, emptyGeometry) {
+  constructor(materials, emptyGeometry) {
     this.tiles = new Set();
     this.box = new THREE.Box3();
     this.sphere = new THREE.Sphere();
     this.levels = []; // merged geometry per coarse level, built when first drawn
     this.emptyGeometry = emptyGeometry;
-    this.mesh = new THREE.Mesh(emptyGeometry, material);
+    this.mesh = new THREE.Mesh(emptyGeometry, materials);
     this.mesh.matrixAutoUpdate = false;
     this.mesh.visible = false;
   }
