@@ -107,6 +107,40 @@ test('touch: pinching zooms the view, two fingers turn it', async () => {
   await page.context().close();
 });
 
+test('far tiles are drawn coarse, near ones in full detail, and a tap picks the exact patch', async () => {
+  const page = await openApp(browser, server.url);
+  await until(page, () => window.strata.drawnPatches() > 1000 && window.strata.robotVisible());
+  await page.getByRole('button', { name: 'Follow robot' }).click(); // the camera holds still
+  const robot = await page.evaluate(() => window.strata.robotPosition());
+  const aim = (distance) => page.evaluate(([r, d]) => window.strata.aimCamera(r, d), [robot, distance]);
+  const levels = () => page.evaluate(() => window.strata.lodLevels());
+
+  await aim(4);
+  await until(page, () => window.strata.lodLevels()[0] > 0); // full detail near the camera
+
+  await aim(150);
+  await nextFrame(page);
+  const far = await levels();
+  assert.equal(far[0], 0, 'nothing in full detail from 150 m away');
+  assert.ok(far[1] + far[2] > 0, 'the map is drawn at a coarse level');
+
+  // While coarse cells are drawn, a tap on a patch's centre picks that very patch (the tiles change
+  // under the test while the robot maps: try a few patches).
+  const exact = await page.evaluate(([x, y, level]) => {
+    for (let near = 0.5; near < 6; near += 0.5) {
+      const surface = window.strata.findSurface({ x, y, radius: near + 0.5, minDistance: near, level });
+      if (!surface) continue;
+      const point = window.strata.screenPoint([surface.x, surface.y, surface.z]);
+      const picked = window.strata.surfaceAt(point.x, point.y);
+      if (picked && picked.x === surface.x && picked.y === surface.y && picked.z === surface.z) return true;
+    }
+    return false;
+  }, robot);
+  assert.ok(exact, 'a tap picks the exact patch under a coarse level');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('without the token, control actions are refused with a visible message', async () => {
   const page = await openApp(browser, server.url, { touch: true });
   await page.locator('#role', { hasText: 'viewer' }).waitFor();

@@ -2,7 +2,12 @@
 // asked for (`mobile`: a phone's browser), collecting uncaught errors, waiting for the live connection.
 export const TOKEN = 'browser-test-operator-token-0123';
 
-export async function openApp(browser, url, { touch = false, token = null, viewport = { width: 1280, height: 800 }, mobile = false } = {}) {
+/** `beforeLoad(page)`: installs what must run before the app's own scripts (addInitScript). */
+export async function openApp(
+  browser,
+  url,
+  { touch = false, token = null, beforeLoad = null, viewport = { width: 1280, height: 800 }, mobile = false } = {},
+) {
   const context = await browser.newContext({ viewport, hasTouch: touch, isMobile: mobile });
   const page = await context.newPage();
   page.errors = [];
@@ -11,6 +16,7 @@ export async function openApp(browser, url, { touch = false, token = null, viewp
     // As if the operator had entered it earlier in this session.
     await page.addInitScript((t) => sessionStorage.setItem('strata.operatorToken', t), token);
   }
+  await beforeLoad?.(page);
   await page.goto(url);
   await page.locator('#connection[data-state="connected"]').waitFor({ timeout: 15000 });
   return page;

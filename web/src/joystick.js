@@ -1,7 +1,9 @@
 // The teleop joystick with a deadman: while a finger (or the mouse button) holds the knob, teleop commands
-// go out at 10 Hz (the server lets each one drive for 0.5 s); letting go, losing the pointer, hiding the
-// page or losing the connection stops sending and sends v = 0, w = 0 at once.
+// go out at 10 Hz (the server lets each one drive for 0.5 s), and a changed command at once from the pointer
+// event (at most every MIN_SEND_GAP_MS), never waiting for the map to be drawn; letting go, losing the
+// pointer, hiding the page or losing the connection stops sending and sends v = 0, w = 0 at once.
 const SEND_INTERVAL_MS = 100;
+const MIN_SEND_GAP_MS = 40;
 const MAX_SPEED = 0.6; // m/s forward at full deflection
 const MAX_TURN = 1.0; // rad/s counter-clockwise at full deflection
 
@@ -17,6 +19,7 @@ export class Joystick {
     this.v = 0;
     this.w = 0;
     this.sent = 0;
+    this.sentAt = -Infinity;
     this.timer = null;
 
     element.addEventListener('pointerdown', (event) => this.grab(event));
@@ -59,13 +62,18 @@ export class Joystick {
     this.knob.style.transform = `translate(${dx * radius * 0.6}px, ${dy * radius * 0.6}px)`;
     // Up is forward; right turns clockwise (negative w). A small dead zone so a resting thumb sends 0.
     const shape = (t) => (Math.abs(t) < 0.08 ? 0 : t);
-    this.v = Number((-shape(dy) * MAX_SPEED).toFixed(3));
-    this.w = Number((-shape(dx) * MAX_TURN).toFixed(3));
+    const v = Number((-shape(dy) * MAX_SPEED).toFixed(3));
+    const w = Number((-shape(dx) * MAX_TURN).toFixed(3));
+    const changed = v !== this.v || w !== this.w;
+    this.v = v;
+    this.w = w;
     this.onChange(this.state);
+    if (changed && this.timer !== null && performance.now() - this.sentAt >= MIN_SEND_GAP_MS) this.tick();
   }
 
   tick() {
     if (this.send({ op: 'teleop', v: this.v, w: this.w })) this.sent += 1;
+    this.sentAt = performance.now();
   }
 
   /** The deadman: stop sending, and stop the robot now rather than when the last command expires. */

@@ -4,6 +4,7 @@
 // switches to the free camera.
 import * as THREE from 'three';
 import { OrbitControls } from 'three/examples/jsm/controls/OrbitControls.js';
+import { createLights } from './lights.js';
 import { OccupancyLayer } from './occupancy_layer.js';
 import { PathLayer } from './path_layer.js';
 import { applyPose, createRobotModel } from './robot_model.js';
@@ -22,10 +23,7 @@ export class SceneView {
 
     this.scene = new THREE.Scene();
     this.scene.background = new THREE.Color(0x11151c);
-    this.scene.add(new THREE.HemisphereLight(0xdde6ff, 0x202020, 1.6));
-    const sun = new THREE.DirectionalLight(0xffffff, 1.5);
-    sun.position.set(6, -8, 12);
-    this.scene.add(sun);
+    this.scene.add(...createLights());
 
     this.camera = new THREE.PerspectiveCamera(50, 1, 0.1, 500);
     this.camera.up.set(0, 0, 1);
@@ -86,6 +84,7 @@ export class SceneView {
         // The first tick after a frame arrives when the GPU has taken it: that gap is the frame's cost.
         this.frameCostMs = 0.7 * this.frameCostMs + 0.3 * (now - this.renderedAt);
         this.justRendered = false;
+        this.tiles.adaptDetail(this.frameCostMs);
       }
       // The camera moves when the user moves it (and glides on, damped), or when it follows the robot.
       this.updatingControls = true;
@@ -228,6 +227,8 @@ export class SceneView {
     const start = performance.now();
     this.dirty = false;
     this.urgent = false;
+    // Tiles whose detail is still being built are drawn again when due, finer.
+    if (this.tiles.group.visible && this.tiles.update(this.camera, this.renderer)) this.dirty = true;
     this.renderer.render(this.scene, this.camera);
     this.frames += 1;
     this.onFrame?.(performance.now() - start);

@@ -23,9 +23,8 @@ export function surfaceAt(sceneView, clientX, clientY) {
     if (!hit) return null;
     return { x: hit.point.x, y: hit.point.y, z: occupancy.mosaic.levelZ };
   }
-  const [hit] = ray.intersectObjects(tiles.group.children, false);
-  if (!hit) return null;
-  const patch = tiles.patchAt(hit);
+  const patch = tiles.pick(ray.ray);
+  if (!patch) return null;
   // A wall or a step is no place to stand, and guessing which floor was meant could put the robot on the
   // wrong storey: the caller asks for another tap instead.
   if (patch.vertical) return null;

@@ -9,7 +9,7 @@ function findSurface(view, { x, y, radius = 3, minDistance = 0, level = null }) 
   let best = null;
   for (const tile of view.tiles.tiles.values()) {
     const { position, classBits } = tile.patches;
-    for (const i of tile.meshes.flatMap((mesh) => [...mesh.userData.shown])) {
+    for (const i of tile.shown) {
       if (classBits[i] & CLASS_VERTICAL || !(classBits[i] & CLASS_TRAVERSABLE)) continue;
       if (level !== null && Math.abs(position[3 * i + 2] - level) > 0.5) continue;
       const d = Math.hypot(position[3 * i] - x, position[3 * i + 1] - y);
@@ -25,6 +25,16 @@ function screenPoint(view, [x, y, z]) {
   const p = new THREE.Vector3(x, y, z).project(view.camera);
   const rect = view.renderer.domElement.getBoundingClientRect();
   return { x: rect.left + ((p.x + 1) / 2) * rect.width, y: rect.top + ((1 - p.y) / 2) * rect.height, visible: Math.abs(p.z) <= 1 };
+}
+
+/** Looks at `target` ([x, y, z], map frame) from `distance` m, keeping the view's direction. */
+function aimCamera(view, target, distance) {
+  const { camera, controls } = view;
+  const direction = camera.position.clone().sub(controls.target).normalize();
+  controls.target.set(...target);
+  camera.position.copy(controls.target).addScaledVector(direction, distance);
+  controls.update();
+  view.requestRender({ now: true });
 }
 
 /** `state()` gives the page's own state: { connection, role }. */
@@ -62,5 +72,10 @@ export function installTestHandle({ view, goals, poses, joystick, notices, perf,
     findSurface: (query) => findSurface(view, query),
     screenPoint: (point) => screenPoint(view, point),
     surfaceAt: (clientX, clientY) => goals.tool.surfaceAt(clientX, clientY), // what a tap there would pick
+    // For bench_render.mjs: draw again now (to measure frame rates), aim the camera, what a frame cost.
+    redraw: () => view.requestRender({ now: true }),
+    aimCamera: (target, distance) => aimCamera(view, target, distance),
+    lodLevels: () => [...view.tiles.tilesPerLevel], // tiles drawn in the last frame, by level of detail
+    renderInfo: () => ({ calls: view.renderer.info.render.calls, triangles: view.renderer.info.render.triangles }),
   };
 }

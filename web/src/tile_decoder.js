@@ -18,6 +18,22 @@ const ATTRIBUTE_TYPES = {
 export const CLASS_VERTICAL = 1;
 export const CLASS_TRAVERSABLE = 2;
 
+/**
+ * An attribute's values as one packed array (itemSize values per point). DRACOLoader pads each point's
+ * values to 4 bytes (WebGL's alignment) and returns an interleaved attribute then: a uint8 attribute holds
+ * its point i at [4 i], not [i].
+ */
+function perPoint(attribute) {
+  if (!attribute.isInterleavedBufferAttribute) return attribute.array;
+  const { count, itemSize } = attribute;
+  const { array, stride } = attribute.data;
+  const packed = new array.constructor(count * itemSize);
+  for (let i = 0; i < count; i++) {
+    for (let c = 0; c < itemSize; c++) packed[i * itemSize + c] = array[i * stride + attribute.offset + c];
+  }
+  return packed;
+}
+
 export class TileDecoder {
   constructor() {
     // Two workers: the robot's computer has few cores, and the map server needs them more than we do.
@@ -36,9 +52,9 @@ export class TileDecoder {
       buffer, (g) => g, ATTRIBUTE_IDS, ATTRIBUTE_TYPES, LinearSRGBColorSpace, rethrow);
     const patches = {
       count: geometry.getAttribute('position').count,
-      position: geometry.getAttribute('position').array,
-      depth: geometry.getAttribute('depth').array,
-      classBits: geometry.getAttribute('classBits').array,
+      position: perPoint(geometry.getAttribute('position')),
+      depth: perPoint(geometry.getAttribute('depth')),
+      classBits: perPoint(geometry.getAttribute('classBits')),
     };
     geometry.dispose();
     return patches;
