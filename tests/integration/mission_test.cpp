@@ -360,5 +360,29 @@ TEST_F(Mission, SavesLoadsAndDownloadsTheMap) {
   EXPECT_EQ(http_get(port(), "/api/v1/map?format=pgm&version=abc").result(), http::status::bad_request);
 }
 
+// Issue 24: the goal the scripting guide sends with curl (docs/scripting.md) is driven to in the default
+// demo (the campus): an example that fails "off_map" teaches a new user nothing.
+TEST(DocumentedExamples, TheScriptingGuidesGoalIsDrivenToInTheDefaultDemo) {
+  std::ifstream guide(std::filesystem::path(STRATA_DEPLOY_DIR) / ".." / "docs" / "scripting.md");
+  ASSERT_TRUE(guide) << "docs/scripting.md not found";
+  std::string body;
+  for (std::string line; std::getline(guide, line);) {
+    if (line.find("/api/v1/goal") == std::string::npos || line.find("-d '") == std::string::npos)
+      continue;
+    const std::size_t start = line.find("-d '") + 4;
+    body = line.substr(start, line.find('\'', start) - start);
+    break;
+  }
+  ASSERT_FALSE(body.empty()) << "no curl goal example in docs/scripting.md";
+  ServerProcess server({"--time-scale", "4"});
+  WsClient watcher(server.port());
+  wait_for_status(watcher, [](const nlohmann::json& s) { return s["map"]["cells"].get<int>() > 1000; });
+  const auto sent = http_request(server.port(), http::verb::post, "/api/v1/goal", body, kTestOperatorToken);
+  ASSERT_EQ(sent.result_int() / 100, 2u) << sent.body();
+  const auto id = nlohmann::json::parse(sent.body())["id"].get<std::uint64_t>();
+  const auto goal = wait_for_goal(watcher, id, {"driving", "reached", "failed"});
+  EXPECT_NE(goal["phase"], "failed") << body << ": " << goal.dump();
+}
+
 }  // namespace
 }  // namespace strata::testing
