@@ -214,7 +214,8 @@ void SurfaceGrid::classify() {
         float neighbour = 0.0F;
         if ((dr == 0 && dc == 0) || !neighbour_height(col + dc, row + dr, height, neighbour))
           continue;
-        const double x = dc, y = dr, z = neighbour - height;  // the surface itself is at (0, 0, 0)
+        // The surface itself is at (0, 0, 0).
+        const double x = dc, y = dr, z = static_cast<double>(neighbour - height);
         if (std::abs(z) > max_step + gradient_per_cell * std::max(std::abs(dc), std::abs(dr)))
           continue;
         n += 1.0;
