@@ -30,19 +30,21 @@ export async function until(page, fn, arg, timeout = 60000) {
 
 /**
  * A traversable floor patch near the robot (at least minDistance away, on its storey) that a tap would
- * pick (nothing in front of it on screen), with its screen point; or null.
+ * pick, with its screen point; or null. Tried nearest first, each one checked: on screen, nothing of the
+ * page over it (bar, panel, joystick, notices), and no wall or floor of the map in front of it (a hallway's
+ * walls hide much of its floor from an oblique camera).
  */
 export async function floorPointNearRobot(page, { radius = 4, minDistance = 1.5 } = {}) {
   return page.evaluate(
     ({ radius, minDistance }) => {
       const [x, y, level] = window.strata.robotPosition(); // the robot's ground: goals on its storey
-      const rect = document.querySelector('.panel').getBoundingClientRect();
-      for (let near = minDistance; near <= minDistance + 3 * radius; near += 0.3) {
-        const surface = window.strata.findSurface({ x, y, radius: near + 0.3, minDistance: near, level });
-        if (!surface) continue;
+      const canvas = document.querySelector('#view canvas');
+      const surfaces = window.strata.findSurfaces({ x, y, radius: minDistance + 3 * radius, minDistance, level });
+      const step = Math.max(1, Math.floor(surfaces.length / 400)); // a few hundred tries at most
+      for (let k = 0; k < surfaces.length; k += step) {
+        const surface = surfaces[k];
         const point = window.strata.screenPoint([surface.x, surface.y, surface.z]);
-        // On screen, clear of the panel and the top bar.
-        if (!point.visible || point.x <= 0 || point.x >= rect.left - 10 || point.y <= 70 || point.y >= 790) continue;
+        if (!point.visible || document.elementFromPoint(point.x, point.y) !== canvas) continue;
         const picked = window.strata.surfaceAt(point.x, point.y);
         if (picked && Math.abs(picked.z - surface.z) < 0.1 && Math.hypot(picked.x - surface.x, picked.y - surface.y) < 0.3) {
           return { surface, point };

@@ -5,8 +5,8 @@ import { CLASS_TRAVERSABLE, CLASS_VERTICAL } from './tile_decoder.js';
 
 /** The nearest drawn, traversable, horizontal patch to (x, y) within `radius` m (and within 0.5 m of
  * height `level`, when given), or null. */
-function findSurface(view, { x, y, radius = 3, minDistance = 0, level = null }) {
-  let best = null;
+function findSurfaces(view, { x, y, radius = 3, minDistance = 0, level = null }) {
+  const found = [];
   for (const tile of view.tiles.tiles.values()) {
     const { position, classBits } = tile.patches;
     for (const i of tile.shown) {
@@ -14,10 +14,10 @@ function findSurface(view, { x, y, radius = 3, minDistance = 0, level = null }) 
       if (level !== null && Math.abs(position[3 * i + 2] - level) > 0.5) continue;
       const d = Math.hypot(position[3 * i] - x, position[3 * i + 1] - y);
       if (d > radius || d < minDistance) continue;
-      if (!best || d < best.d) best = { x: position[3 * i], y: position[3 * i + 1], z: position[3 * i + 2], d };
+      found.push({ x: position[3 * i], y: position[3 * i + 1], z: position[3 * i + 2], d });
     }
   }
-  return best;
+  return found.sort((a, b) => a.d - b.d);
 }
 
 /** Where a map-frame point appears on the page, in client pixels. */
@@ -69,7 +69,9 @@ export function installTestHandle({ view, goals, poses, joystick, notices, perf,
     joystick: () => joystick.state,
     notice: () => (document.getElementById('notice').hidden ? null : notices.last),
     perf: () => structuredClone(perf),
-    findSurface: (query) => findSurface(view, query),
+    // Traversable floor patches near (x, y) on `level`: the nearest, or all of them nearest first.
+    findSurface: (query) => findSurfaces(view, query)[0] ?? null,
+    findSurfaces: (query) => findSurfaces(view, query),
     screenPoint: (point) => screenPoint(view, point),
     surfaceAt: (clientX, clientY) => goals.tool.surfaceAt(clientX, clientY), // what a tap there would pick
     // For bench_render.mjs: draw again now (to measure frame rates), aim the camera, what a frame cost.
