@@ -145,6 +145,9 @@ test('without the token, control actions are refused with a visible message', as
   const page = await openApp(browser, server.url, { touch: true });
   await page.locator('#role', { hasText: 'viewer' }).waitFor();
   await until(page, () => window.strata.drawnPatches() > 0 && window.strata.robotVisible());
+  // The tiles around the robot have arrived and the camera shows them (a busy machine decodes slowly), before
+  // the camera is held still.
+  assert.ok(await floorPointNearRobot(page), 'a floor patch near the robot comes on screen');
 
   // A goal tapped on the map (the camera held still, so the tapped patch stays where it was found).
   await page.getByRole('button', { name: 'Follow robot' }).click();

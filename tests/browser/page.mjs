@@ -34,7 +34,17 @@ export async function until(page, fn, arg, timeout = 60000) {
  * page over it (bar, panel, joystick, notices), and no wall or floor of the map in front of it (a hallway's
  * walls hide much of its floor from an oblique camera).
  */
-export async function floorPointNearRobot(page, { radius = 4, minDistance = 1.5 } = {}) {
+export async function floorPointNearRobot(page, { radius = 4, minDistance = 1.5, timeout = 20000 } = {}) {
+  // The tiles around the robot may still be arriving (a page just opened on a busy machine): look again.
+  const deadline = Date.now() + timeout;
+  for (;;) {
+    const found = await floorPointOnScreen(page, radius, minDistance);
+    if (found || Date.now() > deadline) return found;
+    await new Promise((resolve) => setTimeout(resolve, 250));
+  }
+}
+
+async function floorPointOnScreen(page, radius, minDistance) {
   return page.evaluate(
     ({ radius, minDistance }) => {
       const [x, y, level] = window.strata.robotPosition(); // the robot's ground: goals on its storey
