@@ -17,6 +17,9 @@ struct ScanEvent {
   double duration = 0.0;                ///< seconds the scan took to take
   std::string sensor;                   ///< which sensor, e.g. "tilting-laser", "vlp16"
   std::vector<Eigen::Vector3f> points;  ///< in the sensor frame, as measured (no motion compensation)
+  /// Per point, when it was measured: seconds relative to `stamp` (<= 0). Empty when the sensor does not
+  /// say (a tilting scanner; a recording without times): its points are then not deskewed.
+  std::vector<float> point_times;
   Eigen::Isometry3d sensor_to_base = Eigen::Isometry3d::Identity();  ///< the sensor's mounting
   Pose3 odometry;                                                    ///< the base's odometry pose at `stamp`
   /// False for a base without odometry (a lidar alone): `odometry` is then a constant, and the localizer

@@ -42,6 +42,8 @@ class ConstantVelocityPrediction {
   [[nodiscard]] GuessUncertainty uncertainty(double stamp) const;
   /// Whether a velocity is known (two scans registered one after the other, the map not moved between).
   [[nodiscard]] bool knows_velocity() const { return velocity_.has_value(); }
+  /// That velocity: per second, in the base frame (x forward, y left, theta the turn rate).
+  [[nodiscard]] const std::optional<Pose2>& velocity() const { return velocity_; }
   /// The scan at `stamp`, predicted at `odometry`, was found at `pose` (map frame); `registered` false
   /// when the match was rejected (the pose is then the guess and says nothing of the velocity).
   /// `map_moved`: the map frame was moved since the last scan (a pose graph correction), so the two

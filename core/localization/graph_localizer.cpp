@@ -34,6 +34,7 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
   map_moved = std::exchange(placed_, false) || map_moved;
   LocalizationUpdate update;
   if (odometry) {
+    last_odometry_ = OdometryAt{stamp, *odometry};
     update = scan_matching_.add_scan(points, *odometry, gravity);
   } else {
     const Pose2 predicted = motion_.predict(stamp);
@@ -49,6 +50,18 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
   if (pose_graph && registered)
     add_keyframe(points, update, stamp, sensor_origin);
   return update;
+}
+
+std::optional<Pose2> GraphLocalizer::velocity(const std::optional<Pose2>& odometry, double stamp) const {
+  if (!odometry)
+    return motion_.velocity();
+  // Older than a second, the last scan says little of the motion during this one.
+  constexpr double kMaxGap = 1.0;
+  if (!last_odometry_ || stamp <= last_odometry_->stamp || stamp - last_odometry_->stamp > kMaxGap)
+    return std::nullopt;
+  const double dt = stamp - last_odometry_->stamp;
+  const Pose2 moved = odometry->relative_to(last_odometry_->odometry);
+  return Pose2{moved.x / dt, moved.y / dt, moved.theta / dt};
 }
 
 void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp,

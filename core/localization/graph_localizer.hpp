@@ -64,6 +64,11 @@ class GraphLocalizer {
                               const Eigen::Vector3d& sensor_origin = Eigen::Vector3d::Zero(),
                               const std::optional<GravityReading>& gravity = std::nullopt);
 
+  /// How the base moved while the scan at `stamp` was taken, per second in its own frame (what deskew()
+  /// takes): the odometry since the last scan, or for a base without the constant velocity model's. None
+  /// before there is one (the first scan; a gap of more than a second since the last).
+  [[nodiscard]] std::optional<Pose2> velocity(const std::optional<Pose2>& odometry, double stamp) const;
+
   /// The background step: looks for loop closures of the keyframes made since the last call and, when
   /// it finds one, optimizes the graph. True when the estimates changed. Safe to call from another
   /// thread than add_scan.
@@ -105,6 +110,11 @@ class GraphLocalizer {
   /// Counts the graph's restarts: an optimization of a graph since replaced is thrown away.
   std::uint64_t generation_ = 0;
   bool placed_ = false;  // scan path only: place() moved the estimate since the last scan
+  struct OdometryAt {
+    double stamp = 0.0;
+    Pose2 odometry;
+  };
+  std::optional<OdometryAt> last_odometry_;  // scan path only: the last scan's, for velocity()
   /// map <- scan matcher correction from the last optimization, not yet applied on the scan path.
   std::optional<Eigen::Isometry3d> pending_correction_;
   PoseGraphStatus status_;

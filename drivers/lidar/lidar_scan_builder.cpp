@@ -27,8 +27,11 @@ ScanEvent to_scan_event(const Revolution& revolution, const std::string& sensor)
   scan.duration = revolution.end - revolution.start;
   scan.sensor = sensor;
   scan.points.reserve(revolution.points.size());
-  for (const LidarPoint& point : revolution.points)
+  scan.point_times.reserve(revolution.points.size());
+  for (const LidarPoint& point : revolution.points) {
     scan.points.push_back(point.position);
+    scan.point_times.push_back(static_cast<float>(point.time - revolution.end));
+  }
   scan.rays = revolution.rays;
   // Beams without a return are left out by the decoders rather than reported at a maximum range.
   scan.max_range = 0.0;
@@ -79,9 +82,13 @@ void LidarScanBuilder::emit(Revolution&& revolution, std::vector<ScanEvent>& sca
     if (!setup_.keep_partial)
       return;
   }
-  if (sensor_pose_at_ && !compensate_motion(revolution.points, revolution.end, sensor_pose_at_))
+  const bool compensated =
+      sensor_pose_at_ && compensate_motion(revolution.points, revolution.end, sensor_pose_at_);
+  if (sensor_pose_at_ && !compensated)
     ++stats_.uncompensated_revolutions;
   scans.push_back(to_scan_event(revolution, sensor_name(setup_.model)));
+  if (compensated)  // already as if measured at the end: nothing left to deskew
+    scans.back().point_times.clear();
 }
 
 }  // namespace strata::lidar

@@ -8,6 +8,7 @@
 #include <string>
 #include <utility>
 
+#include "core/points/deskew.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 
 namespace strata::pipeline {
@@ -241,6 +242,10 @@ void LocalizerWorker::process(ScanEvent event) {
       scan.has_odometry ? std::optional<Pose2>(Pose2{scan.odometry.position.x(), scan.odometry.position.y(),
                                                      scan.odometry.yaw})
                         : std::nullopt;
+  // The revolution's points as if measured at once, at the stamp: the map and the searches get them so.
+  if (const std::optional<Pose2> velocity = localizer_.velocity(odometry, stamp))
+    deskew(preprocessed.points, preprocessed.times, *velocity);
+  preprocessed.times = {};
   if (estimate && relocalizer_)
     static_cast<void>(search_around(*estimate, preprocessed.points, odometry, stamp));
   const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, stamp,

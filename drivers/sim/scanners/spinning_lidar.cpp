@@ -30,12 +30,14 @@ std::size_t SpinningLidar::rays_per_revolution() const {
   return static_cast<std::size_t>(columns_) * fan_.size();
 }
 
-void SpinningLidar::fire(const World& world, const Eigen::Isometry3d& sensor, int column) {
+void SpinningLidar::fire(const World& world, const Eigen::Isometry3d& sensor, int column, float time) {
   const double azimuth = column * config_.azimuth_step_deg * kPi / 180.0;
   const Eigen::AngleAxisd turn(azimuth, Eigen::Vector3d::UnitZ());
   for (const Eigen::Vector3d& beam : fan_) {
-    if (auto point = config_.beam.measure(world, sensor, turn * beam, rng_))
+    if (auto point = config_.beam.measure(world, sensor, turn * beam, rng_)) {
       current_.points.push_back(*point);
+      current_.point_times.push_back(time);
+    }
   }
   current_.rays += fan_.size();
 }
@@ -51,7 +53,9 @@ std::optional<ScanEvent> SpinningLidar::advance(const World& world, const Eigen:
     next_column_ = static_cast<long long>(std::ceil(t0 / period)) * columns_;
   // Firing k happens at k * firing_interval; fire those before t1.
   while (static_cast<double>(next_column_) * firing_interval < t1) {
-    fire(world, sensor, static_cast<int>(next_column_ % columns_));
+    // When this column fires, relative to the end of its revolution (the scan's stamp).
+    const int column = static_cast<int>(next_column_ % columns_);
+    fire(world, sensor, column, static_cast<float>(static_cast<double>(column - columns_) * firing_interval));
     ++next_column_;
     if (next_column_ % columns_ == 0) {
       current_.duration = period;
@@ -61,6 +65,7 @@ std::optional<ScanEvent> SpinningLidar::advance(const World& world, const Eigen:
       current_.sensor = completed->sensor;
       current_.sensor_to_base = completed->sensor_to_base;
       current_.points.reserve(completed->points.size());
+      current_.point_times.reserve(completed->points.size());
     }
   }
   return completed;

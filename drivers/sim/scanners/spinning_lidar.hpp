@@ -35,7 +35,7 @@ class SpinningLidar {
   [[nodiscard]] const SpinningLidarConfig& config() const { return config_; }
 
  private:
-  void fire(const World& world, const Eigen::Isometry3d& sensor, int column);
+  void fire(const World& world, const Eigen::Isometry3d& sensor, int column, float time);
 
   SpinningLidarConfig config_;
   std::mt19937_64 rng_;

@@ -68,5 +68,30 @@ TEST(GraphLocalizer, TheFirstLapsLoopIsClosedAndTheSecondLapLandsOnTheFirst) {
       << "scan matching alone drifts on";
 }
 
+TEST(GraphLocalizer, TheMotionDuringAScanIsTheOdometrysSinceTheLastScan) {
+  GraphLocalizer localizer;
+  PointCloud box;  // a floor and two walls, enough for a first scan
+  for (double a = -3.0; a <= 3.0; a += 0.2) {
+    for (double b = 0.0; b <= 2.0; b += 0.2) {
+      box.emplace_back(a, b - 1.0, -0.5);
+      box.emplace_back(3.0, a, b - 0.5);
+      box.emplace_back(a, 3.0, b - 0.5);
+    }
+  }
+  EXPECT_FALSE(localizer.velocity(Pose2{}, 1.0));  // no scan before
+  static_cast<void>(localizer.add_scan(box, Pose2{1.0, 2.0, 0.5}, 1.0));
+  const std::optional<Pose2> velocity =
+      localizer.velocity(Pose2{1.0, 2.0, 0.5}.compose({0.1, 0.0, 0.05}), 1.1);
+  ASSERT_TRUE(velocity);
+  EXPECT_NEAR(velocity->x, 1.0, 1e-9);  // in the base's frame
+  EXPECT_NEAR(velocity->y, 0.0, 1e-9);
+  EXPECT_NEAR(velocity->theta, 0.5, 1e-9);
+  EXPECT_FALSE(localizer.velocity(Pose2{}, 2.5)) << "a second and more since the last scan";
+  // Without odometry: the constant velocity model's, which knows none after one scan.
+  GraphLocalizer alone;
+  static_cast<void>(alone.add_scan(box, std::nullopt, 1.0));
+  EXPECT_FALSE(alone.velocity(std::nullopt, 1.1));
+}
+
 }  // namespace
 }  // namespace strata

@@ -1,8 +1,10 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 
+#include "core/points/deskew.hpp"
 #include "drivers/sim/scanners/spinning_lidar.hpp"
 #include "drivers/sim/scanners/tilting_scanner.hpp"
 
@@ -118,6 +120,14 @@ TEST(SpinningLidar, RevolutionsAreCompleteAndOnTheSurfaces) {
     expect_on_room_surfaces(scan, config.mount, 1e-6);
   }
   EXPECT_NEAR(scans[1].stamp - scans[0].stamp, 0.1, 1e-9);
+  // Each point says when it was measured: the revolution's first column a period before its end, the
+  // last one firing interval before.
+  for (const auto& scan : scans) {
+    ASSERT_EQ(scan.point_times.size(), scan.points.size());
+    EXPECT_NEAR(scan.point_times.front(), -0.1, 1e-6);
+    EXPECT_NEAR(scan.point_times.back(), -0.1 / 1800.0, 1e-6);
+    EXPECT_TRUE(std::is_sorted(scan.point_times.begin(), scan.point_times.end()));
+  }
   // The 16 beams span -15 to +15 degrees.
   float lowest = 1, highest = -1;
   for (const auto& p : scans[0].points) {
@@ -126,6 +136,46 @@ TEST(SpinningLidar, RevolutionsAreCompleteAndOnTheSurfaces) {
   }
   EXPECT_NEAR(std::asin(lowest), -15 * 3.14159265 / 180, 1e-4);
   EXPECT_NEAR(std::asin(highest), 15 * 3.14159265 / 180, 1e-4);
+}
+
+TEST(SpinningLidar, ARevolutionTakenWhileDrivingIsOnTheSurfacesOnceDeskewed) {
+  // Driving 1.5 m/s and turning 1 rad/s through the room: each firing sees it from where the base is
+  // then. The revolution's points, from the pose at its end, are smeared off the walls; deskewed with
+  // the motion and their times, they are on them again (to within the 1 ms steps the base moves in).
+  const World world = room(true);
+  SpinningLidarConfig config;
+  config.beam.range_stddev = 0.0;
+  SpinningLidar lidar(config, 1);
+  const Pose2 velocity{1.5, 0.0, 1.0};
+  const auto base_at = [&](double t) {
+    const Pose2 pose = Pose2{-1.0, -1.0, 0.3}.compose(pose_after(velocity, t));
+    Eigen::Isometry3d base = Eigen::Isometry3d::Identity();
+    base.linear() = Eigen::AngleAxisd(pose.theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    base.translation() = Eigen::Vector3d(pose.x, pose.y, 0.0);
+    return base;
+  };
+  std::optional<ScanEvent> scan;
+  double t = 0.0;
+  for (; !scan; t += 0.001)
+    scan = lidar.advance(world, base_at(t), t, t + 0.001);
+  ScanEvent& revolution = *scan;
+  PointCloud points;
+  for (const Eigen::Vector3f& p : revolution.points)
+    points.push_back(revolution.sensor_to_base * p.cast<double>());
+  const Eigen::Isometry3d end = base_at(revolution.stamp);
+  const auto largest_miss = [&](const PointCloud& in_base) {
+    double largest = 0.0;
+    for (const Eigen::Vector3d& local : in_base) {
+      const Eigen::Vector3d p = end * local;
+      const double to_wall = std::min(5.0 - std::abs(p.x()), 5.0 - std::abs(p.y()));
+      const double to_floor_or_roof = std::min(std::abs(p.z()), std::abs(p.z() - 3.0));
+      largest = std::max(largest, std::abs(std::min(to_wall, to_floor_or_roof)));
+    }
+    return largest;
+  };
+  EXPECT_GT(largest_miss(points), 0.3);
+  deskew(points, revolution.point_times, velocity);
+  EXPECT_LT(largest_miss(points), 0.02);
 }
 
 TEST(SpinningLidar, DropsNoReturnsAndRespectsMinRange) {

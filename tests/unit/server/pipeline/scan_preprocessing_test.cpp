@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <vector>
 
 namespace strata::pipeline {
 namespace {
@@ -24,6 +25,21 @@ TEST(ScanPreprocessing, CleansAndMovesPointsIntoTheBaseFrame) {
   ASSERT_EQ(points.size(), 2u);
   EXPECT_TRUE(points[0].isApprox(Eigen::Vector3d(2.2, 0, 1.0)));
   EXPECT_TRUE(points[1].isApprox(Eigen::Vector3d(0.2, 3, 0.0)));
+}
+
+TEST(ScanPreprocessing, ThePointsTimesAreKeptWithThePointsKept) {
+  ScanEvent scan;
+  scan.points = {{2, 0, 0}, {0.1f, 0, 0}, {0, 3, 0}};
+  scan.point_times = {-0.09f, -0.05f, -0.01f};
+  std::vector<float> times;
+  EXPECT_EQ(points_in_base(scan, 0.3, &times).size(), 2u);
+  EXPECT_EQ(times, (std::vector<float>{-0.09f, -0.01f}));
+  const PreprocessedScan preprocessed = preprocess(scan);
+  EXPECT_EQ(preprocessed.times, times);
+  EXPECT_TRUE(preprocessed.event.point_times.empty());  // released with the raw points
+  scan.point_times.pop_back();                          // not one per point: unknown
+  EXPECT_EQ(points_in_base(scan, 0.3, &times).size(), 2u);
+  EXPECT_TRUE(times.empty());
 }
 
 TEST(ScanPreprocessing, SensorsWithoutMaxRangeReadingsKeepFarPoints) {
