@@ -19,6 +19,7 @@
 
 #include "core/localization/graph_localizer.hpp"
 #include "core/localization/pose_extrapolator.hpp"
+#include "core/points/deskew.hpp"
 #include "core/points/voxel_downsample.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
@@ -116,6 +117,9 @@ int main(int argc, char** argv) {
   // STRATA_BENCH_ODOMETRY=0: the localizer gets no odometry (a lidar alone: the constant velocity model).
   const bool with_odometry = std::getenv("STRATA_BENCH_ODOMETRY") == nullptr ||
                              std::string(std::getenv("STRATA_BENCH_ODOMETRY")) != "0";
+  // STRATA_BENCH_DESKEW=0: a lidar's revolutions are registered as measured, smeared by the motion.
+  const bool deskewing =
+      std::getenv("STRATA_BENCH_DESKEW") == nullptr || std::string(std::getenv("STRATA_BENCH_DESKEW")) != "0";
   // STRATA_BENCH_GRAVITY=0: the gyro still turns the odometry, but the localizer gets no gravity.
   const bool gravity = std::getenv("STRATA_BENCH_GRAVITY") == nullptr ||
                        std::string(std::getenv("STRATA_BENCH_GRAVITY")) != "0";
@@ -128,7 +132,7 @@ int main(int argc, char** argv) {
     graph_options.pose_graph = std::string(graph) != "0";
   LocalizerOptions& options = graph_options.scan_matching;
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
-  // STRATA_BENCH_LOCAL_METRES=<metres>, STRATA_BENCH_LOCAL_VOXEL=<metres>,
+  // STRATA_BENCH_LOCAL_METRES=<metres>, STRATA_BENCH_LOCAL_VOXEL=<metres>, STRATA_BENCH_SOURCE_POINTS=<n>,
   // STRATA_BENCH_ROTATION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>, STRATA_BENCH_TILT_DRIFT=<rad per scan>,
   // STRATA_BENCH_BIAS_RATE=<per scan>.
   if (const char* metric = std::getenv("STRATA_BENCH_METRIC")) {
@@ -141,6 +145,8 @@ int main(int argc, char** argv) {
     options.local_map_metres = std::atof(metres);
   if (const char* voxel = std::getenv("STRATA_BENCH_LOCAL_VOXEL"))
     options.local_map_voxel = std::atof(voxel);
+  if (const char* budget = std::getenv("STRATA_BENCH_SOURCE_POINTS"))  // 0: no budget
+    options.registration.max_source_points = static_cast<std::size_t>(std::atol(budget));
   if (const char* drift = std::getenv("STRATA_BENCH_TILT_DRIFT"))
     options.gravity.drift_per_scan = std::atof(drift);
   if (const char* rate = std::getenv("STRATA_BENCH_BIAS_RATE"))
@@ -163,7 +169,8 @@ int main(int argc, char** argv) {
 
   double travelled = 0.0, max_odometry_error = 0.0, max_corrected_error = 0.0, registration_seconds = 0.0;
   std::vector<double> times;
-  std::vector<double> scan_times;  // the whole add_scan: local map, index, registration
+  std::vector<double> source_points;  // per registration, after thinning
+  std::vector<double> scan_times;     // the whole add_scan: local map, index, registration
   std::size_t scans = 0, full = 0, partial = 0, none = 0;
   Eigen::Vector3d last = simulator.sample().truth->position;
   std::vector<Visit> mapped;                     // every scan the live map took, at the pose it took it with
@@ -178,11 +185,16 @@ int main(int argc, char** argv) {
                         extrapolate ? s.gravity : std::nullopt);
     for (const ScanEvent& scan : simulator.take_scans()) {
       const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
-      const PointCloud points = pipeline::points_in_base(scan);
+      std::vector<float> point_times;
+      PointCloud points = pipeline::points_in_base(scan, 0.3, &point_times);
       const auto start = std::chrono::steady_clock::now();
-      const LocalizationUpdate update = localizer.add_scan(
-          points, with_odometry ? std::optional<Pose2>(odometry) : std::nullopt, scan.stamp,
-          scan.sensor_to_base.translation(), gravity ? scan.gravity : std::nullopt);
+      const std::optional<Pose2> measured = with_odometry ? std::optional<Pose2>(odometry) : std::nullopt;
+      if (const std::optional<Pose2> velocity = localizer.velocity(measured, scan.stamp);
+          velocity && deskewing)
+        deskew(points, point_times, *velocity);
+      const LocalizationUpdate update =
+          localizer.add_scan(points, measured, scan.stamp, scan.sensor_to_base.translation(),
+                             gravity ? scan.gravity : std::nullopt);
       streamed.set_correction(update.map_from_odom, scan.stamp);
       truth_at[scan.stamp] = scan.truth->to_isometry();
       if (!update.registration || update.correction != Correction::kNone)
@@ -196,6 +208,7 @@ int main(int argc, char** argv) {
       ++scans;
       if (update.registration) {
         times.push_back(update.registration->seconds);
+        source_points.push_back(static_cast<double>(update.registration->source_points));
         registration_seconds += update.registration->seconds;
       }
       update.correction == Correction::kFull      ? ++full
@@ -262,6 +275,7 @@ int main(int argc, char** argv) {
                           : sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
   };
   const auto pct = [&](double q) { return pct_of(times, q); };
+  std::sort(source_points.begin(), source_points.end());
   std::printf(
       "{\"bench\":\"localization\",\"world\":\"%s\",\"scanner\":\"%s\",\"sim_seconds\":%.0f,\"travelled_m\":%"
       ".1f,"
@@ -270,7 +284,7 @@ int main(int argc, char** argv) {
       "\"final_error_pct_of_distance\":{\"corrected\":%.2f,\"odometry_xy\":%.2f},"
       "\"max_error_m\":{\"corrected\":%.3f,\"odometry_xy\":%.3f},\"max_height_error_m\":%.3f,"
       "\"registration_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f,\"mean\":%.1f},"
-      "\"add_scan_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f},"
+      "\"add_scan_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f},\"source_points_median\":%.0f,"
       "\"pose_graph\":{\"on\":%s,\"keyframes\":%zu,\"loops\":%zu,\"loops_dropped\":%zu,\"optimizations\":%zu,"
       "\"background_s\":%.2f,\"keyframe_points\":%zu,\"keyframe_mb_per_km\":%.1f,"
       "\"keyframe_map_points\":%zu,\"keyframe_map_mb_per_km\":%.1f,\"rebuild_s\":%.2f,\"rebuilt_patches\":%"
@@ -282,10 +296,10 @@ int main(int argc, char** argv) {
       max_corrected_error, max_odometry_error, max_height_error, 1000 * pct(0.5), 1000 * pct(0.95),
       1000 * pct(1.0), times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
-      graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops, graph.loops_dropped,
-      graph.optimizations, loop_seconds, keyframe_points, keyframe_mb_per_km, keyframe_map_points,
-      map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(), live_spread.pairs, live_spread.median,
-      live_spread.p95, live_spread.max, rebuilt_spread.pairs, rebuilt_spread.median, rebuilt_spread.p95,
-      rebuilt_spread.max);
+      pct_of(source_points, 0.5), graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops,
+      graph.loops_dropped, graph.optimizations, loop_seconds, keyframe_points, keyframe_mb_per_km,
+      keyframe_map_points, map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(), live_spread.pairs,
+      live_spread.median, live_spread.p95, live_spread.max, rebuilt_spread.pairs, rebuilt_spread.median,
+      rebuilt_spread.p95, rebuilt_spread.max);
   return 0;
 }

@@ -5,10 +5,12 @@
 // scan of registration and of mapping (median, max), and for the 3DTK scans the last pose's distance from
 // slam6D's reference. --maps DIR saves each map (strata map export, or load it in `strata serve`).
 // A benchmark: prints numbers, never fails on them. Skips what is not in the data directory.
-// Usage: strata_real_capture_bench [--data DIR] [--maps DIR]
+// Usage: strata_real_capture_bench [--data DIR] [--maps DIR] [--repeat N]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
+#include <ctime>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -17,6 +19,7 @@
 #include "core/localization/graph_localizer.hpp"
 #include "core/mls/mls_file.hpp"
 #include "core/mls/mls_map.hpp"
+#include "core/points/deskew.hpp"
 #include "drivers/lidar/pcap_scan_source.hpp"
 #include "drivers/replay/dataset.hpp"
 #include "drivers/sensor_mount.hpp"
@@ -46,6 +49,14 @@ double max_of(const std::vector<double>& values) {
 
 double ms_since(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// This thread's CPU time, ms: what one core spends, whatever else the machine runs meanwhile (wall time on
+/// a shared 2-core machine varies 20-50 % from run to run).
+double thread_cpu_ms() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return 1e3 * static_cast<double>(now.tv_sec) + 1e-6 * static_cast<double>(now.tv_nsec);
 }
 
 std::optional<Capture> read_pcap(const fs::path& dir, const std::string& file, lidar::LidarModel model,
@@ -81,18 +92,40 @@ std::optional<Capture> read_3dtk(const fs::path& dir) {
 void run(Capture capture, bool estimate_mount, const std::optional<fs::path>& maps, bool first) {
   SensorMount mount(estimate_mount ? std::nullopt : std::optional(Eigen::Isometry3d::Identity()),
                     capture.name);
-  GraphLocalizer localizer(GraphLocalizerOptions{}, Eigen::Isometry3d::Identity());
+  GraphLocalizerOptions options;
+  // STRATA_BENCH_SOURCE_POINTS=<n>: the registration's source point budget (0: none).
+  if (const char* budget = std::getenv("STRATA_BENCH_SOURCE_POINTS"))
+    options.scan_matching.registration.max_source_points = static_cast<std::size_t>(std::atol(budget));
+  GraphLocalizer localizer(options, Eigen::Isometry3d::Identity());
+  // STRATA_BENCH_DESKEW=0: revolutions registered as measured, smeared by the motion.
+  const bool deskewing =
+      std::getenv("STRATA_BENCH_DESKEW") == nullptr || std::string(std::getenv("STRATA_BENCH_DESKEW")) != "0";
   MlsMap map;
   std::size_t full = 0, partial = 0, rejected = 0;
-  std::vector<double> register_ms, map_ms;
+  std::vector<double> register_ms, map_ms, rmse_cm, register_cpu_ms, map_cpu_ms;
   Eigen::Isometry3d last_pose = Eigen::Isometry3d::Identity();
   for (ScanEvent& scan : capture.scans) {
     mount.apply(scan);
-    const PointCloud points = pipeline::points_in_base(scan);
+    std::vector<float> times;
+    PointCloud points = pipeline::points_in_base(scan, 0.3, &times);
     auto start = std::chrono::steady_clock::now();
+    double cpu_start = thread_cpu_ms();
+    if (const std::optional<Pose2> velocity = localizer.velocity(std::nullopt, scan.stamp);
+        velocity && deskewing)
+      deskew(points, times, *velocity);
     const LocalizationUpdate update =
         localizer.add_scan(points, std::nullopt, scan.stamp, scan.sensor_to_base.translation());
     register_ms.push_back(ms_since(start));
+    register_cpu_ms.push_back(thread_cpu_ms() - cpu_start);
+    if (update.registration) {
+      rmse_cm.push_back(100.0 * update.registration->rmse);
+      if (std::getenv("STRATA_BENCH_TRACE") != nullptr)
+        std::fprintf(stderr, "%s t=%.2f %s rmse %.3f it %d pairs %zu/%zu x %.2f y %.2f\n",
+                     capture.name.c_str(), scan.stamp, std::string(to_string(update.correction)).c_str(),
+                     update.registration->rmse, update.registration->iterations, update.registration->pairs,
+                     update.registration->source_points, update.pose.translation().x(),
+                     update.pose.translation().y());
+    }
     localizer.close_loops();  // the server's own thread; not timed
     full += update.correction == Correction::kFull ? 1 : 0;
     partial += update.correction == Correction::kPartial ? 1 : 0;
@@ -102,20 +135,24 @@ void run(Capture capture, bool estimate_mount, const std::optional<fs::path>& ma
     if (!registered)
       continue;
     start = std::chrono::steady_clock::now();
+    cpu_start = thread_cpu_ms();
     map.insert_scan(transformed(points, update.pose), update.pose * scan.sensor_to_base.translation(),
                     update.pose.translation());
     map_ms.push_back(ms_since(start));
+    map_cpu_ms.push_back(thread_cpu_ms() - cpu_start);
   }
   const Eigen::Vector3d mount_position = mount.mount().value_or(Eigen::Isometry3d::Identity()).translation();
   std::printf(
       "%s  {\"capture\": \"%s\", \"scans\": %zu, \"first_scan_points\": %zu, \"registered_full\": %zu, "
       "\"registered_partly\": %zu, \"rejected\": %zu, \"mount_estimated\": %s, \"mount_height_m\": %.3f, "
       "\"register_ms\": {\"median\": %.1f, \"max\": %.1f}, \"map_ms\": {\"median\": %.1f, \"max\": %.1f}, "
-      "\"per_scan_ms_median\": %.1f, \"map_cells_occupied\": %zu",
+      "\"per_scan_ms_median\": %.1f, \"per_scan_cpu_ms_median\": %.1f, \"rmse_cm_median\": %.2f, "
+      "\"map_cells_occupied\": %zu",
       first ? "" : ",\n", capture.name.c_str(), capture.scans.size(),
       capture.scans.empty() ? 0 : capture.scans.front().points.size(), full, partial, rejected,
       mount.estimated() ? "true" : "false", mount_position.z(), median(register_ms), max_of(register_ms),
-      median(map_ms), max_of(map_ms), median(register_ms) + median(map_ms), map.occupied_cell_count());
+      median(map_ms), max_of(map_ms), median(register_ms) + median(map_ms),
+      median(register_cpu_ms) + median(map_cpu_ms), median(rmse_cm), map.occupied_cell_count());
   if (capture.last_reference) {
     const Eigen::Isometry3d error = capture.last_reference->inverse() * last_pose;
     std::printf(", \"last_scan_from_reference_m\": %.3f, \"last_scan_from_reference_deg\": %.2f",
@@ -133,14 +170,17 @@ void run(Capture capture, bool estimate_mount, const std::optional<fs::path>& ma
 int main(int argc, char** argv) {
   fs::path data = STRATA_DATA_DIR;
   std::optional<fs::path> maps;
+  int repeat = 1;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string key = argv[i];
     if (key == "--data")
       data = argv[i + 1];
     else if (key == "--maps")
       maps = argv[i + 1];
+    else if (key == "--repeat")
+      repeat = std::max(1, std::atoi(argv[i + 1]));
     else {
-      std::fprintf(stderr, "usage: strata_real_capture_bench [--data DIR] [--maps DIR]\n");
+      std::fprintf(stderr, "usage: strata_real_capture_bench [--data DIR] [--maps DIR] [--repeat N]\n");
       return 2;
     }
   }
@@ -162,8 +202,10 @@ int main(int argc, char** argv) {
       continue;
     // 3DTK's scans are in the robot's frame already (slam6D's poses are of it): no mount to estimate.
     const bool estimate_mount = capture->name != "3dtk_dat";
-    run(std::move(*capture), estimate_mount, maps, first);
-    first = false;
+    for (int r = 0; r < repeat; ++r) {  // each afresh: the times of one capture vary from run to run
+      run(*capture, estimate_mount, maps, first);
+      first = false;
+    }
   }
   std::printf("\n]\n");
   if (first)
