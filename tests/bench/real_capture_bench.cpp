@@ -6,6 +6,9 @@
 // slam6D's reference. --maps DIR saves each map (strata map export, or load it in `strata serve`).
 // A benchmark: prints numbers, never fails on them. Skips what is not in the data directory.
 // Usage: strata_real_capture_bench [--data DIR] [--maps DIR] [--repeat N]
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -168,6 +171,8 @@ void run(Capture capture, bool estimate_mount, const std::optional<fs::path>& ma
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The log (mounts found, decoder counters) to stderr: stdout is the JSON.
+  spdlog::set_default_logger(spdlog::stderr_color_mt("bench"));
   fs::path data = STRATA_DATA_DIR;
   std::optional<fs::path> maps;
   int repeat = 1;

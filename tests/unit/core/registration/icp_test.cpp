@@ -147,6 +147,24 @@ TEST(RegisterScan, TheDegeneracyCheckUsesAtMostTheSampleOfPairs) {
   EXPECT_NEAR(sampled.constraint.weakest, all.constraint.weakest, 0.05);
 }
 
+TEST(RegisterScan, ASourceOverThePointBudgetIsSampledDownAndStillRecovered) {
+  const Scene scene = moved_room(make_transform(0.2, -0.1, 0.05, 0.01, 0.0, 0.06), 0.1);
+  RegistrationOptions options;
+  const RegistrationResult all =
+      register_scan(scene.source, scene.target, Eigen::Isometry3d::Identity(), options);
+  ASSERT_GT(all.source_points, 400U);
+  options.max_source_points = 400;
+  const RegistrationResult budgeted =
+      register_scan(scene.source, scene.target, Eigen::Isometry3d::Identity(), options);
+  EXPECT_EQ(budgeted.source_points, 400U);
+  EXPECT_TRUE(budgeted.accepted()) << budgeted.assessment.message;
+  EXPECT_LT(translation_error(budgeted.transform, scene.truth), 0.03);
+  EXPECT_LT(rotation_error(budgeted.transform, scene.truth), 0.005);
+  // Spread over the scan, the sample pairs as large a share of its points as the whole source does.
+  const double share = static_cast<double>(budgeted.pairs) / static_cast<double>(budgeted.source_points);
+  EXPECT_NEAR(share, static_cast<double>(all.pairs) / static_cast<double>(all.source_points), 0.1);
+}
+
 TEST(RegisterScan, RecoversALargerOffsetCoarseToFine) {
   // 0.6 m and 8 degrees off: farther than the final 0.25 m bound reaches on its own.
   const Scene scene = moved_room(make_transform(0.5, 0.3, 0.1, 0.02, 0.03, 0.14));
