@@ -14,6 +14,14 @@ Pose2 ConstantVelocityPrediction::predict(double stamp) const {
   return last_->odometry.compose({velocity_->x * dt, velocity_->y * dt, velocity_->theta * dt});
 }
 
+std::optional<Eigen::Isometry3d> ConstantVelocityPrediction::predict_pose(double stamp) const {
+  if (!last_ || !velocity_)
+    return std::nullopt;
+  const double dt = std::max(0.0, stamp - last_->stamp);
+  return last_->pose *
+         Pose3::from_pose2({velocity_->x * dt, velocity_->y * dt, velocity_->theta * dt}).to_isometry();
+}
+
 GuessUncertainty ConstantVelocityPrediction::uncertainty(double stamp) const {
   const double dt = last_ ? std::max(0.0, stamp - last_->stamp) : 0.0;
   const GuessUncertainty anything{options_.max_speed * dt, options_.max_turn_rate * dt};

@@ -38,6 +38,9 @@ class ConstantVelocityPrediction {
 
   /// The odometry pose for a scan at `stamp`: the last one moved on by the velocity.
   [[nodiscard]] Pose2 predict(double stamp) const;
+  /// Where the base is at `stamp` in the frame of the poses update() was given: the last one moved on by
+  /// the velocity. None before a velocity is known.
+  [[nodiscard]] std::optional<Eigen::Isometry3d> predict_pose(double stamp) const;
   /// How far off the prediction for a scan at `stamp` may be (GuessUncertainty).
   [[nodiscard]] GuessUncertainty uncertainty(double stamp) const;
   /// Whether a velocity is known (two scans registered one after the other, the map not moved between).

@@ -12,6 +12,7 @@ GraphLocalizer::GraphLocalizer(GraphLocalizerOptions options, const Eigen::Isome
     : options_(std::move(options)),
       scan_matching_(options_.scan_matching, initial_map_from_odom),
       motion_(options_.motion),
+      scan_motion_(options_.motion),
       trail_(options_.keyframe_map_voxel) {}
 
 LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std::optional<Pose2>& odometry,
@@ -35,7 +36,13 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
   LocalizationUpdate update;
   if (odometry) {
     last_odometry_ = OdometryAt{stamp, *odometry};
-    update = scan_matching_.add_scan(points, *odometry, gravity);
+    // Not across a correction of the map frame: the last pose would be in the old one.
+    const std::optional<Eigen::Isometry3d> second_guess =
+        map_moved ? std::nullopt : scan_motion_.predict_pose(stamp);
+    update = scan_matching_.add_scan(points, *odometry, gravity, GuessSource::kOdometry, std::nullopt,
+                                     second_guess);
+    scan_motion_.update(stamp, *odometry, update.pose,
+                        update.registration && update.correction != Correction::kNone, map_moved);
   } else {
     const Pose2 predicted = motion_.predict(stamp);
     update = scan_matching_.add_scan(points, predicted, gravity, GuessSource::kPrediction,

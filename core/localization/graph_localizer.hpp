@@ -96,7 +96,10 @@ class GraphLocalizer {
   GraphLocalizerOptions options_;
   ScanToMapLocalizer scan_matching_;   // scan path only
   ConstantVelocityPrediction motion_;  // scan path only: the odometry of scans that come without
-  KeyframeTrail trail_;                // scan path only: the scans the next keyframe keeps for the map
+  /// Scan path only: for scans with odometry, the motion of the registered scans, the second guess for a
+  /// scan rejected for a jump from its odometry (ScanToMapLocalizer::add_scan).
+  ConstantVelocityPrediction scan_motion_;
+  KeyframeTrail trail_;  // scan path only: the scans the next keyframe keeps for the map
 
   /// Everything below. The scan path writes keyframes_ and last_keyframe_frontend_ under it and may read
   /// them without it (it is their only writer); other threads read them under it.

@@ -5,6 +5,14 @@
 #include <utility>
 
 namespace strata {
+namespace {
+
+/// How close a retry from the second guess must land to the first registration to confirm it: two ICP
+/// runs into one minimum agree to millimetres.
+constexpr double kRetryAgreement = 0.05;                                       // metres
+constexpr double kRetryAgreementAngle = 1.0 * 3.14159265358979323846 / 180.0;  // radians
+
+}  // namespace
 
 std::string_view to_string(Correction correction) {
   switch (correction) {
@@ -48,7 +56,8 @@ void ScanToMapLocalizer::localize_in(std::shared_ptr<const LocalizationMap> map)
 LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const Pose2& odometry,
                                                 const std::optional<GravityReading>& gravity,
                                                 GuessSource source,
-                                                const std::optional<GuessUncertainty>& uncertainty) {
+                                                const std::optional<GuessUncertainty>& uncertainty,
+                                                const std::optional<Eigen::Isometry3d>& second_guess) {
   // Guess: the last correction carried forward by the odometry since (docs/architecture.md 3, step 2).
   // Its tilt is the last scan's; gravity, where there is a reading, knows the tilt now (a ramp begun).
   // A reading GravityLeveling cannot use (not a unit vector, no sigma) is as good as none.
@@ -66,14 +75,26 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
       limits.max_translation_jump += uncertainty->translation;
       limits.max_rotation_jump += uncertainty->rotation;
     }
-    RegistrationResult result;
-    if (saved_registration_ != nullptr) {
-      result = saved_registration_->register_scan(points, guess, limits);
-    } else {
+    const bool mapping = saved_registration_ == nullptr;
+    ScanRegistration& registration = mapping ? registration_ : *saved_registration_;
+    if (mapping)
       registration_.set_thinned_target(local_map_.points(), local_map_.take_normals());
-      result = registration_.register_scan(points, guess, limits);
-      local_map_.keep_normals(registration_.take_normals());
+    RegistrationResult result = registration.register_scan(points, guess, limits);
+    if (result.assessment.reason == RejectReason::kJumpFromGuess && second_guess) {
+      // Far from the odometry: either ICP slid, or the odometry is off (wheels slipping, a bump). From a
+      // second, independent guess a slide lands elsewhere; a true pose is found again, near that guess.
+      RegistrationResult retry = registration.register_scan(points, *second_guess, limits);
+      const Eigen::Isometry3d between = result.refined.inverse() * retry.refined;
+      if (retry.accepted() && between.translation().norm() < kRetryAgreement &&
+          Eigen::AngleAxisd(between.linear()).angle() < kRetryAgreementAngle) {
+        retry.seconds += result.seconds;
+        result = std::move(retry);
+        guess = *second_guess;  // what the weakly constrained directions come from, if any
+        update.retried = true;
+      }
     }
+    if (mapping)
+      local_map_.keep_normals(registration_.take_normals());
     const bool weak = result.constraint.weakest < options_.weak_direction_guard ||
                       result.constraint.rotation_eigenvalues[0] < options_.weak_rotation_guard;
     const bool only_degenerate = result.assessment.reason == RejectReason::kDegenerateGeometry;

@@ -99,6 +99,9 @@ struct LocalizationUpdate {
   /// The scan's gravity reading without the IMU's learnt mounting error (none without a reading
   /// GravityLeveling::usable takes): what the pose graph's attitude prior takes.
   std::optional<GravityReading> gravity;
+  /// Rejected for a jump from the odometry guess, and registered again from the second guess (the scans'
+  /// own motion), which found the same pose: the odometry was off (wheels slipping), not the match.
+  bool retried = false;
 };
 
 /// Localization by scan matching (thesis chapter 4, with a local map as the model set): each scan is
@@ -116,11 +119,15 @@ class ScanToMapLocalizer {
   /// when the base has an IMU: it sets the guess's tilt and levels the result (GravityLeveling);
   /// `source` whether `odometry` was measured or predicted from the scans alone (a lidar without a base),
   /// which knows nothing the scan does not; `uncertainty` how much farther than usual the guess may be
-  /// off (a lidar alone before its speed is known): the jump limits widen by it.
+  /// off (a lidar alone before its speed is known): the jump limits widen by it. `second_guess` (map frame):
+  /// where the scans' own motion puts the robot; a scan rejected for a jump from the odometry guess is
+  /// registered again from there, and taken if that lands where the first registration did and within
+  /// the limits of the second guess.
   LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry,
                               const std::optional<GravityReading>& gravity = std::nullopt,
                               GuessSource source = GuessSource::kOdometry,
-                              const std::optional<GuessUncertainty>& uncertainty = std::nullopt);
+                              const std::optional<GuessUncertainty>& uncertainty = std::nullopt,
+                              const std::optional<Eigen::Isometry3d>& second_guess = std::nullopt);
 
   /// The current estimate for an odometry pose: the latest correction applied to it.
   [[nodiscard]] Eigen::Isometry3d pose(const Pose2& odometry) const {

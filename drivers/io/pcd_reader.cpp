@@ -148,9 +148,19 @@ std::array<const PcdField*, 3> xyz_fields(const PcdHeader& header, const std::fi
   return xyz;
 }
 
+/// The "time" field (when each point was measured), if the file has one with a single value per point.
+const PcdField* time_field(const PcdHeader& header) {
+  for (const PcdField& field : header.fields) {
+    if (field.name == "time" && field.count == 1)
+      return &field;
+  }
+  return nullptr;
+}
+
 void read_ascii(std::istream& in, const PcdHeader& header, const std::filesystem::path& path,
                 LoadedCloud& cloud) {
   const std::array<const PcdField*, 3> xyz = xyz_fields(header, path);
+  const PcdField* time = time_field(header);
   std::string line;
   std::size_t read = 0;
   while (read < header.points && std::getline(in, line)) {
@@ -170,7 +180,14 @@ void read_ascii(std::istream& in, const PcdHeader& header, const std::filesystem
                                        "' is not a number");
       p[axis] = *value;
     }
-    add_finite(cloud, p);
+    std::optional<double> when;
+    if (time != nullptr) {
+      when = parse_number(values[time->column]);
+      if (!when)
+        throw PointFileError(path, "point " + std::to_string(read) + ": time '" +
+                                       std::string(values[time->column]) + "' is not a number");
+    }
+    add_finite(cloud, p, when);
     ++read;
   }
   if (read < header.points)
@@ -185,6 +202,7 @@ std::vector<unsigned char> read_rest(std::istream& in) {
 void read_binary(std::istream& in, const PcdHeader& header, const std::filesystem::path& path,
                  LoadedCloud& cloud) {
   const std::array<const PcdField*, 3> xyz = xyz_fields(header, path);
+  const PcdField* time = time_field(header);
   const std::vector<unsigned char> data = read_rest(in);
   if (header.record_size != 0 && header.points > data.size() / header.record_size)
     throw PointFileError(path, "truncated: " + std::to_string(data.size()) + " data bytes, " +
@@ -201,13 +219,16 @@ void read_binary(std::istream& in, const PcdHeader& header, const std::filesyste
       const PcdField& field = *xyz[static_cast<std::size_t>(axis)];
       p[axis] = read_scalar(record + field.offset, field.type, false);
     }
-    add_finite(cloud, p);
+    add_finite(cloud, p,
+               time != nullptr ? std::optional(read_scalar(record + time->offset, time->type, false))
+                               : std::nullopt);
   }
 }
 
 void read_binary_compressed(std::istream& in, const PcdHeader& header, const std::filesystem::path& path,
                             LoadedCloud& cloud) {
   const std::array<const PcdField*, 3> xyz = xyz_fields(header, path);
+  const PcdField* time = time_field(header);
   const std::vector<unsigned char> data = read_rest(in);
   if (data.size() < 8)
     throw PointFileError(path, "truncated: binary_compressed data has no size words");
@@ -241,7 +262,11 @@ void read_binary_compressed(std::istream& in, const PcdHeader& header, const std
       p[axis] =
           read_scalar(unpacked.data() + field.offset * header.points + i * field_bytes, field.type, false);
     }
-    add_finite(cloud, p);
+    add_finite(cloud, p,
+               time != nullptr ? std::optional(read_scalar(
+                                     unpacked.data() + time->offset * header.points + i * time->type.size,
+                                     time->type, false))
+                               : std::nullopt);
   }
 }
 

@@ -8,7 +8,8 @@
 namespace strata::io {
 
 /// Reads the x, y, z fields of a PCL .pcd file (v0.5-0.7): DATA ascii, binary or binary_compressed (LZF,
-/// fields stored one after another). Other fields are skipped. Throws PointFileError.
+/// fields stored one after another), and a "time" field where there is one (LoadedCloud::times). Other
+/// fields are skipped. Throws PointFileError.
 [[nodiscard]] LoadedCloud read_pcd(const std::filesystem::path& path);
 /// The same from a stream (opened binary); `source` names it in error messages.
 [[nodiscard]] LoadedCloud read_pcd(std::istream& in, const std::filesystem::path& source);

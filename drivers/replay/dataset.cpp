@@ -228,6 +228,8 @@ Dataset read_recording(const fs::path& directory, bool with_metadata) {
       dataset.initial_map_from_odom = from_row_major(values.get<std::vector<double>>());
     }
     source = "a Strata recording of " + metadata.value("source", std::string("?"));
+    for (DatasetScan& scan : dataset.scans)
+      scan.times_from_stamp = true;  // what the recorder writes (encode_binary_pcd)
   }
   dataset.description = fmt::format("{} ({} scans, {} odometry samples)", source, dataset.scans.size(),
                                     dataset.odometry.size());
@@ -387,7 +389,7 @@ Dataset open_dataset(const fs::path& directory) {
                      "scanNNN.3d with scanNNN.pose (3DTK), or velodyne/NNNNNN.bin with poses.txt (KITTI))");
 }
 
-std::vector<Eigen::Vector3f> load_points(const DatasetScan& scan) {
+std::vector<Eigen::Vector3f> load_points(const DatasetScan& scan, std::vector<float>* times) {
   io::LoadedCloud cloud;
   try {
     cloud = scan.file.extension() == ".bin" ? io::read_kitti_velodyne(scan.file)
@@ -399,6 +401,11 @@ std::vector<Eigen::Vector3f> load_points(const DatasetScan& scan) {
   points.reserve(cloud.points.size());
   for (const Eigen::Vector3d& point : cloud.points)
     points.push_back(point.cast<float>());
+  if (times != nullptr) {
+    times->clear();
+    if (scan.times_from_stamp && cloud.times.size() == points.size())
+      *times = std::move(cloud.times);
+  }
   return points;
 }
 

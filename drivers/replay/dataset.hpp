@@ -48,6 +48,9 @@ struct DatasetScan {
   std::size_t rays = 0;                   ///< 0: as many as points
   double max_range = 0.0;                 ///< readings at this range mean "no return"; 0: none
   std::optional<GravityReading> gravity;  ///< the base IMU's reading with the scan, where there is one
+  /// The point file's "time" field is seconds from `stamp` (Strata's recordings); other files' times have
+  /// references of their own and are not used.
+  bool times_from_stamp = false;
 };
 
 /// An odometry sample between scans (a recording has the full stream; other layouts have none).
@@ -72,7 +75,10 @@ struct Dataset {
 /// Throws DatasetError naming what is missing or wrong.
 [[nodiscard]] Dataset open_dataset(const std::filesystem::path& directory);
 
-/// The points of one scan, in its sensor frame, as float (what a ScanEvent carries). Throws DatasetError.
-[[nodiscard]] std::vector<Eigen::Vector3f> load_points(const DatasetScan& scan);
+/// The points of one scan, in its sensor frame, as float (what a ScanEvent carries). `times`, when given,
+/// gets when each was measured, seconds from the stamp, where the dataset says so (a recording of a lidar;
+/// empty otherwise). Throws DatasetError.
+[[nodiscard]] std::vector<Eigen::Vector3f> load_points(const DatasetScan& scan,
+                                                       std::vector<float>* times = nullptr);
 
 }  // namespace strata::replay

@@ -156,7 +156,8 @@ void Recorder::write(const Item& item) {
     // Numbered by attempt, so a failed write never makes a later scan reuse (or fight over) its name.
     const std::string file = scan_file_name(next_scan_file_++);
     // The scan file first, then its row: every listed scan exists.
-    write_file_atomically(directory_ / file, io::encode_binary_pcd(scan.points), Durability::kOrdered);
+    write_file_atomically(directory_ / file, io::encode_binary_pcd(scan.points, scan.point_times),
+                          Durability::kOrdered);
     scans_csv_ << scans_csv_row(scan, file);
     scans_csv_.flush();
     if (!scans_csv_)

@@ -131,7 +131,7 @@ void ReplayDriver::run(Outputs outputs) {
       const DatasetScan& source = dataset_.scans[*event.scan];
       try {
         scan.emplace();
-        scan->points = load_points(source);
+        scan->points = load_points(source, &scan->point_times);
       } catch (const std::exception& error) {
         spdlog::error("replay: skipping scan {}: {}", *event.scan, error.what());
         ++failed_;

@@ -268,6 +268,12 @@ void LocalizerWorker::process(ScanEvent event) {
                                             r.pairs,
                                             r.iterations,
                                             r.seconds};
+    if (update.retried) {
+      spdlog::info(
+          "registration at t={:.1f}: too far from the odometry, found again from the scans' own motion (the "
+          "odometry is off: wheels slipping?)",
+          scan.stamp);
+    }
     if (update.correction == Correction::kNone) {
       ++status_.kept_odometry;
       spdlog::info("registration rejected at t={:.1f}: {}", scan.stamp, r.assessment.message);

@@ -19,6 +19,7 @@ TEST(ConstantVelocityPrediction, BeforeAVelocityItPredictsNoMotionAndAllowsForTh
   EXPECT_EQ(predicted.x, 0.0);
   EXPECT_EQ(predicted.theta, 0.0);
   EXPECT_FALSE(motion.knows_velocity());
+  EXPECT_FALSE(motion.predict_pose(5.1));
   const GuessUncertainty uncertainty = motion.uncertainty(5.1);
   EXPECT_NEAR(uncertainty.translation, 2.0, 1e-9);
   EXPECT_NEAR(uncertainty.rotation, 0.2, 1e-9);
@@ -36,6 +37,9 @@ TEST(ConstantVelocityPrediction, TheMotionBetweenTwoScansIsCarriedOnPerSecond) {
   EXPECT_NEAR(predicted.x, 2.4, 1e-9);
   EXPECT_NEAR(predicted.y, 0.0, 1e-9);
   EXPECT_NEAR(predicted.theta, 0.1, 1e-9);
+  // The same in the frame of the poses: the second guess for a scan whose odometry is in doubt.
+  ASSERT_TRUE(motion.predict_pose(10.3));
+  EXPECT_TRUE(motion.predict_pose(10.3)->isApprox(second * planar(2.4, 0.0, 0.1), 1e-9));
   // The next scan predicted there and found there: the prediction goes on from it.
   motion.update(10.3, predicted, second * planar(2.4, 0.0, 0.1), true, false);
   const Pose2 next = motion.predict(10.4);

@@ -11,9 +11,15 @@
 #include "drivers/sim/world/world_file.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 #include "tests/support/sim_saved_map.hpp"
+#include "tests/support/synthetic_scenes.hpp"
 
 namespace strata {
 namespace {
+
+using test::make_transform;
+using test::room_scene;
+using test::rotation_error;
+using test::translation_error;
 
 Pose2 planar(const Pose3& pose) {
   return {pose.position.x(), pose.position.y(), pose.yaw};
@@ -44,6 +50,38 @@ TEST(ScanToMapLocalizer, AGravityReadingItCannotUseIsNotPassedOn) {
     EXPECT_FALSE(update.gravity) << "the pose graph would take it as an attitude prior";
     EXPECT_TRUE(update.pose.linear().allFinite());
   }
+}
+
+// The robot moved 0.9 m but its wheels slipped: the odometry says it stood still. ICP finds the move, too
+// far from the odometry's guess for the jump limit (0.5 m here); from the scans' own motion as a second
+// guess, ICP finds it again, near that guess, and the scan is taken. A second guess that does not explain
+// the move changes nothing.
+TEST(ScanToMapLocalizer, AScanTooFarFromSlippingOdometryIsTakenFromTheSecondGuess) {
+  LocalizerOptions options;
+  options.registration.limits.max_translation_jump = 0.5;
+  const PointCloud room = room_scene(0.1, 0.005, 7);
+  const Eigen::Isometry3d truth = make_transform(0.9, 0.1, 0.0, 0.0, 0.0, 0.03);
+  const PointCloud second_scan = transformed(room, truth.inverse());  // the room seen from there
+  const auto localize = [&](const std::optional<Eigen::Isometry3d>& second_guess) {
+    ScanToMapLocalizer localizer(options, Eigen::Isometry3d::Identity());
+    static_cast<void>(localizer.add_scan(room, {0, 0, 0}));
+    return localizer.add_scan(second_scan, {0, 0, 0}, std::nullopt, GuessSource::kOdometry, std::nullopt,
+                              second_guess);
+  };
+  const LocalizationUpdate alone = localize(std::nullopt);
+  ASSERT_TRUE(alone.registration);
+  EXPECT_EQ(alone.registration->assessment.reason, RejectReason::kJumpFromGuess);
+  EXPECT_EQ(alone.correction, Correction::kNone);
+
+  const LocalizationUpdate retried = localize(make_transform(0.85, 0.05, 0.0, 0.0, 0.0, 0.02));
+  EXPECT_TRUE(retried.retried);
+  EXPECT_EQ(retried.correction, Correction::kFull);
+  EXPECT_LT(translation_error(retried.pose, truth), 0.02);
+  EXPECT_LT(rotation_error(retried.pose, truth), 0.005);
+
+  const LocalizationUpdate elsewhere = localize(make_transform(0.3, -0.4, 0.0, 0.0, 0.0, -0.05));
+  EXPECT_FALSE(elsewhere.retried);
+  EXPECT_EQ(elsewhere.correction, Correction::kNone);
 }
 
 // Drives the yard with stop-and-go scans and localizes them: the corrected pose must end closer to the

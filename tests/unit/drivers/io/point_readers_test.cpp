@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "drivers/io/pcd_reader.hpp"
+#include "drivers/io/pcd_writer.hpp"
 #include "drivers/io/ply_reader.hpp"
 #include "drivers/io/point_cloud_file.hpp"
 #include "drivers/io/point_file_error.hpp"
@@ -125,6 +126,42 @@ TEST_F(PointReaders, PcdBinaryCompressed) {
   EXPECT_NE(
       error_of(read_pcd, write("bad.pcd", kPcdHeader + "DATA binary_compressed\n" + corrupt)).find("corrupt"),
       std::string::npos);
+}
+
+TEST_F(PointReaders, PcdTimesAreReadWithThePointsKept) {
+  const std::string header =
+      "VERSION 0.7\nFIELDS x y z time\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 3\nHEIGHT 1\n"
+      "POINTS 3\n";
+  const LoadedCloud ascii =
+      read_pcd(write("t.pcd", header + "DATA ascii\n1 2 3 -0.09\nnan 0 0 -0.05\n4 5 6 -0.01\n"));
+  ASSERT_EQ(ascii.points.size(), 2U);
+  EXPECT_EQ(ascii.times, (std::vector<float>{-0.09f, -0.01f}));  // the dropped point's time with it
+  EXPECT_NE(error_of(read_pcd, write("tx.pcd", header + "DATA ascii\n1 2 3 soon\n1 2 3 0\n1 2 3 0\n"))
+                .find("time 'soon' is not a number"),
+            std::string::npos);
+  // What a recording writes, read back bit for bit; without times, no time field and none read.
+  const std::vector<Eigen::Vector3f> points{{1, 2, 3}, {4, 5, 6}};
+  const LoadedCloud binary = read_pcd(write("tb.pcd", encode_binary_pcd(points, {-0.1f, -1.0f / 3.0f})));
+  EXPECT_EQ(binary.times, (std::vector<float>{-0.1f, -1.0f / 3.0f}));
+  EXPECT_EQ(binary.points[1], Eigen::Vector3d(4, 5, 6));
+  EXPECT_TRUE(read_pcd(write("tn.pcd", encode_binary_pcd(points))).times.empty());
+  // Compressed: the time field's values after all the coordinates.
+  std::string soa;
+  for (const float v : {1.f, 4.f, 2.f, 5.f, 3.f, 6.f, -0.2f, -0.3f})
+    soa += bytes_of(v);
+  std::vector<char> packed(soa.size() + 64);
+  const unsigned packed_size = lzf_compress(soa.data(), static_cast<unsigned>(soa.size()), packed.data(),
+                                            static_cast<unsigned>(packed.size()));
+  ASSERT_GT(packed_size, 0U);
+  const std::string two =
+      "VERSION 0.7\nFIELDS x y z time\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
+      "WIDTH 2\nHEIGHT 1\nPOINTS 2\nDATA binary_compressed\n";
+  const LoadedCloud compressed =
+      read_pcd(write("tc.pcd", two + bytes_of(std::uint32_t{packed_size}) +
+                                   bytes_of(static_cast<std::uint32_t>(soa.size())) +
+                                   std::string(packed.data(), packed_size)));
+  EXPECT_EQ(compressed.points[1], Eigen::Vector3d(4, 5, 6));
+  EXPECT_EQ(compressed.times, (std::vector<float>{-0.2f, -0.3f}));
 }
 
 TEST_F(PointReaders, PcdErrors) {

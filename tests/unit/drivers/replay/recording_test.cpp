@@ -50,6 +50,7 @@ class Recording : public testing::Test {
     s.duration = 1.0 / 3.0;
     s.sensor = "tilting-laser";
     s.points = {{offset, 2.0f / 3.0f, -1.0f}, {1e-7f, offset * 3.0f, 42.0f}};
+    s.point_times = {-1.0f / 3.0f, -1.0f / 30.0f};  // a lidar's: replayed, they deskew as live
     s.sensor_to_base = Eigen::Translation3d(0.1, 0.0, 0.7) * Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitY());
     s.odometry = sample(stamp).odometry;
     s.truth = sample(stamp).truth;
@@ -99,7 +100,9 @@ TEST_F(Recording, ReadsBackExactly) {
   EXPECT_EQ(got.odometry->roll, expected.odometry.roll);
   EXPECT_EQ(got.odometry->pitch, expected.odometry.pitch);
   EXPECT_EQ(got.reference->position, expected.truth->position);
-  EXPECT_EQ(load_points(got), expected.points);
+  std::vector<float> times;
+  EXPECT_EQ(load_points(got, &times), expected.points);
+  EXPECT_EQ(times, expected.point_times);
   ASSERT_TRUE(got.gravity.has_value());
   EXPECT_EQ(got.gravity->up_in_base, expected.gravity->up_in_base);
   EXPECT_EQ(got.gravity->sigma, expected.gravity->sigma);
