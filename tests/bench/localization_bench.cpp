@@ -171,7 +171,7 @@ int main(int argc, char** argv) {
   std::vector<double> times;
   std::vector<double> source_points;  // per registration, after thinning
   std::vector<double> scan_times;     // the whole add_scan: local map, index, registration
-  std::size_t scans = 0, full = 0, partial = 0, none = 0;
+  std::size_t scans = 0, full = 0, partial = 0, none = 0, retried = 0;
   Eigen::Vector3d last = simulator.sample().truth->position;
   std::vector<Visit> mapped;                     // every scan the live map took, at the pose it took it with
   std::map<double, Eigen::Isometry3d> truth_at;  // by scan stamp
@@ -206,6 +206,7 @@ int main(int argc, char** argv) {
       localizer.close_loops();
       loop_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
       ++scans;
+      retried += update.retried ? 1 : 0;
       if (update.registration) {
         times.push_back(update.registration->seconds);
         source_points.push_back(static_cast<double>(update.registration->source_points));
@@ -279,7 +280,7 @@ int main(int argc, char** argv) {
   std::printf(
       "{\"bench\":\"localization\",\"world\":\"%s\",\"scanner\":\"%s\",\"sim_seconds\":%.0f,\"travelled_m\":%"
       ".1f,"
-      "\"scans\":%zu,\"full\":%zu,\"partial\":%zu,\"none\":%zu,"
+      "\"scans\":%zu,\"full\":%zu,\"partial\":%zu,\"none\":%zu,\"retried\":%zu,"
       "\"final_error_m\":{\"corrected\":%.3f,\"odometry_xy\":%.3f},"
       "\"final_error_pct_of_distance\":{\"corrected\":%.2f,\"odometry_xy\":%.2f},"
       "\"max_error_m\":{\"corrected\":%.3f,\"odometry_xy\":%.3f},\"max_height_error_m\":%.3f,"
@@ -291,10 +292,11 @@ int main(int argc, char** argv) {
       "zu},"
       "\"revisit_spread_m\":{\"live_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f},"
       "\"rebuilt_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}}}\n",
-      world_name.c_str(), scanner.c_str(), duration, travelled, scans, full, partial, none, corrected_error,
-      odometry_error, 100.0 * corrected_error / travelled, 100.0 * odometry_error / travelled,
-      max_corrected_error, max_odometry_error, max_height_error, 1000 * pct(0.5), 1000 * pct(0.95),
-      1000 * pct(1.0), times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
+      world_name.c_str(), scanner.c_str(), duration, travelled, scans, full, partial, none, retried,
+      corrected_error, odometry_error, 100.0 * corrected_error / travelled,
+      100.0 * odometry_error / travelled, max_corrected_error, max_odometry_error, max_height_error,
+      1000 * pct(0.5), 1000 * pct(0.95), 1000 * pct(1.0),
+      times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
       pct_of(source_points, 0.5), graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops,
       graph.loops_dropped, graph.optimizations, loop_seconds, keyframe_points, keyframe_mb_per_km,
