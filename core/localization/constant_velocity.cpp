@@ -24,7 +24,7 @@ std::optional<Eigen::Isometry3d> ConstantVelocityPrediction::predict_pose(double
 
 GuessUncertainty ConstantVelocityPrediction::uncertainty(double stamp) const {
   const double dt = last_ ? std::max(0.0, stamp - last_->stamp) : 0.0;
-  const GuessUncertainty anything{options_.max_speed * dt, options_.max_turn_rate * dt};
+  const GuessUncertainty anything{options_.max_speed * dt, options_.max_turn_rate * dt, false};
   if (!velocity_)
     return anything;
   // A change of motion over dt, but never more than the fastest base could have moved at all.

@@ -26,6 +26,9 @@ struct ConstantVelocityOptions {
 struct GuessUncertainty {
   double translation = 0.0;  ///< metres
   double rotation = 0.0;     ///< radians
+  /// False before a velocity is known: the guess (no motion) then says nothing of where the scan is, and
+  /// no direction ICP leaves weakly constrained is taken from it (a car's first scans on a straight road).
+  bool motion_known = true;
 };
 
 /// Odometry for a base that has none (a lidar alone): the motion between the last two registered scans,

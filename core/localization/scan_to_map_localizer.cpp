@@ -95,8 +95,11 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
     }
     if (mapping)
       local_map_.keep_normals(registration_.take_normals());
-    const bool weak = result.constraint.weakest < options_.weak_direction_guard ||
-                      result.constraint.rotation_eigenvalues[0] < options_.weak_rotation_guard;
+    // Weak directions come from the guess, unless the guess knows nothing (a lidar alone's first scans).
+    const bool guess_informs = !uncertainty || uncertainty->motion_known;
+    const bool weak =
+        guess_informs && (result.constraint.weakest < options_.weak_direction_guard ||
+                          result.constraint.rotation_eigenvalues[0] < options_.weak_rotation_guard);
     const bool only_degenerate = result.assessment.reason == RejectReason::kDegenerateGeometry;
     if (weak && (result.accepted() || only_degenerate)) {
       // Keep ICP's answer except along the directions no surface faces (a corridor's axis; both ways

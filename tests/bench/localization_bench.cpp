@@ -133,8 +133,8 @@ int main(int argc, char** argv) {
   LocalizerOptions& options = graph_options.scan_matching;
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
   // STRATA_BENCH_LOCAL_METRES=<metres>, STRATA_BENCH_LOCAL_VOXEL=<metres>, STRATA_BENCH_SOURCE_POINTS=<n>,
-  // STRATA_BENCH_ROTATION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>, STRATA_BENCH_TILT_DRIFT=<rad per scan>,
-  // STRATA_BENCH_BIAS_RATE=<per scan>.
+  // STRATA_BENCH_FINE_VOXEL=<m>, STRATA_BENCH_ROTATION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>,
+  // STRATA_BENCH_TILT_DRIFT=<rad per scan>, STRATA_BENCH_BIAS_RATE=<per scan>.
   if (const char* metric = std::getenv("STRATA_BENCH_METRIC")) {
     options.registration.icp.metric =
         std::string(metric) == "point" ? IcpMetric::kPointToPoint : IcpMetric::kPointToPlane;
@@ -145,6 +145,8 @@ int main(int argc, char** argv) {
     options.local_map_metres = std::atof(metres);
   if (const char* voxel = std::getenv("STRATA_BENCH_LOCAL_VOXEL"))
     options.local_map_voxel = std::atof(voxel);
+  if (const char* voxel = std::getenv("STRATA_BENCH_FINE_VOXEL"))  // the fine stage's source voxel
+    options.registration.stages.back().source_voxel_size = std::atof(voxel);
   if (const char* budget = std::getenv("STRATA_BENCH_SOURCE_POINTS"))  // 0: no budget
     options.registration.max_source_points = static_cast<std::size_t>(std::atol(budget));
   if (const char* drift = std::getenv("STRATA_BENCH_TILT_DRIFT"))

@@ -99,6 +99,9 @@ void run(Capture capture, bool estimate_mount, const std::optional<fs::path>& ma
   // STRATA_BENCH_SOURCE_POINTS=<n>: the registration's source point budget (0: none).
   if (const char* budget = std::getenv("STRATA_BENCH_SOURCE_POINTS"))
     options.scan_matching.registration.max_source_points = static_cast<std::size_t>(std::atol(budget));
+  // STRATA_BENCH_FINE_VOXEL=<m>: the fine stage's source voxel.
+  if (const char* v = std::getenv("STRATA_BENCH_FINE_VOXEL"))
+    options.scan_matching.registration.stages.back().source_voxel_size = std::atof(v);
   GraphLocalizer localizer(options, Eigen::Isometry3d::Identity());
   // STRATA_BENCH_DESKEW=0: revolutions registered as measured, smeared by the motion.
   const bool deskewing =
@@ -123,11 +126,13 @@ void run(Capture capture, bool estimate_mount, const std::optional<fs::path>& ma
     if (update.registration) {
       rmse_cm.push_back(100.0 * update.registration->rmse);
       if (std::getenv("STRATA_BENCH_TRACE") != nullptr)
-        std::fprintf(stderr, "%s t=%.2f %s rmse %.3f it %d pairs %zu/%zu x %.2f y %.2f\n",
-                     capture.name.c_str(), scan.stamp, std::string(to_string(update.correction)).c_str(),
-                     update.registration->rmse, update.registration->iterations, update.registration->pairs,
-                     update.registration->source_points, update.pose.translation().x(),
-                     update.pose.translation().y());
+        std::fprintf(
+            stderr, "%s t=%.2f %s rmse %.3f it %d pairs %zu/%zu x %.2f y %.2f\n", capture.name.c_str(),
+            scan.stamp,
+            (std::string(to_string(update.correction)) + "/" + update.registration->assessment.message)
+                .c_str(),
+            update.registration->rmse, update.registration->iterations, update.registration->pairs,
+            update.registration->source_points, update.pose.translation().x(), update.pose.translation().y());
     }
     localizer.close_loops();  // the server's own thread; not timed
     full += update.correction == Correction::kFull ? 1 : 0;

@@ -16,6 +16,7 @@
 namespace strata {
 namespace {
 
+using test::corridor_scene;
 using test::make_transform;
 using test::room_scene;
 using test::rotation_error;
@@ -82,6 +83,39 @@ TEST(ScanToMapLocalizer, AScanTooFarFromSlippingOdometryIsTakenFromTheSecondGues
   const LocalizationUpdate elsewhere = localize(make_transform(0.3, -0.4, 0.0, 0.0, 0.0, -0.05));
   EXPECT_FALSE(elsewhere.retried);
   EXPECT_EQ(elsewhere.correction, Correction::kNone);
+}
+
+// A lidar alone in a corridor: once its motion is known, the corridor's axis comes from the prediction
+// (partly corrected); before, the prediction (standing still) knows nothing, and ICP's answer is taken
+// whole rather than pinning a moving robot where it stood.
+TEST(ScanToMapLocalizer, BeforeTheMotionIsKnownNoDirectionIsTakenFromThePrediction) {
+  // A corridor with a doorway's frame across it: the axis weakly constrained, above the fault check's
+  // hard limit and below the localizer's guard.
+  PointCloud corridor = corridor_scene(0.1, 3);
+  for (const double x : {-4.0, 2.0}) {
+    for (double z = 0.0; z <= 2.5; z += 0.05) {
+      for (double y = -1.0; y <= 1.0; y += 0.05) {
+        if (std::abs(y) > 0.5 || z > 2.1)
+          corridor.emplace_back(x, y, z);
+      }
+    }
+  }
+  const PointCloud second = transformed(corridor, make_transform(-0.2, 0.0, 0.0, 0.0, 0.0, 0.0));
+  const auto localize = [&](bool motion_known) {
+    ScanToMapLocalizer localizer({}, Eigen::Isometry3d::Identity());
+    static_cast<void>(localizer.add_scan(corridor, {0, 0, 0}, std::nullopt, GuessSource::kPrediction));
+    return localizer.add_scan(
+        second, {0, 0, 0}, std::nullopt, GuessSource::kPrediction,
+        GuessUncertainty{.translation = 0.1, .rotation = 0.01, .motion_known = motion_known});
+  };
+  const LocalizationUpdate known = localize(true);
+  EXPECT_EQ(known.correction, Correction::kPartial);
+  ASSERT_FALSE(known.odometry_directions.empty());
+  EXPECT_GT(std::abs(known.odometry_directions[0].x()), 0.9);
+  const LocalizationUpdate unknown = localize(false);
+  EXPECT_EQ(unknown.correction, Correction::kFull) << unknown.registration->assessment.message;
+  EXPECT_NEAR(unknown.pose.translation().x(), 0.2, 0.02) << "where ICP found it";
+  EXPECT_TRUE(unknown.odometry_directions.empty());
 }
 
 // Drives the yard with stop-and-go scans and localizes them: the corrected pose must end closer to the
