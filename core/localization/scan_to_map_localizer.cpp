@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <utility>
 
 namespace strata {
@@ -9,8 +10,8 @@ namespace {
 
 /// How close a retry from the second guess must land to the first registration to confirm it: two ICP
 /// runs into one minimum agree to millimetres.
-constexpr double kRetryAgreement = 0.05;                                       // metres
-constexpr double kRetryAgreementAngle = 1.0 * 3.14159265358979323846 / 180.0;  // radians
+constexpr double kRetryAgreement = 0.05;                           // metres
+constexpr double kRetryAgreementAngle = std::numbers::pi / 180.0;  // radians: 1 degree
 
 }  // namespace
 
