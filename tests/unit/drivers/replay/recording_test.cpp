@@ -73,6 +73,26 @@ class Recording : public testing::Test {
   static Eigen::Isometry3d initial() {
     return Eigen::Translation3d(1.0 / 3.0, -2.0, 0.0) * Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ());
   }
+  /// Starts `driver` with `outputs` (its on_finished taken over), waits until everything is played (30 s at
+  /// most) and stops it. False when it did not finish in time.
+  static bool play_to_the_end(ReplayDriver& driver, RobotDriver::Outputs outputs) {
+    std::mutex mutex;
+    std::condition_variable done;
+    bool finished = false;
+    outputs.on_finished = [&] {
+      std::lock_guard lock(mutex);
+      finished = true;
+      done.notify_all();
+    };
+    driver.start(outputs);
+    bool in_time = false;
+    {
+      std::unique_lock lock(mutex);
+      in_time = done.wait_for(lock, std::chrono::seconds(30), [&] { return finished; });
+    }
+    driver.stop();
+    return in_time;
+  }
 
   fs::path dir_;
 };
@@ -146,9 +166,6 @@ TEST_F(Recording, ReplayAsFastAsPossiblePlaysEverythingInOrder) {
   std::vector<double> sample_stamps;
   std::vector<ScanEvent> scans;
   int waits = 0;
-  std::mutex mutex;
-  std::condition_variable done;
-  bool finished = false;
   RobotDriver::Outputs outputs;
   outputs.on_sample = [&](const RobotSample& s) { sample_stamps.push_back(s.stamp); };
   outputs.on_scan = [&](ScanEvent s) { scans.push_back(std::move(s)); };
@@ -156,17 +173,7 @@ TEST_F(Recording, ReplayAsFastAsPossiblePlaysEverythingInOrder) {
     ++waits;
     return true;
   };
-  outputs.on_finished = [&] {
-    std::lock_guard lock(mutex);
-    finished = true;
-    done.notify_all();
-  };
-  driver.start(outputs);
-  {
-    std::unique_lock lock(mutex);
-    ASSERT_TRUE(done.wait_for(lock, std::chrono::seconds(30), [&] { return finished; }));
-  }
-  driver.stop();
+  ASSERT_TRUE(play_to_the_end(driver, outputs));
   EXPECT_TRUE(driver.finished());
   // Every odometry sample (the scans' own come from the same samples: 10 + 2), in time order.
   EXPECT_EQ(sample_stamps.size(), 12u);
@@ -175,6 +182,7 @@ TEST_F(Recording, ReplayAsFastAsPossiblePlaysEverythingInOrder) {
   EXPECT_EQ(waits, 2);  // paced on the pipeline after each scan
   const ScanEvent expected = scan(0.03, 1.0f);
   EXPECT_EQ(scans[0].points, expected.points);
+  EXPECT_EQ(scans[0].point_times, expected.point_times);  // deskewed as the live run was
   EXPECT_EQ(scans[0].odometry.position, expected.odometry.position);
   EXPECT_EQ(scans[0].sensor_to_base.matrix(), expected.sensor_to_base.matrix());
   EXPECT_EQ(scans[0].max_range, expected.max_range);
@@ -185,25 +193,12 @@ TEST_F(Recording, ReplayAtTheRecordedRatePlaysEverythingAndStops) {
   ReplayOptions options;
   options.pacing.time_scale = 10.0;
   ReplayDriver driver(open_dataset(dir_), options);
-  std::mutex mutex;
-  std::condition_variable done;
   std::size_t samples = 0;
   std::size_t scans = 0;
-  bool finished = false;
   RobotDriver::Outputs outputs;
   outputs.on_sample = [&](const RobotSample&) { ++samples; };
   outputs.on_scan = [&](ScanEvent) { ++scans; };  // no wait_for_pipeline: a paced replay never waits
-  outputs.on_finished = [&] {
-    std::lock_guard lock(mutex);
-    finished = true;
-    done.notify_all();
-  };
-  driver.start(outputs);
-  {
-    std::unique_lock lock(mutex);
-    ASSERT_TRUE(done.wait_for(lock, std::chrono::seconds(30), [&] { return finished; }));
-  }
-  driver.stop();
+  ASSERT_TRUE(play_to_the_end(driver, outputs));
   EXPECT_EQ(samples, 12u);
   EXPECT_EQ(scans, 2u);
 }
@@ -268,24 +263,11 @@ TEST_F(Recording, AListOfScansWithoutPosesReplaysAsALidarAlone) {
   ReplayDriver driver(open_dataset(dir_), options);  // was: "the dataset has no reference pose ..."
   EXPECT_NE(driver.description().find("odometry from none"), std::string::npos) << driver.description();
   std::vector<ScanEvent> scans;
-  std::mutex mutex;
-  std::condition_variable done;
-  bool finished = false;
   RobotDriver::Outputs outputs;
   outputs.on_sample = [](const RobotSample&) {};
   outputs.on_scan = [&](ScanEvent s) { scans.push_back(std::move(s)); };
   outputs.wait_for_pipeline = [] { return true; };
-  outputs.on_finished = [&] {
-    std::lock_guard lock(mutex);
-    finished = true;
-    done.notify_all();
-  };
-  driver.start(outputs);
-  {
-    std::unique_lock lock(mutex);
-    ASSERT_TRUE(done.wait_for(lock, std::chrono::seconds(30), [&] { return finished; }));
-  }
-  driver.stop();
+  ASSERT_TRUE(play_to_the_end(driver, outputs));
   // Handed on as a lidar alone's: the localizer predicts the motion from the scans (a constant odometry
   // would say the sensor stood still, and every real turn would be "too far from the guess").
   ASSERT_EQ(scans.size(), 2u);
