@@ -171,9 +171,11 @@ std::uint32_t KdTree::build(std::uint32_t begin, std::uint32_t end, const Box& c
   }
   std::uint32_t middle = 0;
   float cut = 0.0F;
+  Box left_points{};
+  Box right_points{};
   if (axis >= 0) {
     cut = std::clamp(0.5F * (cell.low[axis] + cell.high[axis]), points.low[axis], points.high[axis]);
-    middle = divide(begin, end, axis, cut, points.low[axis], points.high[axis]);
+    middle = divide(begin, end, axis, cut, points.low[axis], points.high[axis], left_points, right_points);
   } else {  // all points equal (or too deep): halve them at the median of their widest spread
     axis = 0;
     for (int a = 1; a < 3; ++a) {
@@ -185,9 +187,9 @@ std::uint32_t KdTree::build(std::uint32_t begin, std::uint32_t end, const Box& c
     std::nth_element(leaves_.begin() + begin, leaves_.begin() + middle, leaves_.begin() + end,
                      [&](const Leaf& a, const Leaf& b) { return coordinate(a) < coordinate(b); });
     cut = coordinate(leaves_[middle]);
+    left_points = bounds(begin, middle);
+    right_points = bounds(middle, end);
   }
-  const Box left_points = bounds(begin, middle);
-  const Box right_points = bounds(middle, end);
   Box left_cell = cell;
   left_cell.high[axis] = cut;
   Box right_cell = cell;
@@ -216,33 +218,91 @@ KdTree::Box KdTree::bounds(std::uint32_t begin, std::uint32_t end) const {
 }
 
 std::uint32_t KdTree::divide(std::uint32_t begin, std::uint32_t end, int axis, float cut, float low,
-                             float high) {
+                             float high, Box& lower, Box& upper) {
   switch (axis) {
     case 0:
-      return divide_along(begin, end, cut, low, high, [](const Leaf& p) { return p.x; });
+      return divide_along(
+          begin, end, cut, low, high, [](const Leaf& p) { return p.x; }, lower, upper);
     case 1:
-      return divide_along(begin, end, cut, low, high, [](const Leaf& p) { return p.y; });
+      return divide_along(
+          begin, end, cut, low, high, [](const Leaf& p) { return p.y; }, lower, upper);
     default:
-      return divide_along(begin, end, cut, low, high, [](const Leaf& p) { return p.z; });
+      return divide_along(
+          begin, end, cut, low, high, [](const Leaf& p) { return p.z; }, lower, upper);
   }
 }
 
 template <class Coordinate>
 std::uint32_t KdTree::divide_along(std::uint32_t begin, std::uint32_t end, float cut, float low, float high,
-                                   Coordinate coordinate) {
+                                   Coordinate coordinate, Box& lower, Box& upper) {
   // The points at a cut clamped to their lowest go left, at their highest right; neither half is empty.
-  // Where those points are many, the halves are evened out (nanoflann's rule).
+  // Where those points are many, the halves are evened out (nanoflann's rule), and bounded afresh.
   Leaf* const first = leaves_.data() + begin;
   Leaf* const last = leaves_.data() + end;
   const std::uint32_t half = (end - begin) / 2;
+  std::uint32_t at = 0;
+  std::uint32_t middle = 0;
   if (cut <= low) {
-    const auto at = static_cast<std::uint32_t>(
-        std::partition(first, last, [&](const Leaf& p) { return coordinate(p) <= cut; }) - first);
-    return begin + std::min(at, half);
+    at = static_cast<std::uint32_t>(
+        partition(
+            first, last, [&](const Leaf& p) { return coordinate(p) <= cut; }, lower, upper) -
+        first);
+    middle = std::min(at, half);
+  } else {
+    at = static_cast<std::uint32_t>(
+        partition(
+            first, last, [&](const Leaf& p) { return coordinate(p) < cut; }, lower, upper) -
+        first);
+    middle = cut >= high ? std::max(at, half) : at;
   }
-  const auto below = static_cast<std::uint32_t>(
-      std::partition(first, last, [&](const Leaf& p) { return coordinate(p) < cut; }) - first);
-  return begin + (cut >= high ? std::max(below, half) : below);
+  if (middle != at) {
+    lower = bounds(begin, begin + middle);
+    upper = bounds(begin + middle, end);
+  }
+  return begin + middle;
+}
+
+template <class Below>
+KdTree::Leaf* KdTree::partition(Leaf* first, Leaf* last, Below below, Box& lower, Box& upper) {
+  using Lanes = Eigen::Array4f;
+  const float inf = std::numeric_limits<float>::infinity();
+  Lanes lower_low = Lanes::Constant(inf);
+  Lanes lower_high = Lanes::Constant(-inf);
+  Lanes upper_low = lower_low;
+  Lanes upper_high = lower_high;
+  const auto extend = [](Lanes& low, Lanes& high, const Leaf& p) {
+    const Eigen::Map<const Lanes> lanes(&p.x);
+    low = low.min(lanes);
+    high = high.max(lanes);
+  };
+  const auto finish = [&] {
+    lower = {{lower_low[0], lower_low[1], lower_low[2]}, {lower_high[0], lower_high[1], lower_high[2]}};
+    upper = {{upper_low[0], upper_low[1], upper_low[2]}, {upper_high[0], upper_high[1], upper_high[2]}};
+    return first;
+  };
+  while (true) {
+    for (;; ++first) {
+      if (first == last)
+        return finish();
+      if (!below(*first))
+        break;
+      extend(lower_low, lower_high, *first);
+    }
+    --last;
+    for (;; --last) {
+      if (first == last) {
+        extend(upper_low, upper_high, *first);
+        return finish();
+      }
+      if (below(*last))
+        break;
+      extend(upper_low, upper_high, *last);
+    }
+    std::iter_swap(first, last);
+    extend(lower_low, lower_high, *first);
+    extend(upper_low, upper_high, *last);
+    ++first;
+  }
 }
 
 void KdTree::relative(const Eigen::Vector3d& query, float* out) const {

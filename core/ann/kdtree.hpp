@@ -63,11 +63,16 @@ class KdTree {
   std::uint32_t build(std::uint32_t begin, std::uint32_t end, const Box& cell, const Box& points, int depth);
   [[nodiscard]] Box bounds(std::uint32_t begin, std::uint32_t end) const;
   /// Partitions leaves_[begin, end) at `cut` along `axis` (low <= cut <= high, the points' extremes there,
-  /// low < high) and returns where the upper half starts.
-  std::uint32_t divide(std::uint32_t begin, std::uint32_t end, int axis, float cut, float low, float high);
+  /// low < high), returns where the upper half starts and sets the halves' bounds.
+  std::uint32_t divide(std::uint32_t begin, std::uint32_t end, int axis, float cut, float low, float high,
+                       Box& lower, Box& upper);
   template <class Coordinate>
   std::uint32_t divide_along(std::uint32_t begin, std::uint32_t end, float cut, float low, float high,
-                             Coordinate coordinate);
+                             Coordinate coordinate, Box& lower, Box& upper);
+  /// libstdc++ std::partition's own swaps (the same tree, point for point), bounding each half as it goes:
+  /// one pass over the points instead of two.
+  template <class Below>
+  Leaf* partition(Leaf* first, Leaf* last, Below below, Box& lower, Box& upper);
   template <class Result>
   void search(const float* query, Result& result) const;
   template <class Result>

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <utility>
 
+#include "core/points/deskew.hpp"
 #include "core/points/voxel_downsample.hpp"
 
 namespace strata {
@@ -69,6 +70,12 @@ std::optional<Pose2> GraphLocalizer::velocity(const std::optional<Pose2>& odomet
   const double dt = stamp - last_odometry_->stamp;
   const Pose2 moved = odometry->relative_to(last_odometry_->odometry);
   return Pose2{moved.x / dt, moved.y / dt, moved.theta / dt};
+}
+
+void GraphLocalizer::deskew(PointCloud& points, std::span<const float> times,
+                            const std::optional<Pose2>& odometry, double stamp) const {
+  if (const std::optional<Pose2> moving = velocity(odometry, stamp))
+    strata::deskew(points, times, *moving);
 }
 
 void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp,

@@ -6,6 +6,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/localization/keyframe.hpp"
@@ -68,6 +69,10 @@ class GraphLocalizer {
   /// takes): the odometry since the last scan, or for a base without the constant velocity model's. None
   /// before there is one (the first scan; a gap of more than a second since the last).
   [[nodiscard]] std::optional<Pose2> velocity(const std::optional<Pose2>& odometry, double stamp) const;
+  /// The revolution's `points` (base frame, one time each from the stamp, as points_in_base gives them)
+  /// moved to where they were at `stamp`, with velocity(); left as measured before there is one.
+  void deskew(PointCloud& points, std::span<const float> times, const std::optional<Pose2>& odometry,
+              double stamp) const;
 
   /// The background step: looks for loop closures of the keyframes made since the last call and, when
   /// it finds one, optimizes the graph. True when the estimates changed. Safe to call from another

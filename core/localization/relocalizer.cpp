@@ -25,15 +25,12 @@ Eigen::Isometry3d pose_at(double x, double y, double z, double yaw) {
 
 /// The registration the localizer uses, judged by nothing but its fit: the candidates are up to a step
 /// apart from where the robot is, which the scan path's jump limits would refuse.
-RegistrationOptions refinement() {
+RegistrationOptions refinement(const RelocalizationOptions& relocalization) {
   RegistrationOptions options = LocalizerOptions::default_registration();
   options.limits.max_translation_jump = std::numeric_limits<double>::infinity();
   options.limits.max_rotation_jump = std::numeric_limits<double>::infinity();
-  // Both stages at 0.3 m, as the search was measured (docs/benchmarks.md, "Finding the robot"): with the
-  // scan path's 0.2 m fine stage a yard scan fitted its mirror image 9 m away nearly as well (98 and 93 %)
-  // and was refused as ambiguous.
   for (RegistrationStage& stage : options.stages)
-    stage.source_voxel_size = 0.3;
+    stage.source_voxel_size = relocalization.refinement_source_voxel;
   return options;
 }
 
@@ -44,7 +41,7 @@ Relocalizer::Relocalizer(std::shared_ptr<const LocalizationMap> map, Relocalizat
       options_(options),
       hits_(map_->points.size()),
       tree_(map_->cloud()),
-      registration_(refinement()) {
+      registration_(refinement(options_)) {
   const double inverse = 1.0 / options_.hit_voxel;
   for (const Eigen::Vector3f& p : map_->points)
     hits_.try_emplace(voxel_key(voxel_cell(p.cast<double>(), inverse)), 1);

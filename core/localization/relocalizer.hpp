@@ -29,6 +29,10 @@ struct RelocalizationOptions {
   double score_voxel = 0.5;
   double hit_voxel = 0.3;
   std::size_t refined = 6;
+  /// The refinement is the scan path's registration with its source thinned to this at both stages: with
+  /// the scan path's 0.2 m fine stage a yard scan fitted its mirror image 9 m away nearly as well (98 and
+  /// 93 % of its walls) and was refused as ambiguous (docs/benchmarks.md, "Finding the robot").
+  double refinement_source_voxel = 0.3;
   /// Accepting the best refined candidate: this share of its points paired within ICP's fine bound at
   /// an RMSE below `max_rmse`, and no other refined candidate elsewhere (more than `distinct_metres` or
   /// `distinct_radians` away) within `ambiguity_margin` of its share: two places that fit as well are not

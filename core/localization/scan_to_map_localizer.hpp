@@ -72,8 +72,8 @@ struct LocalizerOptions {
     };
     options.max_constraint_pairs = 0;
     // A 32-beam lidar's revolution in real time on one core (<= 50 ms with mapping): 2,000 of its 10,000
-    // points at 0.3 m register as closely (docs/benchmarks.md, "Real captures"). The simulated scans keep
-    // 1,500-2,400.
+    // points at 0.3 m, or of more at the fine stage's 0.2 m, register as closely (docs/benchmarks.md,
+    // "Real captures"). The simulated scans keep 1,500-2,400.
     options.max_source_points = 2000;
     return options;
   }

@@ -8,7 +8,6 @@
 #include <string>
 #include <utility>
 
-#include "core/points/deskew.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 
 namespace strata::pipeline {
@@ -243,8 +242,7 @@ void LocalizerWorker::process(ScanEvent event) {
                                                      scan.odometry.yaw})
                         : std::nullopt;
   // The revolution's points as if measured at once, at the stamp: the map and the searches get them so.
-  if (const std::optional<Pose2> velocity = localizer_.velocity(odometry, stamp))
-    deskew(preprocessed.points, preprocessed.times, *velocity);
+  localizer_.deskew(preprocessed.points, preprocessed.times, odometry, stamp);
   preprocessed.times = {};
   if (estimate && relocalizer_)
     static_cast<void>(search_around(*estimate, preprocessed.points, odometry, stamp));

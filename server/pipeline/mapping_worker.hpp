@@ -81,7 +81,8 @@ class MappingWorker final : public MapCommands {
   /// Returns at once.
   void submit(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor);
   /// The same for a scan as the driver took it (sensor frame): preprocessed here with
-  /// MappingOptions::min_range (tests, tools).
+  /// MappingOptions::min_range (tests, tools), and mapped as measured: deskewing needs the motion, which
+  /// the localizer knows and this worker does not.
   void submit(ScanEvent scan, const Eigen::Isometry3d& map_from_sensor);
   /// The pose graph moved keyframes (docs/architecture.md 4.1, "the map follows"): when any moved from
   /// where the map has them, builds the map anew from them on the caller's thread (mapping goes on

@@ -19,7 +19,6 @@
 
 #include "core/localization/graph_localizer.hpp"
 #include "core/localization/pose_extrapolator.hpp"
-#include "core/points/deskew.hpp"
 #include "core/points/voxel_downsample.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
@@ -191,9 +190,8 @@ int main(int argc, char** argv) {
       PointCloud points = pipeline::points_in_base(scan, 0.3, &point_times);
       const auto start = std::chrono::steady_clock::now();
       const std::optional<Pose2> measured = with_odometry ? std::optional<Pose2>(odometry) : std::nullopt;
-      if (const std::optional<Pose2> velocity = localizer.velocity(measured, scan.stamp);
-          velocity && deskewing)
-        deskew(points, point_times, *velocity);
+      if (deskewing)
+        localizer.deskew(points, point_times, measured, scan.stamp);
       const LocalizationUpdate update =
           localizer.add_scan(points, measured, scan.stamp, scan.sensor_to_base.translation(),
                              gravity ? scan.gravity : std::nullopt);

@@ -22,7 +22,6 @@
 #include "core/localization/graph_localizer.hpp"
 #include "core/mls/mls_file.hpp"
 #include "core/mls/mls_map.hpp"
-#include "core/points/deskew.hpp"
 #include "drivers/lidar/pcap_scan_source.hpp"
 #include "drivers/replay/dataset.hpp"
 #include "drivers/sensor_mount.hpp"
@@ -116,9 +115,8 @@ void run(Capture capture, bool estimate_mount, const std::optional<fs::path>& ma
     PointCloud points = pipeline::points_in_base(scan, 0.3, &times);
     auto start = std::chrono::steady_clock::now();
     double cpu_start = thread_cpu_ms();
-    if (const std::optional<Pose2> velocity = localizer.velocity(std::nullopt, scan.stamp);
-        velocity && deskewing)
-      deskew(points, times, *velocity);
+    if (deskewing)
+      localizer.deskew(points, times, std::nullopt, scan.stamp);
     const LocalizationUpdate update =
         localizer.add_scan(points, std::nullopt, scan.stamp, scan.sensor_to_base.translation());
     register_ms.push_back(ms_since(start));

@@ -275,6 +275,43 @@ TEST(MlsMap, PersonWhoWalksAwayFadesOutWhileTheWallStays) {
     EXPECT_EQ(patches_at(map, x, 1.05).size(), 1U) << x;  // the floor is not cleared by grazing rays
 }
 
+// The rays walk cell by cell and look a tile up only when they step out of one: the same scene turned to
+// every side (and diagonally) clears the person across the tile boundaries at x = 0 and y = 0, where the
+// cells step into negative tiles.
+TEST(MlsMap, APersonFadesOutOnEverySideAcrossTileBoundaries) {
+  const Eigen::Vector3d sensor(0, 0, 1.0);
+  for (const double degrees : {90.0, 135.0, 180.0, 270.0, 315.0}) {
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(degrees * std::numbers::pi / 180.0, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const auto turned = [&](const PointCloud& points) {
+      PointCloud out;
+      for (const Eigen::Vector3d& p : points)
+        out.push_back(turn * p);
+      return out;
+    };
+    MlsMap map;
+    for (int i = 0; i < 3; ++i)
+      map.insert_scan(turned(person_scan(true)), sensor);
+    // Turned, the front face at x = 2 falls on either side of its cells' edge.
+    bool standing = false;
+    for (const double y : {-0.15, -0.05, 0.05, 0.15})
+      for (const double x : {1.95, 2.05}) {
+        const Eigen::Vector3d at = turn * Eigen::Vector3d(x, y, 0.0);
+        standing = standing || has_vertical_patch(map, at.x(), at.y());
+      }
+    ASSERT_TRUE(standing) << degrees;
+    for (int i = 0; i < 3; ++i)
+      map.insert_scan(turned(person_scan(false)), sensor);
+    for (double x = 2.05; x < 2.4; x += 0.1)
+      for (double y = -0.15; y < 0.2; y += 0.1) {
+        const Eigen::Vector3d at = turn * Eigen::Vector3d(x, y, 0.0);
+        EXPECT_FALSE(has_vertical_patch(map, at.x(), at.y())) << degrees << ": " << x << ' ' << y;
+      }
+    const Eigen::Vector3d wall = turn * Eigen::Vector3d(5.55, 1.05, 0.0);
+    EXPECT_TRUE(has_vertical_patch(map, wall.x(), wall.y())) << degrees;
+  }
+}
+
 TEST(MlsMap, TileVersionsTrackChanges) {
   MlsMap map(static_scene_config());
   EXPECT_EQ(map.version(), 0U);
