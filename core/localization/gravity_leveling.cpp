@@ -65,10 +65,16 @@ Eigen::Matrix3d GravityLeveling::level(const Eigen::Isometry3d& pose, const Grav
   return rotation(gain * error);
 }
 
-Eigen::Matrix3d GravityLeveling::align(const Eigen::Isometry3d& pose, const GravityReading& gravity) const {
+Eigen::Matrix3d GravityLeveling::align(const Eigen::Isometry3d& pose, const GravityReading& gravity,
+                                       std::optional<double> moved) const {
   if (!usable(gravity))
     return Eigen::Matrix3d::Identity();
-  return rotation(tilt_error(pose, corrected(gravity).up_in_base));
+  double gain = 1.0;
+  if (moved) {
+    const double change = options_.tilt_change_per_metre * *moved;
+    gain = change * change / (change * change + gravity.sigma * gravity.sigma);
+  }
+  return rotation(gain * tilt_error(pose, corrected(gravity).up_in_base));
 }
 
 }  // namespace strata

@@ -22,6 +22,14 @@ struct GravityLevelingOptions {
   /// mounting error; a start at the odometry's origin on unknown ground is not, and takes them.
   double given_start_tilt_sigma = 0.002;
   double unknown_start_tilt_sigma = 0.1;
+  /// How much the ground's tilt may change per metre driven, radians (standard deviation): onto a 6
+  /// degree ramp within a metre. A scan's guess keeps the last scan's tilt and turns toward the reading
+  /// by how much the tilt may have changed since against the reading's noise: a tilting scanner's scans
+  /// metres apart take the reading (a ramp begun), a 10 Hz lidar's a tenth of a metre apart mostly keep
+  /// the last tilt. Turned fully to each reading (0.01 rad of noise while driving), the lidar's guesses
+  /// were tilted by the noise, which ICP against rings 5 m away and more corrects only in part: its height
+  /// fell 0.15 m in its first two seconds on the campus (docs/benchmarks.md, "The guess's tilt").
+  double tilt_change_per_metre = 0.1;
 };
 
 /// Levels the scan path's roll and pitch with gravity (docs/architecture.md 4.1, gravity). Scan matching
@@ -49,9 +57,11 @@ class GravityLeveling {
   /// unit vector with a positive sigma.
   [[nodiscard]] Eigen::Matrix3d level(const Eigen::Isometry3d& pose, const GravityReading& gravity);
 
-  /// The full turn that puts `pose`'s up where `gravity` (corrected) says, without touching the filter:
-  /// a guess's tilt, which is the last scan's and stale on a ramp.
-  [[nodiscard]] Eigen::Matrix3d align(const Eigen::Isometry3d& pose, const GravityReading& gravity) const;
+  /// The turn toward where `gravity` (corrected) puts `pose`'s up, without touching the filter: a guess's
+  /// tilt, which is the last scan's and stale on a ramp begun in the `moved` metres since. Weighed by
+  /// tilt_change_per_metre against the reading's sigma; the whole turn with nothing moved known (none).
+  [[nodiscard]] Eigen::Matrix3d align(const Eigen::Isometry3d& pose, const GravityReading& gravity,
+                                      std::optional<double> moved = std::nullopt) const;
 
   [[nodiscard]] double variance() const { return variance_; }
   /// The learnt mounting error, a rotation vector in the base frame (radians; z always 0).

@@ -66,8 +66,14 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
       gravity && GravityLeveling::usable(*gravity) ? gravity : std::nullopt;
   const Eigen::Isometry3d odometry_guess = global_.pose_isometry(odometry);
   Eigen::Isometry3d guess = odometry_guess;
-  if (up)
-    guess.linear() = leveling_.align(guess, *up) * guess.linear();
+  if (up) {
+    const std::optional<double> moved =
+        last_odometry_
+            ? std::optional(std::hypot(odometry.x - last_odometry_->x, odometry.y - last_odometry_->y))
+            : std::nullopt;
+    guess.linear() = leveling_.align(guess, *up, moved) * guess.linear();
+  }
+  last_odometry_ = odometry;
   LocalizationUpdate update;
   update.pose = guess;
   if (saved_registration_ != nullptr || !local_map_.empty()) {

@@ -154,6 +154,7 @@ class ScanToMapLocalizer {
   GlobalPose global_;
   LocalMap local_map_;  // map frame
   GravityLeveling leveling_;
+  std::optional<Pose2> last_odometry_;  // the last scan's: how far the guess's tilt may be stale
   std::shared_ptr<const LocalizationMap> saved_map_;      // none while mapping
   std::unique_ptr<ScanRegistration> saved_registration_;  // indexes saved_map_ (and keeps its normals)
 };

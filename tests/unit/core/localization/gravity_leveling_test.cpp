@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 namespace strata {
 namespace {
@@ -38,6 +39,24 @@ TEST(GravityLeveling, AlignPutsThePosesUpWhereGravitySays) {
   tilted.linear() = leveling.align(tilted, reading) * tilted.linear();
   EXPECT_NEAR(tilt(tilted.linear()), 0.0, 1e-9);
   EXPECT_NEAR(heading(tilted.linear()), heading(level.linear()), 0.01) << "gravity cannot see heading";
+}
+
+// A guess a tenth of a metre on from the last scan (a 10 Hz lidar) mostly keeps the last scan's tilt
+// against a reading as noisy as one taken while driving; one metres on (a tilting scanner's next stop)
+// takes the reading, which knows a ramp begun; standing still, the last tilt stands.
+TEST(GravityLeveling, AGuessTurnsTowardTheReadingByHowFarTheRobotMoved) {
+  const Eigen::Isometry3d tilted = pose_with(0.05, 0.0, 0.7);
+  const GravityReading noisy{.up_in_base = Eigen::Vector3d::UnitZ(), .sigma = 0.01};
+  const GravityLeveling leveling;  // tilt_change_per_metre 0.1 rad
+  const auto tilt_after = [&](std::optional<double> moved) {
+    return tilt(leveling.align(tilted, noisy, moved) * tilted.linear());
+  };
+  EXPECT_NEAR(tilt_after(std::nullopt), 0.0, 1e-9);  // nothing known of the motion: the whole turn
+  EXPECT_NEAR(tilt_after(0.0), 0.05, 1e-9);
+  EXPECT_NEAR(tilt_after(0.1), 0.025, 1e-3);  // change and noise alike (0.01 rad): half the way
+  EXPECT_LT(tilt_after(0.02), 0.05 * 0.97);
+  EXPECT_GT(tilt_after(0.02), 0.05 * 0.95);
+  EXPECT_LT(tilt_after(2.0), 0.05 * 0.005);
 }
 
 TEST(GravityLeveling, TheFirstReadingIsTakenAndLaterOnesAreWeighedAgainstScanMatching) {
