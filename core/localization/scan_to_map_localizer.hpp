@@ -34,8 +34,11 @@ struct LocalizerOptions {
   double local_map_voxel = 0.1;  ///< metres; the model set keeps one point per voxel of this size
   /// Below this normal-matrix eigenvalue a direction (a corridor's axis) is taken from odometry and the rest
   /// from ICP; above the fault check's hard limit, as ICP slides along a corridor well before it is
-  /// rejected (well-constrained real scans: docs/benchmarks.md, ICP).
-  double weak_direction_guard = 0.05;
+  /// rejected (well-constrained real scans: docs/benchmarks.md, ICP). 0.08 rather than 0.05: on the
+  /// campus bridge deck a 10 Hz lidar's revolutions held 0.048-0.056 along the way, and ICP against the
+  /// last revolutions' ground rings held the robot back 6 cm a revolution until it was 16 m behind
+  /// (docs/benchmarks.md, "The lidar on the bridge deck").
+  double weak_direction_guard = 0.08;
   /// Likewise for rotation (normalised eigenvalues): about an axis no surface resists (the vertical, over
   /// open ground), the turn is taken from odometry.
   double weak_rotation_guard = 0.02;

@@ -132,7 +132,8 @@ int main(int argc, char** argv) {
   LocalizerOptions& options = graph_options.scan_matching;
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
   // STRATA_BENCH_LOCAL_METRES=<metres>, STRATA_BENCH_LOCAL_VOXEL=<metres>, STRATA_BENCH_SOURCE_POINTS=<n>,
-  // STRATA_BENCH_FINE_VOXEL=<m>, STRATA_BENCH_ROTATION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>,
+  // STRATA_BENCH_FINE_VOXEL=<m>, STRATA_BENCH_ROTATION_GUARD=<eigenvalue>,
+  // STRATA_BENCH_DIRECTION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>,
   // STRATA_BENCH_TILT_DRIFT=<rad per scan>, STRATA_BENCH_BIAS_RATE=<per scan>.
   if (const char* metric = std::getenv("STRATA_BENCH_METRIC")) {
     options.registration.icp.metric =
@@ -154,6 +155,8 @@ int main(int argc, char** argv) {
     options.gravity.bias_rate_per_radian = std::atof(rate);
   if (const char* guard = std::getenv("STRATA_BENCH_ROTATION_GUARD"))
     options.weak_rotation_guard = std::atof(guard);
+  if (const char* guard = std::getenv("STRATA_BENCH_DIRECTION_GUARD"))
+    options.weak_direction_guard = std::atof(guard);
   // Without odometry the localizer's odometry frame is its prediction's, which starts at the origin: the
   // map's start is then the true start itself.
   const Eigen::Isometry3d initial_correction =
