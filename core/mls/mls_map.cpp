@@ -255,10 +255,8 @@ void MlsMap::trace_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end
   // The walk keeps its place within the tile and looks the tile up only when it steps out of one (a
   // tile is 32 cells across): the key and lookup per cell were a quarter of a ray's instructions, and
   // ray tracing is a fifth of a 32-beam revolution's processing (docs/benchmarks.md, "Real captures").
-  const auto tile_at = [this](CellIndex c) -> MlsTile* {
-    const auto it = tiles_.find(key_of(tile_of(c)));
-    return it == tiles_.end() ? nullptr : it->second.get();
-  };
+  // find_tile is the const lookup; the map is this one's own, non-const, and the ray clears patches.
+  const auto tile_at = [this](CellIndex c) { return const_cast<MlsTile*>(find_tile(tile_of(c))); };
   constexpr int kLocalMask = kMlsTileSize - 1;
   MlsTile* tile = tile_at(cell);
   int local_x = cell.x & kLocalMask;
