@@ -7,10 +7,11 @@
 // prints one line per goal and a summary, "key=value" separated by spaces.
 //
 //   strata_goal_drive_bench [--world yard|campus] [--scanner tilting|lidar] [--warmup S] [--goals N]
-//                           [--timeout S] [--time-scale X] [--seed K] [--dump DIR]
+//                           [--timeout S] [--time-scale X] [--seed K] [--dump DIR] [--record DIR]
 //   defaults: yard, tilting, 60 simulated seconds of demo route, 20 goals, 240 simulated seconds per goal,
 //   time scale 20, seed 1 (picks the goals; the simulator's own seed is the server's default); with --dump,
-//   the map downloaded before each goal that was not reached is saved as DIR/goal_<i>.strata
+//   the map downloaded before each goal that was not reached is saved as DIR/goal_<i>.strata; with
+//   --record, the server records its scans and odometry there (`strata serve --replay` plays them again)
 //
 //   goal     i, where from and to, distance; phase it ended in (reached, failed, timeout) and the reason;
 //            accepted: the server planned a way and drove (it did not refuse the goal); simulated seconds;
@@ -52,7 +53,8 @@ struct Options {
   double timeout = 240.0;
   std::string time_scale = "20";
   unsigned seed = 1;
-  std::string dump;  ///< a folder for the maps of goals not reached; empty: none saved
+  std::string dump;    ///< a folder for the maps of goals not reached; empty: none saved
+  std::string record;  ///< a folder the server records the run into; empty: not recorded
 };
 
 Options parse(int argc, char** argv) {
@@ -76,9 +78,15 @@ Options parse(int argc, char** argv) {
       options.seed = static_cast<unsigned>(std::atoi(value));
     else if (key == "--dump")
       options.dump = value;
+    else if (key == "--record")
+      options.record = value;
   }
   return options;
 }
+
+/// The navigator's planner graph configuration and the server's map resolution (defaults).
+const PatchGraphConfig kNavigatorGraph{.clearance_weight = 2.0};
+constexpr double kMapResolution = 0.1;
 
 nlohmann::json get_json(std::uint16_t port, const std::string& target) {
   const auto response = http_request(port, http::verb::get, target, {}, kTestOperatorToken);
@@ -101,10 +109,9 @@ PatchGraph download_graph(std::uint16_t port, std::string& file) {
     throw std::runtime_error("map download: HTTP " + std::to_string(response.result_int()));
   file = response.body();
   const MlsMap map = deserialize_mls_map(file, "the downloaded map");
-  const PatchGraphConfig config{.clearance_weight = 2.0};  // the navigator's
   return PatchGraph(std::make_shared<const SurfaceGrid>(map, CellRegion::of_tiles(map.tile_indices()),
-                                                        config.traversability),
-                    map.resolution(), config);
+                                                        kNavigatorGraph.traversability),
+                    map.resolution(), kNavigatorGraph);
 }
 
 struct Outcome {
@@ -155,14 +162,19 @@ Outcome drive_to(std::uint16_t port, const Eigen::Vector3d& goal, double timeout
 int main(int argc, char** argv) {
   const Options options = parse(argc, argv);
   const sim::World world(sim::builtin_world(options.world));
-  testing::ServerProcess server(
-      {"--world", options.world, "--scanner", options.scanner, "--time-scale", options.time_scale});
+  std::vector<std::string> args{"--world",       options.world,  "--scanner",
+                                options.scanner, "--time-scale", options.time_scale};
+  if (!options.record.empty())
+    args.insert(args.end(), {"--record", options.record});
+  testing::ServerProcess server(args);
   const std::uint16_t port = server.port();
+  // Surveyed while the robot warms up: surveying takes seconds in which the demo route drives on, so done
+  // between reading where the robot is and sending it a goal, it made goals 10 m off their distance.
+  const PatchGraph truth = test::surveyed_graph(world, kMapResolution, kNavigatorGraph);
   while (get_json(port, "/api/v1/pose").value("stamp", 0.0) < options.warmup)
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
 
   std::mt19937 random(options.seed);
-  std::unique_ptr<PatchGraph> truth;
   int tried = 0;
   int accepted = 0;
   int reached = 0;
@@ -174,10 +186,8 @@ int main(int argc, char** argv) {
                                    pose.at("z").get<double>());
     std::string map_file;
     const PatchGraph seen = download_graph(port, map_file);
-    if (!truth)
-      truth = std::make_unique<PatchGraph>(test::surveyed_graph(world, seen));
     std::vector<Eigen::Vector3d> spots;
-    for (const Eigen::Vector3d& spot : test::seen_goal_spots(*truth, seen, robot)) {
+    for (const Eigen::Vector3d& spot : test::seen_goal_spots(truth, seen, robot)) {
       const double distance = std::hypot(spot.x() - robot.x(), spot.y() - robot.y());
       if (distance >= 2.0 && distance <= 20.0)
         spots.push_back(spot);

@@ -7,7 +7,9 @@
 // Map consistency ("revisit spread"): where two scans far apart along the way (>= 15 m driven) saw the
 // same place (within 5 m), how far apart the map puts the same true point from the two: the walls a map
 // doubles. For the live map, each scan at the pose it was mapped with; for the rebuilt map, each keyframe
-// at its final pose graph estimate.
+// at its final pose graph estimate. Keyframe tilt steps: how much the tilt error changes between
+// consecutive keyframes, as the scan path mapped them and after the pose graph (floor far away doubles
+// where it does); keyframe_tilt_max_deg: the largest tilt error of a keyframe after the pose graph.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -43,6 +45,38 @@ struct Spread {
   double p95 = 0.0;
   double max = 0.0;
 };
+
+/// Which way is up by the estimate, against the truth, degrees: the tilt part of a pose's error.
+double tilt_error_deg(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth) {
+  const Eigen::Vector3d up = estimate.linear() * truth.linear().transpose() * Eigen::Vector3d::UnitZ();
+  return std::acos(std::clamp(up.z(), -1.0, 1.0)) * 180.0 / M_PI;
+}
+
+/// How the keyframes' tilt errors change from one keyframe to the next, degrees (median, p95, max): what
+/// puts floor seen 20 m away at two heights in the map. A tilt error the keyframes share (the IMU's own)
+/// tilts the whole map and does not count.
+Spread keyframe_tilt_steps(const std::vector<KeyframePose>& keyframes, bool final_poses,
+                           const std::map<double, Eigen::Isometry3d>& truth_at) {
+  std::vector<double> steps;
+  for (std::size_t i = 1; i < keyframes.size(); ++i) {
+    const auto error_up = [&](std::size_t k) -> Eigen::Vector3d {
+      const Eigen::Isometry3d& estimate =
+          final_poses ? keyframes[k].pose : keyframes[k].keyframe->mapped_pose;
+      return estimate.linear() * truth_at.at(keyframes[k].keyframe->stamp).linear().transpose() *
+             Eigen::Vector3d::UnitZ();
+    };
+    steps.push_back(std::acos(std::clamp(error_up(i - 1).dot(error_up(i)), -1.0, 1.0)) * 180.0 / M_PI);
+  }
+  Spread spread;
+  if (steps.empty())
+    return spread;
+  std::sort(steps.begin(), steps.end());
+  spread.pairs = steps.size();
+  spread.median = steps[steps.size() / 2];
+  spread.p95 = steps[static_cast<std::size_t>(0.95 * static_cast<double>(steps.size() - 1))];
+  spread.max = steps.back();
+  return spread;
+}
 
 /// See the header comment. Per pair: the mean over the first visit's points within 10 m of its sensor.
 Spread revisit_spread(const std::vector<Visit>& visits) {
@@ -129,12 +163,15 @@ int main(int argc, char** argv) {
   // STRATA_BENCH_POSE_GRAPH=0: the scan-to-map localizer alone, as before the pose graph.
   if (const char* graph = std::getenv("STRATA_BENCH_POSE_GRAPH"))
     graph_options.pose_graph = std::string(graph) != "0";
+  if (const char* tilt = std::getenv("STRATA_BENCH_CHAIN_TILT"))  // the chain's roll and pitch sigma, rad
+    graph_options.chain_sigma_tilt = std::atof(tilt);
   LocalizerOptions& options = graph_options.scan_matching;
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
   // STRATA_BENCH_LOCAL_METRES=<metres>, STRATA_BENCH_LOCAL_VOXEL=<metres>, STRATA_BENCH_SOURCE_POINTS=<n>,
   // STRATA_BENCH_FINE_VOXEL=<m>, STRATA_BENCH_ROTATION_GUARD=<eigenvalue>,
   // STRATA_BENCH_DIRECTION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>,
-  // STRATA_BENCH_TILT_DRIFT=<rad per scan>, STRATA_BENCH_BIAS_RATE=<per scan>.
+  // STRATA_BENCH_TILT_DRIFT=<rad per scan>, STRATA_BENCH_BIAS_RATE=<per scan>, STRATA_BENCH_TILT_CHANGE=<rad
+  // per metre>.
   if (const char* metric = std::getenv("STRATA_BENCH_METRIC")) {
     options.registration.icp.metric =
         std::string(metric) == "point" ? IcpMetric::kPointToPoint : IcpMetric::kPointToPlane;
@@ -151,6 +188,8 @@ int main(int argc, char** argv) {
     options.registration.max_source_points = static_cast<std::size_t>(std::atol(budget));
   if (const char* drift = std::getenv("STRATA_BENCH_TILT_DRIFT"))
     options.gravity.drift_per_scan = std::atof(drift);
+  if (const char* change = std::getenv("STRATA_BENCH_TILT_CHANGE"))
+    options.gravity.tilt_change_per_metre = std::atof(change);
   if (const char* rate = std::getenv("STRATA_BENCH_BIAS_RATE"))
     options.gravity.bias_rate_per_radian = std::atof(rate);
   if (const char* guard = std::getenv("STRATA_BENCH_ROTATION_GUARD"))
@@ -274,6 +313,11 @@ int main(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - rebuild_start).count();
   const Spread live_spread = revisit_spread(mapped);
   const Spread rebuilt_spread = revisit_spread(rebuilt);
+  const Spread path_tilt = keyframe_tilt_steps(keyframes, false, truth_at);
+  const Spread graph_tilt = keyframe_tilt_steps(keyframes, true, truth_at);
+  double max_keyframe_tilt = 0.0;
+  for (const auto& [keyframe, pose] : keyframes)
+    max_keyframe_tilt = std::max(max_keyframe_tilt, tilt_error_deg(pose, truth_at.at(keyframe->stamp)));
   const auto pct_of = [](const std::vector<double>& sorted, double q) {
     return sorted.empty() ? 0.0
                           : sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
@@ -294,7 +338,9 @@ int main(int argc, char** argv) {
       "\"keyframe_map_points\":%zu,\"keyframe_map_mb_per_km\":%.1f,\"rebuild_s\":%.2f,\"rebuilt_patches\":%"
       "zu},"
       "\"revisit_spread_m\":{\"live_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f},"
-      "\"rebuilt_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}}}\n",
+      "\"rebuilt_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}},"
+      "\"keyframe_tilt_step_deg\":{\"scan_path\":{\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f},"
+      "\"graph\":{\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}},\"keyframe_tilt_max_deg\":%.3f}\n",
       world_name.c_str(), scanner.c_str(), duration, travelled, scans, full, partial, none, retried,
       corrected_error, odometry_error, 100.0 * corrected_error / travelled,
       100.0 * odometry_error / travelled, max_corrected_error, max_odometry_error, max_height_error,
@@ -305,6 +351,7 @@ int main(int argc, char** argv) {
       graph.loops_dropped, graph.optimizations, loop_seconds, keyframe_points, keyframe_mb_per_km,
       keyframe_map_points, map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(), live_spread.pairs,
       live_spread.median, live_spread.p95, live_spread.max, rebuilt_spread.pairs, rebuilt_spread.median,
-      rebuilt_spread.p95, rebuilt_spread.max);
+      rebuilt_spread.p95, rebuilt_spread.max, path_tilt.median, path_tilt.p95, path_tilt.max,
+      graph_tilt.median, graph_tilt.p95, graph_tilt.max, max_keyframe_tilt);
   return 0;
 }

@@ -40,15 +40,19 @@ struct SeenGoal {
 };
 
 /// The world as the robot's planner would see it had it scanned every surface: what the seen goals are
-/// judged against. Built with `seen`'s configuration and resolution.
-inline PatchGraph surveyed_graph(const sim::World& world, const PatchGraph& seen) {
+/// judged against. Built with the planner's configuration and map resolution.
+inline PatchGraph surveyed_graph(const sim::World& world, double resolution, const PatchGraphConfig& config) {
   const auto bounds = world.bounds();
   const MlsMap surveyed =
-      survey_world(world, bounds.min.x(), bounds.min.y(), bounds.max.x(), bounds.max.y(), seen.resolution());
-  return PatchGraph(
-      std::make_shared<const SurfaceGrid>(surveyed, CellRegion::of_tiles(surveyed.tile_indices()),
-                                          seen.config().traversability),
-      seen.resolution(), seen.config());
+      survey_world(world, bounds.min.x(), bounds.min.y(), bounds.max.x(), bounds.max.y(), resolution);
+  return PatchGraph(std::make_shared<const SurfaceGrid>(
+                        surveyed, CellRegion::of_tiles(surveyed.tile_indices()), config.traversability),
+                    resolution, config);
+}
+
+/// The same with `seen`'s configuration and resolution.
+inline PatchGraph surveyed_graph(const sim::World& world, const PatchGraph& seen) {
+  return surveyed_graph(world, seen.resolution(), seen.config());
 }
 
 /// Every place (on a grid of `spacing`) that the surveyed world `truth` says the robot can reach from
