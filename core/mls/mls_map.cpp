@@ -186,8 +186,16 @@ bool MlsMap::add_point(MlsTile& tile, int local, float z, float variance) {
   // A horizontal patch takes a point within tau, or within three standard deviations (at most twice tau)
   // when the two are less certain than that: floor seen from afar by a moving sensor scatters beyond tau
   // (its pose's tilt error times the range), and stood as vertical patches all over open ground.
+  // A point less certain than the horizontal patch it meets (seen from further than the points that made
+  // it) is taken within three of its own standard deviations, up to 4 tau: floor mapped from near and then
+  // seen again 20-30 m away at a grazing angle, with its pose's tilt error times the range, stood as
+  // vertical patches 0.2-0.3 m deep across a hallway and cut the robot's way (docs/benchmarks.md, "Far
+  // floor"). What stands higher than that still makes the patch vertical, and a nearer scan is as strict
+  // as before.
   const auto tau = static_cast<float>(config_.vertical_threshold);
-  const float tolerance = std::clamp(3.0F * std::sqrt(patch.variance + variance), tau, 2.0F * tau);
+  float tolerance = std::clamp(3.0F * std::sqrt(patch.variance + variance), tau, 2.0F * tau);
+  if (patch.variance < variance)
+    tolerance = std::max(tolerance, std::min(3.0F * std::sqrt(variance), 4.0F * tau));
   if (!patch.vertical() && std::abs(z - patch.mean) <= tolerance) {
     // Kalman update of the height (thesis / Triebel 2006): the less certain estimate moves more.
     const float sum = patch.variance + variance;

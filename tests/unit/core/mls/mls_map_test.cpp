@@ -81,6 +81,32 @@ TEST(MlsMap, FloorSeenFromAfarScattersWithoutStandingUp) {
   EXPECT_TRUE(wall[0].vertical());
 }
 
+TEST(MlsMap, FloorMappedNearStaysFloorWhenSeenAgainFromAfar) {
+  // A hallway's floor mapped from 2 m, then seen again from 30 m down the hallway by scans whose tilt is
+  // off by up to half a degree: its points scatter 0.25 m either way. They are the floor seen badly,
+  // not a step (they had cut the hallway with vertical patches). Something higher than the far points'
+  // own scatter still stands up, and so does a near scan's step.
+  MlsMap map;
+  const double x = 30.05;
+  for (const double z : {0.0, 0.005, -0.005, 0.0})
+    map.insert_scan({{x, 0.05, z}}, {x - 2.0, 0, 0.7});
+  for (const double z : {0.25, -0.22, 0.18, -0.25, 0.2})
+    map.insert_scan({{x, 0.05, z}}, {0, 0, 0.7});
+  auto patches = patches_at(map, x, 0.05);
+  ASSERT_EQ(patches.size(), 1U);
+  EXPECT_FALSE(patches[0].vertical());
+  EXPECT_NEAR(patches[0].mean, 0.0, 0.01);         // far points barely move what near ones measured
+  map.insert_scan({{x, 0.05, 0.5}}, {0, 0, 0.7});  // a box on the floor, seen from afar
+  patches = patches_at(map, x, 0.05);
+  ASSERT_EQ(patches.size(), 1U);
+  EXPECT_TRUE(patches[0].vertical());
+
+  const double y = 1.05;  // the same scatter from near: a step
+  for (const double z : {0.0, 0.005, 0.15})
+    map.insert_scan({{x, y, z}}, {x - 2.0, y, 0.7});
+  EXPECT_TRUE(patches_at(map, x, y)[0].vertical());
+}
+
 TEST(MlsMap, GapRuleSplitsAndMergesPatches) {
   MlsMap map(static_scene_config(1.0));
   map.insert_scan({{0.05, 0.05, 0.0}, {0.05, 0.05, 1.5}}, {0, 0, 3});
