@@ -127,7 +127,12 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
     chain.measurement = relative;
     chain.information.setZero();
     chain.information.topLeftCorner<3, 3>() = translation;
-    chain.information.bottomRightCorner<3, 3>() = Eigen::Matrix3d::Identity() / (sigma_r * sigma_r);
+    // Rotation errors are in the keyframe's own frame, whose x and y axes are its roll and pitch.
+    const double sigma_tilt = options_.chain_sigma_tilt + options_.chain_sigma_tilt_per_metre * distance;
+    chain.information.bottomRightCorner<3, 3>() =
+        Eigen::Vector3d(1.0 / (sigma_tilt * sigma_tilt), 1.0 / (sigma_tilt * sigma_tilt),
+                        1.0 / (sigma_r * sigma_r))
+            .asDiagonal();
     graph_.add_edge(chain);
   }
   // Gravity holds the graph's roll and pitch (and so its heights) where the chain would let them walk.

@@ -39,6 +39,13 @@ struct GraphLocalizerOptions {
   /// matcher took from odometry get the odometry's, `odometry_sigma` per metre.
   double chain_sigma_translation = 0.02;
   double chain_sigma_rotation = 0.005;
+  /// The chain's roll and pitch: scan matching keeps the tilt between keyframes to a few hundredths of a
+  /// degree (median; a tenth or two at worst), where each keyframe's gravity reading is off by 0.1-0.6
+  /// degrees. As loose as the heading, the graph took each keyframe's tilt from its own reading: floor
+  /// 20 m away at heights 0.1 m apart in the rebuilt map (docs/benchmarks.md, "Far floor"). Radians, and
+  /// radians per metre driven.
+  double chain_sigma_tilt = 0.001;
+  double chain_sigma_tilt_per_metre = 0.0002;
   double chain_sigma_per_metre = 0.01;
   double odometry_sigma = 0.05;
   LoopClosureOptions loops;
