@@ -9,6 +9,27 @@
 
 namespace strata {
 
+PoseInformation chain_information(const GraphLocalizerOptions& options, double distance,
+                                  std::span<const Eigen::Vector3d> from_odometry) {
+  // As sure as a scan match over that distance; where it took a direction from odometry (a corridor's
+  // axis), as sure as odometry.
+  const double sigma_t = options.chain_sigma_translation + options.chain_sigma_per_metre * distance;
+  const double sigma_r = options.chain_sigma_rotation + options.chain_sigma_per_metre * 0.1 * distance;
+  const double sigma_odometry = options.chain_sigma_translation + options.odometry_sigma * distance;
+  Eigen::Matrix3d translation = Eigen::Matrix3d::Identity() / (sigma_t * sigma_t);
+  for (const Eigen::Vector3d& d : from_odometry)
+    translation += (1.0 / (sigma_odometry * sigma_odometry) - 1.0 / (sigma_t * sigma_t)) * d * d.transpose();
+  // Rotation errors are in the keyframe's own frame, whose x and y axes are its roll and pitch.
+  const double sigma_tilt = options.chain_sigma_tilt + options.chain_sigma_tilt_per_metre * distance;
+  PoseInformation information = PoseInformation::Zero();
+  information.topLeftCorner<3, 3>() = translation;
+  information.bottomRightCorner<3, 3>() =
+      Eigen::Vector3d(1.0 / (sigma_tilt * sigma_tilt), 1.0 / (sigma_tilt * sigma_tilt),
+                      1.0 / (sigma_r * sigma_r))
+          .asDiagonal();
+  return information;
+}
+
 GraphLocalizer::GraphLocalizer(GraphLocalizerOptions options, const Eigen::Isometry3d& initial_map_from_odom)
     : options_(std::move(options)),
       scan_matching_(options_.scan_matching, initial_map_from_odom),
@@ -104,35 +125,20 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
   } else {
     const std::size_t previous = graph_.size() - 1;
     const std::size_t node = graph_.add_node(graph_.pose(previous) * relative);
-    // The chain: what the scan matcher measured between the two, as sure as a scan match over that
-    // distance; where it took a direction from odometry (a corridor's axis), as sure as odometry.
-    const double sigma_t = options_.chain_sigma_translation + options_.chain_sigma_per_metre * distance;
-    const double sigma_r = options_.chain_sigma_rotation + options_.chain_sigma_per_metre * 0.1 * distance;
-    Eigen::Matrix3d translation = Eigen::Matrix3d::Identity() / (sigma_t * sigma_t);
-    if (update.correction == Correction::kPartial && update.registration) {
-      const TranslationConstraint& constraint = update.registration->constraint;
-      const double sigma_odometry = options_.chain_sigma_translation + options_.odometry_sigma * distance;
-      const Eigen::Matrix3d from_rotation = last_keyframe_frontend_.linear().transpose();
-      for (int k = 0; k < 3; ++k) {
-        if (constraint.eigenvalues[k] >= options_.scan_matching.weak_direction_guard)
-          continue;
-        const Eigen::Vector3d d = from_rotation * constraint.directions.col(k);
-        translation +=
-            (1.0 / (sigma_odometry * sigma_odometry) - 1.0 / (sigma_t * sigma_t)) * d * d.transpose();
-      }
-    }
     PoseGraphEdge chain;
     chain.from = previous;
     chain.to = node;
     chain.measurement = relative;
-    chain.information.setZero();
-    chain.information.topLeftCorner<3, 3>() = translation;
-    // Rotation errors are in the keyframe's own frame, whose x and y axes are its roll and pitch.
-    const double sigma_tilt = options_.chain_sigma_tilt + options_.chain_sigma_tilt_per_metre * distance;
-    chain.information.bottomRightCorner<3, 3>() =
-        Eigen::Vector3d(1.0 / (sigma_tilt * sigma_tilt), 1.0 / (sigma_tilt * sigma_tilt),
-                        1.0 / (sigma_r * sigma_r))
-            .asDiagonal();
+    // Directions the scan matcher took from odometry, in the previous keyframe's frame.
+    std::vector<Eigen::Vector3d> from_odometry;
+    if (update.correction == Correction::kPartial && update.registration) {
+      const TranslationConstraint& constraint = update.registration->constraint;
+      for (int k = 0; k < 3; ++k)
+        if (constraint.eigenvalues[k] < options_.scan_matching.weak_direction_guard)
+          from_odometry.push_back(last_keyframe_frontend_.linear().transpose() *
+                                  constraint.directions.col(k));
+    }
+    chain.information = chain_information(options_, distance, from_odometry);
     graph_.add_edge(chain);
   }
   // Gravity holds the graph's roll and pitch (and so its heights) where the chain would let them walk.

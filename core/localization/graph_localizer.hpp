@@ -52,6 +52,13 @@ struct GraphLocalizerOptions {
   PoseGraphOptions optimizer;
 };
 
+/// The information of the chain edge between two consecutive keyframes `distance` metres apart
+/// (translation in the older keyframe's frame, rotation in the newer's): the scan matcher's relative pose,
+/// with the odometry's sigma along `from_odometry` (unit directions in the older keyframe's frame that the
+/// scan matcher took from odometry), and roll and pitch firmer than heading (GraphLocalizerOptions).
+[[nodiscard]] PoseInformation chain_information(const GraphLocalizerOptions& options, double distance,
+                                                std::span<const Eigen::Vector3d> from_odometry = {});
+
 /// Localization that stays consistent (docs/architecture.md 4.1): the scan-to-map localizer on the scan
 /// path, and behind it a pose graph over keyframes whose loop closures, found and optimized off the scan
 /// path, correct its drift. add_scan() never waits for the graph; close_loops() does the slow part and
