@@ -165,6 +165,8 @@ int main(int argc, char** argv) {
     graph_options.pose_graph = std::string(graph) != "0";
   if (const char* tilt = std::getenv("STRATA_BENCH_CHAIN_TILT"))  // the chain's roll and pitch sigma, rad
     graph_options.chain_sigma_tilt = std::atof(tilt);
+  if (const char* weak = std::getenv("STRATA_BENCH_LOOP_WEAK"))  // a loop edge's weak eigenvalue
+    graph_options.loops.weak_direction = std::atof(weak);
   LocalizerOptions& options = graph_options.scan_matching;
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
   // STRATA_BENCH_LOCAL_METRES=<metres>, STRATA_BENCH_LOCAL_VOXEL=<metres>, STRATA_BENCH_SOURCE_POINTS=<n>,
