@@ -32,10 +32,12 @@
 #include <thread>
 #include <vector>
 
+#include "core/mls/mls_config.hpp"
 #include "core/mls/mls_file.hpp"
 #include "drivers/sim/world/world_file.hpp"
 #include "integration/clients.hpp"
 #include "integration/server_process.hpp"
+#include "server/pipeline/navigator.hpp"
 #include "tests/support/seen_goals.hpp"
 
 namespace {
@@ -85,8 +87,8 @@ Options parse(int argc, char** argv) {
 }
 
 /// The navigator's planner graph configuration and the server's map resolution (defaults).
-const PatchGraphConfig kNavigatorGraph{.clearance_weight = 2.0};
-constexpr double kMapResolution = 0.1;
+const PatchGraphConfig kNavigatorGraph = pipeline::NavigatorConfig{}.graph;
+const double kMapResolution = MlsConfig{}.resolution;
 
 nlohmann::json get_json(std::uint16_t port, const std::string& target) {
   const auto response = http_request(port, http::verb::get, target, {}, kTestOperatorToken);

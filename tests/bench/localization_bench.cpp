@@ -46,10 +46,28 @@ struct Spread {
   double max = 0.0;
 };
 
-/// Which way is up by the estimate, against the truth, degrees: the tilt part of a pose's error.
-double tilt_error_deg(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth) {
-  const Eigen::Vector3d up = estimate.linear() * truth.linear().transpose() * Eigen::Vector3d::UnitZ();
-  return std::acos(std::clamp(up.z(), -1.0, 1.0)) * 180.0 / M_PI;
+/// Median, p95 and max of `values` (pairs: how many).
+Spread spread_of(std::vector<double> values) {
+  Spread spread;
+  spread.pairs = values.size();
+  if (values.empty())
+    return spread;
+  std::sort(values.begin(), values.end());
+  const auto at = [&](double q) { return values[static_cast<std::size_t>(q * double(values.size() - 1))]; };
+  spread.median = at(0.5);
+  spread.p95 = at(0.95);
+  spread.max = values.back();
+  return spread;
+}
+
+/// Which way is up by the estimate when the truth's up is the map's: the tilt part of a pose's error.
+Eigen::Vector3d error_up(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d& truth) {
+  return estimate.linear() * truth.linear().transpose() * Eigen::Vector3d::UnitZ();
+}
+
+/// The angle between two unit vectors, degrees.
+double degrees_between(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::acos(std::clamp(a.dot(b), -1.0, 1.0)) * 180.0 / M_PI;
 }
 
 /// How the keyframes' tilt errors change from one keyframe to the next, degrees (median, p95, max): what
@@ -57,25 +75,13 @@ double tilt_error_deg(const Eigen::Isometry3d& estimate, const Eigen::Isometry3d
 /// tilts the whole map and does not count.
 Spread keyframe_tilt_steps(const std::vector<KeyframePose>& keyframes, bool final_poses,
                            const std::map<double, Eigen::Isometry3d>& truth_at) {
+  const auto up_of = [&](const KeyframePose& k) {
+    return error_up(final_poses ? k.pose : k.keyframe->mapped_pose, truth_at.at(k.keyframe->stamp));
+  };
   std::vector<double> steps;
-  for (std::size_t i = 1; i < keyframes.size(); ++i) {
-    const auto error_up = [&](std::size_t k) -> Eigen::Vector3d {
-      const Eigen::Isometry3d& estimate =
-          final_poses ? keyframes[k].pose : keyframes[k].keyframe->mapped_pose;
-      return estimate.linear() * truth_at.at(keyframes[k].keyframe->stamp).linear().transpose() *
-             Eigen::Vector3d::UnitZ();
-    };
-    steps.push_back(std::acos(std::clamp(error_up(i - 1).dot(error_up(i)), -1.0, 1.0)) * 180.0 / M_PI);
-  }
-  Spread spread;
-  if (steps.empty())
-    return spread;
-  std::sort(steps.begin(), steps.end());
-  spread.pairs = steps.size();
-  spread.median = steps[steps.size() / 2];
-  spread.p95 = steps[static_cast<std::size_t>(0.95 * static_cast<double>(steps.size() - 1))];
-  spread.max = steps.back();
-  return spread;
+  for (std::size_t i = 1; i < keyframes.size(); ++i)
+    steps.push_back(degrees_between(up_of(keyframes[i - 1]), up_of(keyframes[i])));
+  return spread_of(std::move(steps));
 }
 
 /// See the header comment. Per pair: the mean over the first visit's points within 10 m of its sensor.
@@ -102,16 +108,7 @@ Spread revisit_spread(const std::vector<Visit>& visits) {
         spreads.push_back(sum / static_cast<double>(n));
     }
   }
-  Spread spread;
-  spread.pairs = spreads.size();
-  if (spreads.empty())
-    return spread;
-  std::sort(spreads.begin(), spreads.end());
-  const auto at = [&](double q) { return spreads[static_cast<std::size_t>(q * double(spreads.size() - 1))]; };
-  spread.median = at(0.5);
-  spread.p95 = at(0.95);
-  spread.max = spreads.back();
-  return spread;
+  return spread_of(std::move(spreads));
 }
 
 std::string eigen_text(const TranslationConstraint& c) {
@@ -319,7 +316,9 @@ int main(int argc, char** argv) {
   const Spread graph_tilt = keyframe_tilt_steps(keyframes, true, truth_at);
   double max_keyframe_tilt = 0.0;
   for (const auto& [keyframe, pose] : keyframes)
-    max_keyframe_tilt = std::max(max_keyframe_tilt, tilt_error_deg(pose, truth_at.at(keyframe->stamp)));
+    max_keyframe_tilt =
+        std::max(max_keyframe_tilt,
+                 degrees_between(error_up(pose, truth_at.at(keyframe->stamp)), Eigen::Vector3d::UnitZ()));
   const auto pct_of = [](const std::vector<double>& sorted, double q) {
     return sorted.empty() ? 0.0
                           : sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
