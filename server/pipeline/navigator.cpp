@@ -45,6 +45,18 @@ constexpr double kNearestSearchRadius = 3.0;
 /// How far a goal on ground too near an edge moves to a place with room, metres (as Nav2's default goal
 /// tolerance): the goal drive bench's refusals on the yard were places 0.3-0.4 m from one.
 constexpr double kRoomSearchRadius = 0.5;
+/// A far goal may move further, this share of its distance up to kFarRoomSearchRadius: the live map knows
+/// far ground only between a scanner's rings, so where its edges stand is that coarse (the campus lidar's
+/// refusals were spots 8-19 m away, 0.6-1.4 m from a place with room). Fixed when the goal is accepted, so
+/// a replan from near takes the spot asked for once it is seen to have room, and never refuses a goal it
+/// accepted because the robot came closer.
+constexpr double kRoomSearchShareOfDistance = 0.1;
+constexpr double kFarRoomSearchRadius = 2.0;
+
+double room_search_radius(const Eigen::Vector3d& robot, const GoalRequest& goal) {
+  const double distance = std::hypot(goal.x - robot.x(), goal.y - robot.y());
+  return std::clamp(kRoomSearchShareOfDistance * distance, kRoomSearchRadius, kFarRoomSearchRadius);
+}
 
 }  // namespace
 
@@ -240,8 +252,13 @@ bool Navigator::plan_pending() {
     graph_ = std::make_shared<const PatchGraph>(surfaces, resolution, config_.graph);
     graph_version_ = map_version;
   }
-  const PatchGoal target{
-      .x = goal.x, .y = goal.y, .z = goal.z, .level_tolerance = 0.5, .room_search_radius = kRoomSearchRadius};
+  if (!replanning)
+    room_search_radius_ = room_search_radius(pose.position, goal);
+  const PatchGoal target{.x = goal.x,
+                         .y = goal.y,
+                         .z = goal.z,
+                         .level_tolerance = 0.5,
+                         .room_search_radius = room_search_radius_};
   const PatchPath planned = plan_on_patches(*graph_, pose.position, target);
   Failure failure;
   if (!planned.found()) {

@@ -103,6 +103,7 @@ class Navigator : public MotionCommands {
   std::mutex planning_mutex_;  // one plan at a time; guards the graph cache
   std::shared_ptr<const PatchGraph> graph_;
   std::uint64_t graph_version_ = 0;
+  double room_search_radius_ = 0.0;  // how far the goal may move to a place with room, set on acceptance
   std::thread thread_;
 };
 

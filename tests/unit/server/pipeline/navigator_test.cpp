@@ -127,6 +127,48 @@ TEST(Navigator, AGoalBesideAWallDrivesToTheNearestPlaceWithRoomAndSaysWhere) {
   EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kReached);
 }
 
+/// A hall's floor (z = 0, x in [-10, 10], y in [-3, 3]) that goes on east as a passage 0.6 m wide (walls at
+/// y = +-0.3 from x = 10 to 13), too narrow for the robot: its nearest place with room is ~0.4 m west of x
+/// = 10.
+MlsMap hall_with_a_narrow_passage() {
+  MlsMap map(test::scene_config());
+  PointCloud points;
+  test::add_plane(points, -10, 10, -3, 3, 0.0);
+  test::add_plane(points, 10, 13, -0.3, 0.3, 0.0);
+  test::add_vertical_face(points, 10, -0.3, 13, -0.3, 0.0, 2.0);
+  test::add_vertical_face(points, 10, 0.3, 13, 0.3, 0.0, 2.0);
+  map.insert_scan(points, {0, 0, 3});
+  return map;
+}
+
+// A spot in the passage, 1.4 m from room: from 3 m it is refused, from 19 m (where the live map knows the
+// ground only between a scanner's rings) it moves to room, and it stays accepted once the robot is near.
+TEST(Navigator, AFarGoalMayMoveFurtherToRoomAndStaysAcceptedFromNear) {
+  MlsMap map = hall_with_a_narrow_passage();
+  Navigator navigator;
+  publish(navigator, map);
+  (void)navigator.drive(at(8.0, 0.05, 0.0), 0.0);
+  ASSERT_TRUE(navigator.set_goal({11.0, 0.05, {}}).ok);
+  EXPECT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.goal_status().reason, "goal_not_drivable");
+
+  (void)navigator.drive(at(-8.0, 0.05, 0.0), 1.0);
+  ASSERT_TRUE(navigator.set_goal({11.0, 0.05, {}}).ok);
+  EXPECT_TRUE(navigator.plan_pending());
+  ASSERT_EQ(navigator.goal_status().phase, GoalPhase::kDriving) << navigator.goal_status().message;
+  const auto path = navigator.path();
+  ASSERT_NE(path, nullptr);
+  EXPECT_LT(path->points.back().x(), 10.0);
+  EXPECT_GT(path->points.back().x(), 9.0);
+
+  (void)navigator.drive(at(8.0, 0.05, 0.0), 20.0);
+  publish(navigator, map, 2);
+  EXPECT_TRUE(navigator.plan_pending());  // a replan from near
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving) << navigator.goal_status().message;
+  ASSERT_NE(navigator.path(), nullptr);
+  EXPECT_GT(navigator.path()->points.back().x(), 9.0);
+}
+
 TEST(Navigator, ANewGoalReplacesTheOldAndCancelStops) {
   const MlsMap map = test::bridge_scene();
   Navigator navigator;
