@@ -24,6 +24,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <memory>
@@ -163,6 +164,8 @@ Outcome drive_to(std::uint16_t port, const Eigen::Vector3d& goal, double timeout
 
 int main(int argc, char** argv) {
   const Options options = parse(argc, argv);
+  if (!options.dump.empty())
+    std::filesystem::create_directories(options.dump);  // a map not written is a failure not looked at
   const sim::World world(sim::builtin_world(options.world));
   std::vector<std::string> args{"--world",       options.world,  "--scanner",
                                 options.scanner, "--time-scale", options.time_scale};
