@@ -106,7 +106,8 @@ test('tapping a spot on the map sets a goal there; the path appears and the robo
 
 test('a goal that is no place for the robot fails, and the panel says why in the server\'s words', { skip }, async () => {
   // Issue 21: the panel said "no way to the goal (unreachable)" where the log said what was wrong. A goal
-  // on the face of the lab's shelf (3 m from the start, seen in the first scan) is no place for the robot:
+  // inside the lab's shelf (0.3 m behind its face, 3 m from the start, seen in the first scan) is no place for
+  // the robot (a spot on the face itself is floor too near an edge, and moves to room):
   // it fails as goal_not_drivable, and the panel shows the goal's message word for word (with the nearest
   // place the robot can reach), as REST and the log do.
   const page = await openApp(browser, server.url, { token: TOKEN });
@@ -116,7 +117,7 @@ test('a goal that is no place for the robot fails, and the panel says why in the
   let goal;
   for (let attempt = 0; attempt < 30; attempt += 1) { // until the map holds the shelf
     const posted = await fetch(`${server.url}/api/v1/goal`, {
-      method: 'POST', headers, body: JSON.stringify({ x: 11.75, y: 11.35 }),
+      method: 'POST', headers, body: JSON.stringify({ x: 11.75, y: 11.6 }),
     });
     assert.ok(posted.ok, `the goal is taken (${posted.status})`);
     for (let waited = 0; waited < 100; waited += 1) {
