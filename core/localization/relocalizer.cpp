@@ -141,21 +141,51 @@ RelocalizationResult Relocalizer::search(const PointCloud& scan, std::vector<Eig
                     candidates.end(),
                     [](const Candidate& a, const Candidate& b) { return a.score > b.score; });
 
+  std::vector<Candidate> best;
+  for (std::size_t i = 0; i < kept; ++i)
+    best.push_back(candidates[i]);
+  RelocalizationResult decided = decide(scan, structure, best);
+  decided.candidates = result.candidates;
+  decided.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return decided;
+}
+
+RelocalizationResult Relocalizer::follow(const PointCloud& scan,
+                                         const std::vector<Eigen::Isometry3d>& places) {
+  const auto start = std::chrono::steady_clock::now();
+  PointCloud structure;
+  for (const Eigen::Vector3d& p : scan)
+    if (p.z() > options_.structure_height)
+      structure.push_back(p);
+  structure = voxel_downsample(structure, options_.structure_voxel);
+  if (structure.size() < options_.min_structure_points)
+    structure = voxel_downsample(scan, options_.structure_voxel);
+  std::vector<Candidate> candidates;
+  for (const Eigen::Isometry3d& place : places)
+    candidates.push_back({place, 0.0});
+  RelocalizationResult result = decide(scan, structure, candidates);
+  result.candidates = places.size();
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+RelocalizationResult Relocalizer::decide(const PointCloud& scan, const PointCloud& structure,
+                                         const std::vector<Candidate>& candidates) {
   struct Refined {
     Eigen::Isometry3d pose;
     double share = 0.0;
     double rmse = 0.0;
     double structure = 0.0;
   };
+  RelocalizationResult result;
   std::vector<Refined> refined;
-  for (std::size_t i = 0; i < kept; ++i) {
-    const RegistrationResult fit = registration_.register_scan(scan, candidates[i].pose);
+  for (const Candidate& candidate : candidates) {
+    const RegistrationResult fit = registration_.register_scan(scan, candidate.pose);
     if (!fit.refined.matrix().allFinite() || fit.source_points == 0)
       continue;
     refined.push_back({fit.refined, static_cast<double>(fit.pairs) / static_cast<double>(fit.source_points),
                        fit.rmse, structure_fit(structure, fit.refined)});
   }
-  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (refined.empty()) {
     result.message = "no candidate could be registered";
     return result;
@@ -166,22 +196,38 @@ RelocalizationResult Relocalizer::search(const PointCloud& scan, std::vector<Eig
   result.rmse = best->rmse;
   result.structure_share = best->structure;
 
+  const Refined* rival = nullptr;
+  result.places.push_back(best->pose);
   for (const Refined& other : refined) {
     const Eigen::Isometry3d apart = best->pose.inverse() * other.pose;
     const bool elsewhere = apart.translation().norm() > options_.distinct_metres ||
                            Eigen::AngleAxisd(apart.linear()).angle() > options_.distinct_radians;
-    if (elsewhere && other.structure >= best->structure - options_.ambiguity_margin &&
-        other.share >= options_.min_inlier_share) {
-      char text[192];
-      std::snprintf(text, sizeof(text),
-                    "two places fit as well (%.0f %% and %.0f %% of the scan's walls and objects, %.1f m "
-                    "apart): give a hint nearer the robot",
-                    100.0 * best->structure, 100.0 * other.structure,
-                    (best->pose.translation() - other.pose.translation()).norm());
-      result.message = text;
-      return result;
-    }
+    const bool as_well = other.structure >= best->structure - options_.ambiguity_margin &&
+                         other.share >= options_.min_inlier_share;
+    if (!as_well)
+      continue;
+    // The places that fit as well, one per place: what the next scans decide between.
+    const bool known = std::ranges::any_of(result.places, [&](const Eigen::Isometry3d& place) {
+      const Eigen::Isometry3d d = place.inverse() * other.pose;
+      return d.translation().norm() <= options_.distinct_metres &&
+             Eigen::AngleAxisd(d.linear()).angle() <= options_.distinct_radians;
+    });
+    if (!known)
+      result.places.push_back(other.pose);
+    if (elsewhere && rival == nullptr)
+      rival = &other;
   }
+  if (rival != nullptr) {
+    char text[192];
+    std::snprintf(text, sizeof(text),
+                  "two places fit as well (%.0f %% and %.0f %% of the scan's walls and objects, %.1f m "
+                  "apart): give a hint nearer the robot",
+                  100.0 * best->structure, 100.0 * rival->structure,
+                  (best->pose.translation() - rival->pose.translation()).norm());
+    result.message = text;
+    return result;
+  }
+  result.places.clear();
   if (best->share < options_.min_inlier_share || best->rmse > options_.max_rmse ||
       best->structure < options_.min_structure_share) {
     char text[192];

@@ -65,6 +65,9 @@ struct RelocalizationResult {
   std::size_t candidates = 0;    ///< poses scored
   double seconds = 0.0;
   std::string message;  ///< plain words: where it was found, or why not
+  /// When places fit as well: each of them (the best first), for the next scans to decide between
+  /// (`Relocalizer::follow`, with the odometry since); empty otherwise.
+  std::vector<Eigen::Isometry3d> places;
 };
 
 /// Finding the robot in a saved map (issue 22): around an operator's hint, or anywhere. Candidate poses
@@ -82,6 +85,11 @@ class Relocalizer {
                                             std::optional<double> z = std::nullopt);
   /// The same without a hint: every place a keyframe was.
   [[nodiscard]] RelocalizationResult anywhere(const PointCloud& scan);
+  /// Deciding between places that fit a scan as well (RelocalizationResult::places) with a later scan:
+  /// `places` are where each would put the robot now (moved by the odometry since). One scan of a hallway
+  /// fits a metre along it as well; the scans the robot takes as it drives on see a door or an end.
+  [[nodiscard]] RelocalizationResult follow(const PointCloud& scan,
+                                            const std::vector<Eigen::Isometry3d>& places);
 
  private:
   struct Candidate {
@@ -91,6 +99,9 @@ class Relocalizer {
   [[nodiscard]] double score(const PointCloud& thinned, const Eigen::Isometry3d& pose) const;
   /// The share of `structure` (base frame) within tight_distance of a map point at `pose`.
   [[nodiscard]] double structure_fit(const PointCloud& structure, const Eigen::Isometry3d& pose) const;
+  /// Refines each candidate by ICP and takes the best if it fits and no other place fits as well.
+  [[nodiscard]] RelocalizationResult decide(const PointCloud& scan, const PointCloud& structure,
+                                            const std::vector<Candidate>& candidates);
   /// `hinted`: the poses are around an operator's hint (a scan of bare ground is searched only there).
   [[nodiscard]] RelocalizationResult search(const PointCloud& scan, std::vector<Eigen::Isometry3d> poses,
                                             bool hinted);

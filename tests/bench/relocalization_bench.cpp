@@ -34,7 +34,11 @@ struct Seen {
   PointCloud points;
   Eigen::Isometry3d truth;
   bool in_hallway = false;  ///< under a world box named "...hallway-ceiling" (the campus's featureless one)
+  Eigen::Isometry3d odometry = Eigen::Isometry3d::Identity();  ///< the base in the odometry frame
 };
+
+/// How many of the run's next scans a search that found places fitting as well may follow them through.
+constexpr std::size_t kFollowScans = 5;
 
 bool right(const RelocalizationResult& result, const Eigen::Isometry3d& truth) {
   const double heading =
@@ -138,7 +142,7 @@ int main(int argc, char** argv) {
     other_run.step(0.01);
     for (const ScanEvent& scan : other_run.take_scans())
       seen.push_back({pipeline::points_in_base(scan), in_map(scan.truth->to_isometry()),
-                      in_hallway(scan.truth->position)});
+                      in_hallway(scan.truth->position), scan.odometry.to_isometry()});
   }
 
   // Where tracking from that pose settles: the map is only locally consistent (its keyframes are up to
@@ -171,10 +175,28 @@ int main(int argc, char** argv) {
   std::mt19937 random(7);
   std::uniform_int_distribution<std::size_t> pick(0, seen.size() - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  Tally hinted, blind, hinted_outside, blind_outside;
+  Tally hinted, blind, hinted_outside, blind_outside, followed, followed_outside;
+  std::vector<double> follow_scans;  // scans followed until a followed search decided
+  // A search that found places fitting as well follows them through the run's next scans, each moved by
+  // the odometry since, until one place is left (as the server does while the robot drives on).
+  const auto follow = [&](std::size_t index, RelocalizationResult result) {
+    std::vector<Eigen::Isometry3d> places = result.places;
+    std::size_t j = index;
+    while (!result.found && !places.empty() && j + 1 < seen.size() && j - index < kFollowScans) {
+      ++j;
+      const Eigen::Isometry3d moved = seen[j - 1].odometry.inverse() * seen[j].odometry;
+      for (Eigen::Isometry3d& place : places)
+        place = place * moved;
+      result = relocalizer.follow(seen[j].points, places);
+      places = result.places;
+    }
+    follow_scans.push_back(static_cast<double>(j - index));
+    return std::pair{result, j};
+  };
   double candidates_blind = 0.0;
   for (std::size_t n = 0; n < samples; ++n) {
-    const Seen& s = seen[pick(random)];
+    const std::size_t index = pick(random);
+    const Seen& s = seen[index];
     // A hint anywhere within 2 m and 30 degrees of the truth.
     const double radius = 2.0 * std::sqrt(unit(random));
     const double angle = 2.0 * std::numbers::pi * unit(random);
@@ -185,6 +207,22 @@ int main(int argc, char** argv) {
     hinted.add(around, s.truth);
     if (!s.in_hallway)
       hinted_outside.add(around, s.truth);
+    const auto [after, at] = follow(index, around);
+    if (std::getenv("STRATA_BENCH_VERBOSE") != nullptr && at != index) {
+      std::fprintf(stderr, "places at the start, m from the truth:");
+      for (const Eigen::Isometry3d& place : around.places)
+        std::fprintf(stderr, " %.2f", (place.translation() - s.truth.translation()).norm());
+      std::fprintf(stderr, "\n");
+    }
+    followed.add(after, seen[at].truth);
+    if (!s.in_hallway)
+      followed_outside.add(after, seen[at].truth);
+    if (std::getenv("STRATA_BENCH_VERBOSE") != nullptr && at != index)
+      std::fprintf(stderr, "followed %zu scans: %s %s (%.2f m off)\n", at - index,
+                   !after.found                   ? "refused"
+                   : right(after, seen[at].truth) ? "right"
+                                                  : "wrong",
+                   after.message.c_str(), (after.pose.translation() - seen[at].truth.translation()).norm());
     const RelocalizationResult anywhere = relocalizer.anywhere(s.points);
     candidates_blind = static_cast<double>(anywhere.candidates);
     if (std::getenv("STRATA_BENCH_VERBOSE") != nullptr) {
@@ -206,10 +244,11 @@ int main(int argc, char** argv) {
       "%zu, "
       "\"made_s\": %.1f, \"worst_keyframe_error_m\": %.2f, \"mean_reference_shift_m\": %.3f, "
       "\"carried_truth_kept\": %zu}, \"hint_within_2m_30deg\": %s, \"no_hint\": %s, "
-      "\"no_hint_candidates\": %.0f, \"outside_featureless_hallway\": {\"hint_within_2m_30deg\": %s, "
-      "\"no_hint\": %s}}\n",
+      "\"no_hint_candidates\": %.0f, \"hint_then_next_scans\": %s, \"outside_featureless_hallway\": "
+      "{\"hint_within_2m_30deg\": %s, \"no_hint\": %s, \"hint_then_next_scans\": %s}}\n",
       world_name.c_str(), duration, samples, map->keyframe_poses.size(), map->points.size(), map_seconds,
       worst_map_error, reference_shift, references_kept, hinted.json().c_str(), blind.json().c_str(),
-      candidates_blind, hinted_outside.json().c_str(), blind_outside.json().c_str());
+      candidates_blind, followed.json().c_str(), hinted_outside.json().c_str(), blind_outside.json().c_str(),
+      followed_outside.json().c_str());
   return 0;
 }

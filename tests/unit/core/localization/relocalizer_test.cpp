@@ -81,5 +81,27 @@ TEST(Relocalizer, FindsTheRobotFromAHintAndWithoutOne) {
   EXPECT_FALSE(lost.message.empty());
 }
 
+// Places a scan fitted as well, followed into the next scan (moved as the robot moved): the place that
+// scan fits is taken, the other dropped; with no place there is nothing to take.
+TEST(Relocalizer, FollowingPlacesKeepsTheOneTheNextScanFits) {
+  auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
+  Relocalizer relocalizer(std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 14)));
+  const std::vector<Seen> seen = second_run(world, 8);
+  const Eigen::Isometry3d& truth = seen[7].truth;
+  Eigen::Isometry3d near = truth;
+  near.translation() += Eigen::Vector3d(0.15, -0.1, 0.0);
+  Eigen::Isometry3d elsewhere = truth;
+  elsewhere.translation() += Eigen::Vector3d(3.0, 2.0, 0.0);
+  const RelocalizationResult followed = relocalizer.follow(seen[7].points, {elsewhere, near});
+  ASSERT_TRUE(followed.found) << followed.message;
+  EXPECT_LT((followed.pose.translation() - truth.translation()).norm(), 0.1);
+  EXPECT_TRUE(followed.places.empty());
+  EXPECT_EQ(followed.candidates, 2U);
+
+  const RelocalizationResult none = relocalizer.follow(seen[7].points, {});
+  EXPECT_FALSE(none.found);
+  EXPECT_FALSE(none.message.empty());
+}
+
 }  // namespace
 }  // namespace strata
