@@ -165,6 +165,26 @@ RelocalizationResult Relocalizer::follow(const PointCloud& scan,
     candidates.push_back({place, 0.0});
   RelocalizationResult result = decide(scan, structure, candidates);
   result.candidates = places.size();
+  // The places followed are the few the first scan's search refined: the right one may not be among
+  // them, and the next scans then choose between wrong ones. A place is taken only if a search around it
+  // with this scan agrees (campus: wrong finds 12 -> 7 %, docs/benchmarks.md "Finding the robot").
+  if (result.found) {
+    const Eigen::Isometry3d found = result.pose;
+    const auto same = [&](const Eigen::Isometry3d& other) {
+      const Eigen::Isometry3d d = found.inverse() * other;
+      return d.translation().norm() <= options_.distinct_metres &&
+             Eigen::AngleAxisd(d.linear()).angle() <= options_.distinct_radians;
+    };
+    const RelocalizationResult check = around(scan, found.translation().x(), found.translation().y(),
+                                              heading_of(found), found.translation().z());
+    const bool agrees = check.found ? same(check.pose) : std::ranges::any_of(check.places, same);
+    result.candidates += check.candidates;
+    if (!agrees) {
+      result.found = false;
+      result.places = check.places;
+      result.message = "the place followed fits worse than another near it: " + check.message;
+    }
+  }
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

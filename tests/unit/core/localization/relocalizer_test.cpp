@@ -96,7 +96,7 @@ TEST(Relocalizer, FollowingPlacesKeepsTheOneTheNextScanFits) {
   ASSERT_TRUE(followed.found) << followed.message;
   EXPECT_LT((followed.pose.translation() - truth.translation()).norm(), 0.1);
   EXPECT_TRUE(followed.places.empty());
-  EXPECT_EQ(followed.candidates, 2U);
+  EXPECT_GT(followed.candidates, 2U);  // the two, and a search around the one taken
 
   const RelocalizationResult none = relocalizer.follow(seen[7].points, {});
   EXPECT_FALSE(none.found);
