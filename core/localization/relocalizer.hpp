@@ -39,7 +39,7 @@ struct RelocalizationOptions {
   /// told apart by guessing.
   double min_inlier_share = 0.55;
   double max_rmse = 0.12;
-  double distinct_metres = 0.3;
+  double distinct_metres = 0.2;
   double distinct_radians = 0.35;
   /// Telling refined candidates apart: by the scan's structure alone (points `structure_height` above
   /// the ground the robot stands on, thinned to `structure_voxel`), the share within `tight_distance` of
