@@ -1,5 +1,6 @@
 #include "server/pipeline/localizer_worker.hpp"
 
+#include <spdlog/fmt/fmt.h>
 #include <spdlog/spdlog.h>
 
 #include <chrono>
@@ -11,6 +12,16 @@
 #include "server/pipeline/scan_preprocessing.hpp"
 
 namespace strata::pipeline {
+namespace {
+
+/// Following the places a pose estimate fits as well: a scan is looked at once the robot has moved this far
+/// or turned this much since the last one looked at (the same view again decides nothing), and the places
+/// are given up after this many scans (the relocalization bench's 5: docs/benchmarks.md).
+constexpr double kFollowStep = 0.5;
+constexpr double kFollowTurn = 0.35;
+constexpr std::size_t kFollowScans = 5;
+
+}  // namespace
 
 LocalizerWorker::LocalizerWorker(RobotState& state, GraphLocalizerOptions options,
                                  const Eigen::Isometry3d& initial_map_from_odom)
@@ -129,6 +140,7 @@ void LocalizerWorker::take_up(std::shared_ptr<const LocalizationMap> map) {
   const auto start = std::chrono::steady_clock::now();
   const std::size_t points = map ? map->points.size() : 0;
   relocalizer_ = map ? std::make_unique<Relocalizer>(map) : nullptr;
+  following_.reset();
   localizer_.localize_in(std::move(map));
   if (localizer_.localizing()) {
     spdlog::info("localizing in the loaded map ({} points, indexed in {:.2f} s): it is not changed", points,
@@ -195,13 +207,49 @@ std::optional<Eigen::Isometry3d> LocalizerWorker::search_around(const PoseEstima
                                                                 double stamp) {
   const RelocalizationResult found =
       relocalizer_->around(points, estimate.x, estimate.y, estimate.yaw, estimate.z);
-  status_.relocalization = RegistrationStatus::Relocalization{stamp, found.found, found.message};
+  std::string message = found.message;
+  following_.reset();
+  if (!found.found && found.places.size() > 1 && odometry) {
+    following_ = Following{found.places, *odometry};
+    message +=
+        fmt::format("; the robot is looked for at these {} places as it drives on", found.places.size());
+  }
+  status_.relocalization = RegistrationStatus::Relocalization{stamp, found.found, message};
   spdlog::info("pose estimate ({:.2f}, {:.2f}, {:.0f} degrees): {} ({} candidates, {:.2f} s)", estimate.x,
-               estimate.y, estimate.yaw * 180.0 / std::numbers::pi, found.message, found.candidates,
-               found.seconds);
+               estimate.y, estimate.yaw * 180.0 / std::numbers::pi, message, found.candidates, found.seconds);
   if (!found.found)
     return std::nullopt;
   return localizer_.place(found.pose, odometry, stamp);
+}
+
+void LocalizerWorker::follow_places(const PointCloud& points, const Pose2& odometry, double stamp) {
+  Following& following = *following_;
+  const Pose2 moved = odometry.relative_to(following.odometry);
+  if (std::hypot(moved.x, moved.y) < kFollowStep && std::abs(moved.theta) < kFollowTurn)
+    return;  // the same view again
+  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
+  motion.translation() = Eigen::Vector3d(moved.x, moved.y, 0.0);
+  motion.linear() = Eigen::AngleAxisd(moved.theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::vector<Eigen::Isometry3d> places = following.places;
+  for (Eigen::Isometry3d& place : places)
+    place = place * motion;
+  const RelocalizationResult found = relocalizer_->follow(points, places);
+  ++following.scans;
+  std::string message = found.message;
+  if (found.found) {
+    following_.reset();
+    static_cast<void>(localizer_.place(found.pose, odometry, stamp));
+  } else if (found.places.size() > 1 && following.scans < kFollowScans) {
+    following.places = found.places;
+    following.odometry = odometry;
+    message +=
+        fmt::format("; the robot is looked for at these {} places as it drives on", found.places.size());
+  } else {
+    following_.reset();
+    message += fmt::format(" (after {} scans as the robot drove on)", following.scans);
+  }
+  status_.relocalization = RegistrationStatus::Relocalization{stamp, found.found, message};
+  spdlog::info("pose estimate followed at t={:.1f}: {} ({:.2f} s)", stamp, message, found.seconds);
 }
 
 void LocalizerWorker::search_with_latest_scan(const PoseEstimate& estimate) {
@@ -246,6 +294,8 @@ void LocalizerWorker::process(ScanEvent event) {
   preprocessed.times = {};
   if (estimate && relocalizer_)
     static_cast<void>(search_around(*estimate, preprocessed.points, odometry, stamp));
+  else if (following_ && relocalizer_ && odometry)
+    follow_places(preprocessed.points, *odometry, stamp);
   const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, stamp,
                                                         scan.sensor_to_base.translation(), scan.gravity);
   ++status_.scans;

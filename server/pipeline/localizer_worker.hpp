@@ -76,6 +76,10 @@ class LocalizerWorker final : public LocalizationCommands {
   /// there; the status's relocalization says how it went. The new map <- odometry correction, if found.
   std::optional<Eigen::Isometry3d> search_around(const PoseEstimate& estimate, const PointCloud& points,
                                                  const std::optional<Pose2>& odometry, double stamp);
+  /// Places an estimate's search found fitting as well, followed into this scan (moved by the odometry
+  /// since) once the robot has moved a little: found, the robot is placed there; the status's
+  /// relocalization says how it went.
+  void follow_places(const PointCloud& points, const Pose2& odometry, double stamp);
   /// The pose graph's thread: closes loops whenever the scan path made keyframes.
   void close_loops();
   /// The localization state after a scan, into status_.localization.
@@ -98,6 +102,14 @@ class LocalizerWorker final : public LocalizationCommands {
   std::optional<PoseEstimate> pending_estimate_;
   std::unique_ptr<Relocalizer> relocalizer_;  // scan path only: searches the map localized in
   std::size_t lost_scans_ = 0;                // scan path only: in a row, while lost
+  /// Places a pose estimate's search found fitting as well, for the next scans to decide between (one scan
+  /// of a hallway fits a metre along it as well; as the robot drives on, its scans see a door or an end).
+  struct Following {
+    std::vector<Eigen::Isometry3d> places;  // map frame, at the scan of `odometry`
+    Pose2 odometry;
+    std::size_t scans = 0;  // followed so far
+  };
+  std::optional<Following> following_;  // scan path only
   /// The latest scan, what a pose estimate is searched with at once.
   struct LatestScan {
     PointCloud points;  // base frame, preprocessed
