@@ -175,7 +175,8 @@ int main(int argc, char** argv) {
   std::mt19937 random(7);
   std::uniform_int_distribution<std::size_t> pick(0, seen.size() - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  Tally hinted, blind, hinted_outside, blind_outside, followed, followed_outside;
+  Tally hinted, blind, hinted_outside, blind_outside, followed, followed_outside, blind_followed,
+      blind_followed_outside;
   std::vector<double> follow_scans;  // scans followed until a followed search decided
   // A search that found places fitting as well follows them through the run's next scans, each moved by
   // the odometry since, until one place is left (as the server does while the robot drives on).
@@ -238,17 +239,22 @@ int main(int argc, char** argv) {
     blind.add(anywhere, s.truth);
     if (!s.in_hallway)
       blind_outside.add(anywhere, s.truth);
+    const auto [blind_after, blind_at] = follow(index, anywhere);
+    blind_followed.add(blind_after, seen[blind_at].truth);
+    if (!s.in_hallway)
+      blind_followed_outside.add(blind_after, seen[blind_at].truth);
   }
   std::printf(
       "{\"world\": \"%s\", \"seconds\": %.0f, \"samples\": %zu, \"map\": {\"keyframes\": %zu, \"points\": "
       "%zu, "
       "\"made_s\": %.1f, \"worst_keyframe_error_m\": %.2f, \"mean_reference_shift_m\": %.3f, "
       "\"carried_truth_kept\": %zu}, \"hint_within_2m_30deg\": %s, \"no_hint\": %s, "
-      "\"no_hint_candidates\": %.0f, \"hint_then_next_scans\": %s, \"outside_featureless_hallway\": "
-      "{\"hint_within_2m_30deg\": %s, \"no_hint\": %s, \"hint_then_next_scans\": %s}}\n",
+      "\"no_hint_candidates\": %.0f, \"hint_then_next_scans\": %s, \"no_hint_then_next_scans\": %s, "
+      "\"outside_featureless_hallway\": {\"hint_within_2m_30deg\": %s, \"no_hint\": %s, "
+      "\"hint_then_next_scans\": %s, \"no_hint_then_next_scans\": %s}}\n",
       world_name.c_str(), duration, samples, map->keyframe_poses.size(), map->points.size(), map_seconds,
       worst_map_error, reference_shift, references_kept, hinted.json().c_str(), blind.json().c_str(),
-      candidates_blind, followed.json().c_str(), hinted_outside.json().c_str(), blind_outside.json().c_str(),
-      followed_outside.json().c_str());
+      candidates_blind, followed.json().c_str(), blind_followed.json().c_str(), hinted_outside.json().c_str(),
+      blind_outside.json().c_str(), followed_outside.json().c_str(), blind_followed_outside.json().c_str());
   return 0;
 }
