@@ -329,9 +329,10 @@ void LocalizerWorker::process(ScanEvent event) {
   }
   // Lost in a saved map: the robot is looked for everywhere the map's robot drove, at the first lost scan
   // and every 5th after (a search takes 0.1-0.5 s on the scan path: docs/benchmarks.md, "Finding the
-  // robot"); found, the next scan starts there.
+  // robot"); found, the next scan starts there. Not while an operator's estimate is being followed: its
+  // places are where to look, and the whole map would fit as many places as the estimate did.
   Eigen::Isometry3d map_from_odom = update.map_from_odom;
-  if (relocalizer_ && status_.localization.state == LocalizationState::kLost) {
+  if (relocalizer_ && status_.localization.state == LocalizationState::kLost && !following_) {
     if (lost_scans_++ % 5 == 0) {
       const RelocalizationResult found = relocalizer_->anywhere(preprocessed.points);
       status_.relocalization =
