@@ -56,6 +56,14 @@ double Relocalizer::score(const PointCloud& thinned, const Eigen::Isometry3d& po
   return thinned.empty() ? 0.0 : static_cast<double>(hits) / static_cast<double>(thinned.size());
 }
 
+PointCloud Relocalizer::structure_of(const PointCloud& scan) const {
+  PointCloud structure;
+  for (const Eigen::Vector3d& p : scan)
+    if (p.z() > options_.structure_height)
+      structure.push_back(p);
+  return voxel_downsample(structure, options_.structure_voxel);
+}
+
 double Relocalizer::structure_fit(const PointCloud& structure, const Eigen::Isometry3d& pose) const {
   std::size_t near = 0;
   for (const Eigen::Vector3d& p : structure)
@@ -117,11 +125,7 @@ RelocalizationResult Relocalizer::search(const PointCloud& scan, std::vector<Eig
     result.message = poses.empty() ? "the map has no places to search" : "the scan has no points";
     return result;
   }
-  PointCloud structure;
-  for (const Eigen::Vector3d& p : scan)
-    if (p.z() > options_.structure_height)
-      structure.push_back(p);
-  structure = voxel_downsample(structure, options_.structure_voxel);
+  PointCloud structure = structure_of(scan);
   // A scan of nothing but ground (open, uneven terrain): near a hint the terrain's shape is all there is
   // to go by; anywhere, too many places have ground like it (measured: docs/benchmarks.md).
   if (structure.size() < options_.min_structure_points) {
@@ -153,11 +157,7 @@ RelocalizationResult Relocalizer::search(const PointCloud& scan, std::vector<Eig
 RelocalizationResult Relocalizer::follow(const PointCloud& scan,
                                          const std::vector<Eigen::Isometry3d>& places) {
   const auto start = std::chrono::steady_clock::now();
-  PointCloud structure;
-  for (const Eigen::Vector3d& p : scan)
-    if (p.z() > options_.structure_height)
-      structure.push_back(p);
-  structure = voxel_downsample(structure, options_.structure_voxel);
+  PointCloud structure = structure_of(scan);
   if (structure.size() < options_.min_structure_points)
     structure = voxel_downsample(scan, options_.structure_voxel);
   std::vector<Candidate> candidates;

@@ -99,6 +99,8 @@ class Relocalizer {
     double score = 0.0;
   };
   [[nodiscard]] double score(const PointCloud& thinned, const Eigen::Isometry3d& pose) const;
+  /// The scan's structure: its points structure_height above the ground, thinned to structure_voxel.
+  [[nodiscard]] PointCloud structure_of(const PointCloud& scan) const;
   /// The share of `structure` (base frame) within tight_distance of a map point at `pose`.
   [[nodiscard]] double structure_fit(const PointCloud& structure, const Eigen::Isometry3d& pose) const;
   /// Refines each candidate by ICP and takes the best if it fits and no other place fits as well.

@@ -21,6 +21,10 @@ constexpr double kFollowStep = 0.5;
 constexpr double kFollowTurn = 0.35;
 constexpr std::size_t kFollowScans = 5;
 
+std::string looked_for(std::size_t places) {
+  return fmt::format("; the robot is looked for at these {} places as it drives on", places);
+}
+
 }  // namespace
 
 LocalizerWorker::LocalizerWorker(RobotState& state, GraphLocalizerOptions options,
@@ -211,8 +215,7 @@ std::optional<Eigen::Isometry3d> LocalizerWorker::search_around(const PoseEstima
   following_.reset();
   if (!found.found && found.places.size() > 1 && odometry) {
     following_ = Following{found.places, *odometry};
-    message +=
-        fmt::format("; the robot is looked for at these {} places as it drives on", found.places.size());
+    message += looked_for(found.places.size());
   }
   status_.relocalization = RegistrationStatus::Relocalization{stamp, found.found, message};
   spdlog::info("pose estimate ({:.2f}, {:.2f}, {:.0f} degrees): {} ({} candidates, {:.2f} s)", estimate.x,
@@ -227,9 +230,7 @@ void LocalizerWorker::follow_places(const PointCloud& points, const Pose2& odome
   const Pose2 moved = odometry.relative_to(following.odometry);
   if (std::hypot(moved.x, moved.y) < kFollowStep && std::abs(moved.theta) < kFollowTurn)
     return;  // the same view again
-  Eigen::Isometry3d motion = Eigen::Isometry3d::Identity();
-  motion.translation() = Eigen::Vector3d(moved.x, moved.y, 0.0);
-  motion.linear() = Eigen::AngleAxisd(moved.theta, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  const Eigen::Isometry3d motion = Pose3::from_pose2(moved).to_isometry();
   std::vector<Eigen::Isometry3d> places = following.places;
   for (Eigen::Isometry3d& place : places)
     place = place * motion;
@@ -242,8 +243,7 @@ void LocalizerWorker::follow_places(const PointCloud& points, const Pose2& odome
   } else if (found.places.size() > 1 && following.scans < kFollowScans) {
     following.places = found.places;
     following.odometry = odometry;
-    message +=
-        fmt::format("; the robot is looked for at these {} places as it drives on", found.places.size());
+    message += looked_for(found.places.size());
   } else {
     following_.reset();
     message += fmt::format(" (after {} scans as the robot drove on)", following.scans);

@@ -61,21 +61,33 @@ TEST(LocalizerWorker, ARobotLostInASavedMapIsFoundAgain) {
   EXPECT_LT(*last_error, 0.2);
 }
 
+/// A second run (seed 2) of a world, its worker started where the robot truly is and localizing in a map
+/// saved from the first run's first `map_scans` scans.
+struct RunInSavedMap {
+  RunInSavedMap(const std::string& world_name, std::size_t map_scans)
+      : world(std::make_shared<const sim::World>(sim::builtin_world(world_name))),
+        run(world, {.seed = 2}),
+        worker(state, GraphLocalizerOptions{},
+               run.sample().truth->to_isometry() * run.sample().odometry.to_isometry().inverse()) {
+    worker.localize_in(std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, map_scans)));
+    worker.start();
+  }
+  std::shared_ptr<const sim::World> world;
+  sim::Simulator run;
+  RobotState state;
+  LocalizerWorker worker;
+};
+
 // A stop-and-go scanner standing still takes no next scan: an operator's pose estimate is searched at once
 // with the latest scan. Here the robot drove on 8 m after it (its scans not handed over, its odometry
 // published as the driver does); the estimate, 0.6 m and 11 degrees from where it is now, is carried back
 // by that odometry to where the scan was taken: found there, the estimate now is on the truth. Without the
 // carrying back the search looks 8 m from the scan's place and is refused (two places fit as well).
 TEST(LocalizerWorker, APoseEstimateIsSearchedWithTheLatestScanWithoutWaitingForAnother) {
-  auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
-  auto saved = std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 21));
-  sim::Simulator run(world, {.seed = 2});
-  const Eigen::Isometry3d start =
-      run.sample().truth->to_isometry() * run.sample().odometry.to_isometry().inverse();
-  RobotState state;
-  LocalizerWorker worker(state, GraphLocalizerOptions{}, start);
-  worker.localize_in(saved);
-  worker.start();
+  RunInSavedMap in_map("yard", 21);
+  sim::Simulator& run = in_map.run;
+  RobotState& state = in_map.state;
+  LocalizerWorker& worker = in_map.worker;
   std::size_t scans = 0;
   Eigen::Vector2d last_scan_at = Eigen::Vector2d::Zero();
   while (scans < 3) {
@@ -119,15 +131,10 @@ TEST(LocalizerWorker, APoseEstimateIsSearchedWithTheLatestScanWithoutWaitingForA
 // before the hallway's end) is refused with the places that fit, and the robot is looked for at them as it
 // drives on; the scans near the end tell them apart, and the robot is placed where it is.
 TEST(LocalizerWorker, APoseEstimateThatFitsSeveralPlacesIsDecidedAsTheRobotDrivesOn) {
-  auto world = std::make_shared<const sim::World>(sim::builtin_world("campus"));
-  auto saved = std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 40));
-  sim::Simulator run(world, {.seed = 2});
-  const Eigen::Isometry3d start =
-      run.sample().truth->to_isometry() * run.sample().odometry.to_isometry().inverse();
-  RobotState state;
-  LocalizerWorker worker(state, GraphLocalizerOptions{}, start);
-  worker.localize_in(saved);
-  worker.start();
+  RunInSavedMap in_map("campus", 40);
+  sim::Simulator& run = in_map.run;
+  RobotState& state = in_map.state;
+  LocalizerWorker& worker = in_map.worker;
   std::size_t scans = 0;
   bool estimated = false;
   std::vector<std::string> answers;
