@@ -8,6 +8,18 @@
 #include "core/points/voxel_downsample.hpp"
 
 namespace strata {
+namespace {
+
+/// One point per `voxel` of a scan, from its `map_points` (one per `map_voxel`, a third of the scan) when
+/// the voxels nest: the first point of a coarse voxel is then the first of its finer one, the same points.
+PointCloud keyframe_points(const PointCloud& points, const PointCloud& map_points, double map_voxel,
+                           double voxel) {
+  const double ratio = map_voxel > 0.0 ? voxel / map_voxel : 0.0;
+  const bool nested = ratio >= 1.0 && std::abs(ratio - std::round(ratio)) < 1e-9;
+  return voxel_downsample(nested ? map_points : points, voxel);
+}
+
+}  // namespace
 
 PoseInformation chain_information(const GraphLocalizerOptions& options, double distance,
                                   std::span<const Eigen::Vector3d> from_odometry) {
@@ -113,8 +125,9 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
   }
   auto keyframe = std::make_shared<Keyframe>();
   keyframe->stamp = stamp;
-  keyframe->points = voxel_downsample(points, options_.keyframe_voxel);
-  keyframe->scans = trail_.close(points, sensor_origin, relative);
+  const PointCloud map_points = trail_.thin(points);
+  keyframe->points = keyframe_points(points, map_points, trail_.voxel(), options_.keyframe_voxel);
+  keyframe->scans = trail_.close(map_points, sensor_origin, relative);
   keyframe->mapped_pose = update.pose;
   keyframe->gravity = update.gravity;
 

@@ -21,12 +21,15 @@ class KeyframeTrail {
   void add(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
            const Eigen::Isometry3d& keyframe_from_scan);
 
-  /// A new keyframe's scans: the trail and then its own scan (`points`, `sensor_origin`), in its base
-  /// frame, thinned over them all; `previous_from_keyframe` its pose relative to the previous keyframe.
-  /// Empties the trail.
-  [[nodiscard]] std::vector<KeyframeScan> close(const PointCloud& points,
+  /// One point per voxel of the trail's size, the first in each, in the scan's order: what a scan keeps.
+  [[nodiscard]] PointCloud thin(const PointCloud& points) const;
+  /// A new keyframe's scans: the trail and then its own scan (`thinned`: thin() of it, `sensor_origin`),
+  /// in its base frame, thinned over them all; `previous_from_keyframe` its pose relative to the previous
+  /// keyframe. Empties the trail.
+  [[nodiscard]] std::vector<KeyframeScan> close(const PointCloud& thinned,
                                                 const Eigen::Vector3d& sensor_origin,
                                                 const Eigen::Isometry3d& previous_from_keyframe);
+  [[nodiscard]] double voxel() const { return voxel_; }
 
   [[nodiscard]] std::size_t size() const { return scans_.size(); }
 

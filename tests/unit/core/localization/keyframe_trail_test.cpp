@@ -32,6 +32,21 @@ TEST(KeyframeTrail, TheNextKeyframeKeepsTheScansSinceThePreviousInItsFrame) {
   EXPECT_TRUE(scans[1].sensor_origin.isApprox(sensor.cast<float>()));
 }
 
+// A keyframe every scan (a fast lidar): its own thinned scan, as it is.
+TEST(KeyframeTrail, AKeyframeWithoutATrailKeepsItsOwnThinnedScan) {
+  KeyframeTrail trail(0.1);
+  const Eigen::Vector3d sensor(0.0, 0.0, 1.0);
+  const PointCloud thinned = trail.thin({{1.01, 0.0, 0.0}, {1.02, 0.0, 0.0}, {2.05, 0.0, 0.0}});
+  ASSERT_EQ(thinned.size(), 2U) << "one point per 0.1 m voxel, the first";
+  const std::vector<KeyframeScan> scans = trail.close(thinned, sensor, along_x(1.0));
+  ASSERT_EQ(scans.size(), 1U);
+  ASSERT_EQ(scans[0].points.size(), 2U);
+  EXPECT_TRUE(scans[0].points[0].isApprox(Eigen::Vector3f(1.01F, 0.0F, 0.0F)));
+  EXPECT_TRUE(scans[0].points[1].isApprox(Eigen::Vector3f(2.05F, 0.0F, 0.0F)));
+  EXPECT_TRUE(scans[0].ground.isZero());
+  EXPECT_TRUE(scans[0].sensor_origin.isApprox(sensor.cast<float>()));
+}
+
 TEST(KeyframeTrail, WithoutAVoxelNothingIsKept) {
   KeyframeTrail trail(0.0);
   trail.add({{1.0, 0.0, 0.0}}, Eigen::Vector3d::Zero(), along_x(0.5));
