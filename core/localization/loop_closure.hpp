@@ -20,6 +20,11 @@ struct LoopClosureOptions {
   double search_radius = 3.0;
   double drift_allowance = 0.03;
   double max_search_radius = 8.0;
+  /// What a match may move the new keyframe from its estimate, metres: this plus `drift_allowance` per
+  /// metre driven between the two keyframes (up to max_search_radius); farther it slid, it did not find
+  /// drift. On the campus bridge deck, 35 m after the keyframe it matched, a lidar keyframe whose estimate
+  /// was 0.13 m off was matched 3.2 m along the deck (docs/benchmarks.md, "Loops on the bridge deck").
+  double min_drift = 0.5;
   /// Levels apart are not one place (a bridge deck over the road): candidates differ in estimated height
   /// by at most this, metres.
   double max_height_difference = 1.0;

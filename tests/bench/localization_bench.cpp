@@ -261,18 +261,18 @@ int main(int argc, char** argv) {
         // Rotation error about the map's axes, degrees: x and y are tilt, z heading.
         const Eigen::AngleAxisd turn(update.pose.linear() * scan.truth->to_isometry().linear().transpose());
         const Eigen::Vector3d turn_deg = turn.axis() * turn.angle() * 180.0 / M_PI;
-        std::fprintf(stderr,
-                     "t=%7.1f truth=(%6.1f %6.1f %5.2f) error=(%6.2f %6.2f %6.2f) rot=(%5.2f %5.2f %5.2f) "
-                     "%-8s %s eig=%s "
-                     "rmse=%.3f\n",
-                     scan.stamp, scan.truth->position.x(), scan.truth->position.y(), scan.truth->position.z(),
-                     error.x(), error.y(), error.z(), turn_deg.x(), turn_deg.y(), turn_deg.z(),
-                     std::string(to_string(update.correction)).c_str(),
-                     update.registration
-                         ? std::string(to_string(update.registration->assessment.reason)).c_str()
-                         : "-",
-                     update.registration ? eigen_text(update.registration->constraint).c_str() : "-",
-                     update.registration ? update.registration->rmse : 0.0);
+        std::fprintf(
+            stderr,
+            "t=%7.1f yaw=%.3f truth=(%7.3f %7.3f %6.3f) error=(%6.2f %6.2f %6.2f) rot=(%5.2f %5.2f %5.2f) "
+            "%-8s %s eig=%s "
+            "rmse=%.3f\n",
+            scan.stamp, scan.truth->yaw * 180.0 / M_PI, scan.truth->position.x(), scan.truth->position.y(),
+            scan.truth->position.z(), error.x(), error.y(), error.z(), turn_deg.x(), turn_deg.y(),
+            turn_deg.z(), std::string(to_string(update.correction)).c_str(),
+            update.registration ? std::string(to_string(update.registration->assessment.reason)).c_str()
+                                : "-",
+            update.registration ? eigen_text(update.registration->constraint).c_str() : "-",
+            update.registration ? update.registration->rmse : 0.0);
       }
     }
     // Error of the pose the server would stream now.

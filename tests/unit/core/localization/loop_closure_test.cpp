@@ -1,0 +1,71 @@
+// Loop closure between two keyframes of one place: a match is a loop only where it moves the new keyframe
+// as far as the estimate can have drifted over the way driven between them.
+#include "core/localization/loop_closure.hpp"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <random>
+
+namespace strata {
+namespace {
+
+/// A room 10 x 8 m with a floor, its walls and three boxes, seen from its middle, points scattered over
+/// the surfaces (a grid would give ICP's pairs steps to stop on): every direction constrained, so a match
+/// from a guess a metre or two off lands on the truth.
+PointCloud room() {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  PointCloud points;
+  // Axis-aligned rectangles: a corner and two edge vectors.
+  const auto surface = [&](const Eigen::Vector3d& corner, const Eigen::Vector3d& u, const Eigen::Vector3d& v,
+                           int count) {
+    for (int i = 0; i < count; ++i)
+      points.push_back(corner + unit(random) * u + unit(random) * v);
+  };
+  const Eigen::Vector3d x = Eigen::Vector3d::UnitX(), y = Eigen::Vector3d::UnitY(),
+                        z = Eigen::Vector3d::UnitZ();
+  surface({-5, -4, 0}, 10 * x, 8 * y, 4000);    // floor
+  surface({-5, -4, 0}, 10 * x, 2.5 * z, 2000);  // walls
+  surface({-5, 4, 0}, 10 * x, 2.5 * z, 2000);
+  surface({-5, -4, 0}, 8 * y, 2.5 * z, 1600);
+  surface({5, -4, 0}, 8 * y, 2.5 * z, 1600);
+  surface({1, 1, 0}, 1.0 * x, 1.0 * z, 200);  // a box's two faces toward the middle
+  surface({1, 1, 0}, 1.0 * y, 1.0 * z, 200);
+  surface({-2, -1.5, 0}, 0.8 * x, 1.5 * z, 200);  // a taller one
+  surface({-2, -1.5, 0}, 1.2 * y, 1.5 * z, 200);
+  surface({3, -2.5, 0}, 0.5 * x, 0.7 * z, 100);  // a small one
+  surface({3, -2.5, 0}, 0.5 * y, 0.7 * z, 100);
+  return points;
+}
+
+/// Keyframe 0 at the room's middle, keyframe 1 back at the same spot after `travelled` metres, its
+/// estimate `drift` off along x.
+std::optional<LoopClosure> revisit(double travelled, double drift) {
+  auto first = std::make_shared<Keyframe>();
+  first->points = room();
+  auto second = std::make_shared<Keyframe>();
+  second->points = room();
+  second->travelled = travelled;
+  const std::vector<KeyframePtr> keyframes{first, second};
+  const std::vector<Eigen::Isometry3d> poses{Eigen::Isometry3d::Identity(),
+                                             Eigen::Isometry3d(Eigen::Translation3d(drift, 0.0, 0.0))};
+  return find_loop_closure(keyframes, poses, 1);
+}
+
+TEST(LoopClosure, AMatchMovesTheNewKeyframeAsFarAsTheEstimateCanHaveDrifted) {
+  const LoopClosureOptions options;
+  // 1.5 m of drift over 20 m driven is more than the 0.5 m + 3 % the estimate can have: a slide.
+  ASSERT_GT(1.5, options.min_drift + options.drift_allowance * 20.0);
+  EXPECT_FALSE(revisit(20.0, 1.5).has_value());
+  // The same drift over 40 m (0.5 + 1.2 m) is drift: the loop is closed, and the match found it.
+  const std::optional<LoopClosure> loop = revisit(40.0, 1.5);
+  ASSERT_TRUE(loop.has_value());
+  EXPECT_NEAR(loop->correction, 1.5, 0.05);
+  EXPECT_LT(loop->edge.measurement.translation().norm(), 0.05) << "the same place as keyframe 0";
+  // A small drift is closed after the least way a loop needs.
+  EXPECT_TRUE(revisit(options.min_travel, 0.3).has_value());
+}
+
+}  // namespace
+}  // namespace strata
