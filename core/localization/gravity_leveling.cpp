@@ -69,7 +69,9 @@ Eigen::Matrix3d GravityLeveling::align(const Eigen::Isometry3d& pose, const Grav
                                        std::optional<double> moved) const {
   if (!usable(gravity))
     return Eigen::Matrix3d::Identity();
-  double gain = 1.0;
+  // Nothing known of the motion (the first scan): as sure of the tilt as the filter is. A start at a
+  // given pose keeps its tilt against one reading taken while driving; an unknown one takes it.
+  double gain = variance_ / (variance_ + gravity.sigma * gravity.sigma);
   if (moved) {
     const double change = options_.tilt_change_per_metre * *moved;
     gain = change * change / (change * change + gravity.sigma * gravity.sigma);

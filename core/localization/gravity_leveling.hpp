@@ -59,7 +59,9 @@ class GravityLeveling {
 
   /// The turn toward where `gravity` (corrected) puts `pose`'s up, without touching the filter: a guess's
   /// tilt, which is the last scan's and stale on a ramp begun in the `moved` metres since. Weighed by
-  /// tilt_change_per_metre against the reading's sigma; the whole turn with nothing moved known (none).
+  /// tilt_change_per_metre against the reading's sigma; with nothing moved known (none), by how sure the
+  /// filter is of the tilt: a start at a given pose took one reading's noise (0.5 degrees) as its tilt and
+  /// then held it (docs/benchmarks.md, "Loops on the bridge deck").
   [[nodiscard]] Eigen::Matrix3d align(const Eigen::Isometry3d& pose, const GravityReading& gravity,
                                       std::optional<double> moved = std::nullopt) const;
 
