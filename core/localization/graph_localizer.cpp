@@ -10,7 +10,7 @@
 namespace strata {
 namespace {
 
-/// One point per `voxel` of a scan, from its `map_points` (one per `map_voxel`, a third of the scan) when
+/// One point per `voxel` of a scan, from its `map_points` (one per finer `map_voxel`, fewer to hash) when
 /// the voxels nest: the first point of a coarse voxel is then the first of its finer one, the same points.
 PointCloud keyframe_points(const PointCloud& points, const PointCloud& map_points, double map_voxel,
                            double voxel) {

@@ -19,6 +19,7 @@ namespace {
 struct RunResult {
   double final_error = 0.0;       ///< at the last scan, after three laps
   double second_lap_error = 0.0;  ///< mean over the scans after the first lap (t > 260 s)
+  double max_error = 0.0;         ///< over all scans: the first loop closure's too
   PoseGraphStatus graph;
 };
 
@@ -42,6 +43,7 @@ RunResult run_yard(bool pose_graph, double seconds) {
           localizer.add_scan(pipeline::points_in_base(scan), odometry, scan.stamp);
       localizer.close_loops();
       result.final_error = (update.pose.translation() - scan.truth->position).norm();
+      result.max_error = std::max(result.max_error, result.final_error);
       if (scan.stamp > 260.0) {
         result.second_lap_error += result.final_error;
         ++second_lap_scans;
@@ -63,6 +65,9 @@ TEST(GraphLocalizer, TheFirstLapsLoopIsClosedAndTheSecondLapLandsOnTheFirst) {
   EXPECT_LT(with_graph.second_lap_error, 0.08);  // measured: 0.059 m
 
   EXPECT_LT(with_graph.final_error, 0.10);  // measured: 0.065 m
+  // The first lap's loop closure moves the estimate onto the truth, not away from it: matched coarse to fine
+  // alone, the loop at t = 164 s landed 0.24 m off (measured; with the fine stage alone too: 0.044 m).
+  EXPECT_LT(with_graph.max_error, 0.12);
 
   // Since open ground's yaw and the weak directions (below 0.08) come from the gyro-aided odometry, scan
   // matching alone keeps the yard's laps as well (measured: 0.060 m at the end); the graph's worth shows
