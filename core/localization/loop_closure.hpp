@@ -58,8 +58,8 @@ struct LoopClosure {
 /// within the search radius of its estimated pose, far enough back along the way; registers the newest's
 /// points onto a submap of that keyframe and its neighbours at their estimated poses, from the estimate,
 /// coarse to fine and with the fine stage alone, and takes the better fit; keeps the match only when the
-/// fault check accepts it and it moved the newest no further than the estimate can have drifted. `poses` are the current estimates, one per
-/// keyframe.
+/// fault check accepts it and it moved the newest no further than the estimate can have drifted. `poses` are
+/// the current estimates, one per keyframe.
 [[nodiscard]] std::optional<LoopClosure> find_loop_closure(const std::vector<KeyframePtr>& keyframes,
                                                            const std::vector<Eigen::Isometry3d>& poses,
                                                            std::size_t newest,
