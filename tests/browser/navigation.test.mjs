@@ -34,6 +34,45 @@ after(async () => {
 
 const distance2d = ([x0, y0], [x1, y1]) => Math.hypot(x1 - x0, y1 - y0);
 
+// First, while the robot still faces along the demo route: after a goal it may stand facing a wall it
+// stopped short of, and pushed forward the simulated bumper holds it (seen once: it did not move 0.4 m).
+test('the joystick drives the robot, and letting go stops it', { skip }, async () => {
+  const page = await openApp(browser, server.url, { touch: true, token: TOKEN });
+  await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
+  await until(page, () => window.strata.robotVisible());
+
+  const box = await page.locator('#joystick').boundingBox();
+  const centre = [box.x + box.width / 2, box.y + box.height / 2];
+  const start = await page.evaluate(() => window.strata.robotPosition());
+  const touch = await touchSession(page);
+  await touch.hold(centre, [centre[0], centre[1] - box.height * 0.45]); // push forward
+  const held = await until(page, () => window.strata.joystick().held && window.strata.joystick());
+  assert.ok(held.v > 0.2, 'forward speed while pushed forward');
+  await until(page, (p0) => {
+    const [x, y] = window.strata.robotPosition();
+    return Math.hypot(x - p0[0], y - p0[1]) > 0.4;
+  }, start, 30000);
+  await page.screenshot({ path: path.join(artifacts, 'joystick_driving.png') });
+  await touch.release();
+  assert.equal((await page.evaluate(() => window.strata.joystick())).held, false, 'released');
+
+  // Stopped: once it has come to rest (it brakes), the robot stays where it is.
+  const position = () => page.evaluate(() => window.strata.robotPosition());
+  let rest = await position();
+  for (let waited = 0; ; waited += 1) {
+    await page.waitForTimeout(1000);
+    const now = await position();
+    if (distance2d(rest, now) < 0.02) break;
+    assert.ok(waited < 15, 'the robot comes to rest after the joystick is released');
+    rest = now;
+  }
+  await page.waitForTimeout(2000);
+  const later = await page.evaluate(() => window.strata.robotPosition());
+  assert.ok(distance2d(rest, later) < 0.05, 'the robot does not move on after the joystick is released');
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
 test('tapping a spot on the map sets a goal there; the path appears and the robot reaches it', { skip }, async () => {
   const page = await openApp(browser, server.url, { touch: true, token: TOKEN });
   await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
@@ -140,43 +179,6 @@ test('a goal that is no place for the robot fails, and the panel says why in the
   const viewport = page.viewportSize();
   assert.ok(box && box.y >= 0 && box.y + box.height <= viewport.height + 1, `the reason is in view: ${JSON.stringify(box)}`);
   await page.screenshot({ path: path.join(artifacts, 'goal_failed_reason.png') });
-  assert.deepEqual(page.errors, []);
-  await page.context().close();
-});
-
-test('the joystick drives the robot, and letting go stops it', { skip }, async () => {
-  const page = await openApp(browser, server.url, { touch: true, token: TOKEN });
-  await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
-  await until(page, () => window.strata.robotVisible());
-
-  const box = await page.locator('#joystick').boundingBox();
-  const centre = [box.x + box.width / 2, box.y + box.height / 2];
-  const start = await page.evaluate(() => window.strata.robotPosition());
-  const touch = await touchSession(page);
-  await touch.hold(centre, [centre[0], centre[1] - box.height * 0.45]); // push forward
-  const held = await until(page, () => window.strata.joystick().held && window.strata.joystick());
-  assert.ok(held.v > 0.2, 'forward speed while pushed forward');
-  await until(page, (p0) => {
-    const [x, y] = window.strata.robotPosition();
-    return Math.hypot(x - p0[0], y - p0[1]) > 0.4;
-  }, start, 30000);
-  await page.screenshot({ path: path.join(artifacts, 'joystick_driving.png') });
-  await touch.release();
-  assert.equal((await page.evaluate(() => window.strata.joystick())).held, false, 'released');
-
-  // Stopped: once it has come to rest (it brakes), the robot stays where it is.
-  const position = () => page.evaluate(() => window.strata.robotPosition());
-  let rest = await position();
-  for (let waited = 0; ; waited += 1) {
-    await page.waitForTimeout(1000);
-    const now = await position();
-    if (distance2d(rest, now) < 0.02) break;
-    assert.ok(waited < 15, 'the robot comes to rest after the joystick is released');
-    rest = now;
-  }
-  await page.waitForTimeout(2000);
-  const later = await page.evaluate(() => window.strata.robotPosition());
-  assert.ok(distance2d(rest, later) < 0.05, 'the robot does not move on after the joystick is released');
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });
