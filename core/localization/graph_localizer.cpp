@@ -61,6 +61,8 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
       correction = std::exchange(pending_correction_, std::nullopt);
       if (correction)
         last_keyframe_frontend_ = *correction * last_keyframe_frontend_;
+      if (pending_heading_drift_)
+        heading_drift_ = *std::exchange(pending_heading_drift_, std::nullopt);
     }
     if (correction)
       scan_matching_.correct(*correction);
@@ -69,12 +71,24 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
   map_moved = std::exchange(placed_, false) || map_moved;
   LocalizationUpdate update;
   if (odometry) {
+    // Seconds of motion since the last scan, over which the odometry's heading drifted: none where it
+    // stood still (a base standing holds its heading).
+    double moving = 0.0;
+    if (last_odometry_) {
+      const Pose2 moved = odometry->relative_to(last_odometry_->odometry);
+      if (std::hypot(moved.x, moved.y) > 1e-4 || std::abs(moved.theta) > 1e-5)
+        moving = std::max(0.0, stamp - last_odometry_->stamp);
+      odometry_heading_ += moved.theta;
+    } else {
+      odometry_heading_ = odometry->theta;
+    }
+    moving_seconds_ += moving;
     last_odometry_ = OdometryAt{stamp, *odometry};
     // Not across a correction of the map frame: the last pose would be in the old one.
     const std::optional<Eigen::Isometry3d> second_guess =
         map_moved ? std::nullopt : scan_motion_.predict_pose(stamp);
     update = scan_matching_.add_scan(points, *odometry, gravity, GuessSource::kOdometry, std::nullopt,
-                                     second_guess);
+                                     second_guess, heading_drift_ * moving);
     scan_motion_.update(stamp, *odometry, update.pose,
                         update.registration && update.correction != Correction::kNone, map_moved);
   } else {
@@ -130,6 +144,9 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
   keyframe->scans = trail_.close(map_points, sensor_origin, relative);
   keyframe->mapped_pose = update.pose;
   keyframe->gravity = update.gravity;
+  if (last_odometry_)  // the base's odometry, not a prediction: its drift is what HeadingDrift fits
+    keyframe->odometry_heading =
+        HeadingSample{.seconds = moving_seconds_, .odometry_heading = odometry_heading_};
 
   std::lock_guard lock(mutex_);
   keyframe->travelled = keyframes_.empty() ? 0.0 : keyframes_.back()->travelled + distance;
@@ -210,6 +227,17 @@ bool GraphLocalizer::close_loops() {
           return e.loop && e.from == edge.from && e.to == edge.to;
         }))
       graph_.add_edge(edge);
+  // The odometry's heading drift, from the loops' corrections spread along the way.
+  std::vector<HeadingSample> headings;
+  for (std::size_t i = 0; i < optimized; ++i)
+    if (const std::optional<HeadingSample>& sample = keyframes[i]->odometry_heading; sample) {
+      headings.push_back(*sample);
+      headings.back().estimated_heading = heading_of(graph.pose(i));
+    }
+  if (const std::optional<double> drift = fit_heading_drift(headings, options_.heading_drift); drift) {
+    pending_heading_drift_ = *drift;
+    status_.heading_drift = *drift;
+  }
   // The scan path's frame moves as its newest keyframe did (last_keyframe_frontend_ is in the scan path's
   // frame as it is now, before any correction still pending: this one replaces it).
   pending_correction_ = graph_.pose(graph_.size() - 1) * last_keyframe_frontend_.inverse();

@@ -9,6 +9,7 @@
 #include <span>
 #include <vector>
 
+#include "core/localization/heading_drift.hpp"
 #include "core/localization/keyframe.hpp"
 #include "core/localization/keyframe_trail.hpp"
 #include "core/localization/loop_closure.hpp"
@@ -50,6 +51,8 @@ struct GraphLocalizerOptions {
   double odometry_sigma = 0.05;
   LoopClosureOptions loops;
   PoseGraphOptions optimizer;
+  /// The odometry's heading drift, learnt from scan matching and taken out of its guesses.
+  HeadingDriftOptions heading_drift;
 };
 
 /// The information of the chain edge between two consecutive keyframes `distance` metres apart
@@ -119,6 +122,11 @@ class GraphLocalizer {
   /// scan rejected for a jump from its odometry (ScanToMapLocalizer::add_scan).
   ConstantVelocityPrediction scan_motion_;
   KeyframeTrail trail_;  // scan path only: the scans the next keyframe keeps for the map
+  /// Scan path only: the odometry's heading drift, rad/s of motion, taken out of its guesses; its turns
+  /// summed (unwrapped) and its seconds of motion since the start, for the keyframes' HeadingSample.
+  double heading_drift_ = 0.0;
+  double odometry_heading_ = 0.0;
+  double moving_seconds_ = 0.0;
 
   /// Everything below. The scan path writes keyframes_ and last_keyframe_frontend_ under it and may read
   /// them without it (it is their only writer); other threads read them under it.
@@ -139,6 +147,8 @@ class GraphLocalizer {
   std::optional<OdometryAt> last_odometry_;  // scan path only: the last scan's, for velocity()
   /// map <- scan matcher correction from the last optimization, not yet applied on the scan path.
   std::optional<Eigen::Isometry3d> pending_correction_;
+  /// The heading drift fitted after the last optimization, not yet taken by the scan path.
+  std::optional<double> pending_heading_drift_;
   PoseGraphStatus status_;
 };
 

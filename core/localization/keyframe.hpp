@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/geometry/gravity.hpp"
+#include "core/localization/heading_drift.hpp"
 #include "core/points/point_cloud.hpp"
 
 namespace strata {
@@ -40,6 +41,9 @@ struct Keyframe {
   /// Metres driven from the first keyframe to this one: loops are only looked for between keyframes
   /// far apart along the way.
   double travelled = 0.0;
+  /// The odometry's heading here and the seconds of motion before (none for a base without odometry):
+  /// what the odometry's heading drift is fitted to (fit_heading_drift; its estimated_heading unset).
+  std::optional<HeadingSample> odometry_heading;
 };
 using KeyframePtr = std::shared_ptr<const Keyframe>;
 

@@ -58,7 +58,8 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
                                                 const std::optional<GravityReading>& gravity,
                                                 GuessSource source,
                                                 const std::optional<GuessUncertainty>& uncertainty,
-                                                const std::optional<Eigen::Isometry3d>& second_guess) {
+                                                const std::optional<Eigen::Isometry3d>& second_guess,
+                                                double heading_drift) {
   // Guess: the last correction carried forward by the odometry since (docs/architecture.md 3, step 2).
   // Its tilt is the last scan's; gravity, where there is a reading, knows the tilt now (a ramp begun).
   // A reading GravityLeveling cannot use (not a unit vector, no sigma) is as good as none.
@@ -66,6 +67,8 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
       gravity && GravityLeveling::usable(*gravity) ? gravity : std::nullopt;
   const Eigen::Isometry3d odometry_guess = global_.pose_isometry(odometry);
   Eigen::Isometry3d guess = odometry_guess;
+  guess.linear() =
+      Eigen::AngleAxisd(heading_drift, Eigen::Vector3d::UnitZ()).toRotationMatrix() * guess.linear();
   if (up) {
     const std::optional<double> moved =
         last_odometry_

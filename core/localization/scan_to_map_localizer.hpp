@@ -127,12 +127,14 @@ class ScanToMapLocalizer {
   /// off (a lidar alone before its speed is known): the jump limits widen by it. `second_guess` (map frame):
   /// where the scans' own motion puts the robot; a scan rejected for a jump from the odometry guess is
   /// registered again from there, and taken if that lands where the first registration did and within
-  /// the limits of the second guess.
+  /// the limits of the second guess. `heading_drift` (radians) turns the odometry guess about the vertical:
+  /// the odometry's own heading drift since the last scan, where it is known (HeadingDrift).
   LocalizationUpdate add_scan(const PointCloud& points, const Pose2& odometry,
                               const std::optional<GravityReading>& gravity = std::nullopt,
                               GuessSource source = GuessSource::kOdometry,
                               const std::optional<GuessUncertainty>& uncertainty = std::nullopt,
-                              const std::optional<Eigen::Isometry3d>& second_guess = std::nullopt);
+                              const std::optional<Eigen::Isometry3d>& second_guess = std::nullopt,
+                              double heading_drift = 0.0);
 
   /// The current estimate for an odometry pose: the latest correction applied to it.
   [[nodiscard]] Eigen::Isometry3d pose(const Pose2& odometry) const {

@@ -72,9 +72,9 @@ void LocalizerWorker::close_loops() {
         const PoseGraphStatus graph = localizer_.status();
         spdlog::info(
             "localization: loop closed at t={:.1f}, {:.2f} m of drift corrected ({} loops over {} "
-            "keyframes, optimized in {:.2f} s)",
+            "keyframes, optimized in {:.2f} s; the odometry's heading drifts {:.1f} degrees an hour)",
             graph.last_loop_stamp, graph.last_correction, graph.loops, graph.keyframes,
-            graph.last_optimization_seconds);
+            graph.last_optimization_seconds, graph.heading_drift * 180.0 / std::numbers::pi * 3600.0);
         if (keyframes_sink_)
           keyframes_sink_(localizer_.keyframes());
       }

@@ -16,6 +16,7 @@
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -335,7 +336,8 @@ int main(int argc, char** argv) {
       "\"registration_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f,\"mean\":%.1f},"
       "\"add_scan_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f},\"source_points_median\":%.0f,"
       "\"pose_graph\":{\"on\":%s,\"keyframes\":%zu,\"loops\":%zu,\"loops_dropped\":%zu,\"optimizations\":%zu,"
-      "\"background_s\":%.2f,\"keyframe_points\":%zu,\"keyframe_mb_per_km\":%.1f,"
+      "\"background_s\":%.2f,\"heading_drift_deg_per_h\":%.2f,\"keyframe_points\":%zu,\"keyframe_mb_per_km\":"
+      "%.1f,"
       "\"keyframe_map_points\":%zu,\"keyframe_map_mb_per_km\":%.1f,\"rebuild_s\":%.2f,\"rebuilt_patches\":%"
       "zu},"
       "\"revisit_spread_m\":{\"live_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f},"
@@ -349,7 +351,8 @@ int main(int argc, char** argv) {
       times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
       pct_of(source_points, 0.5), graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops,
-      graph.loops_dropped, graph.optimizations, loop_seconds, keyframe_points, keyframe_mb_per_km,
+      graph.loops_dropped, graph.optimizations, loop_seconds,
+      graph.heading_drift * 180.0 / std::numbers::pi * 3600.0, keyframe_points, keyframe_mb_per_km,
       keyframe_map_points, map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(), live_spread.pairs,
       live_spread.median, live_spread.p95, live_spread.max, rebuilt_spread.pairs, rebuilt_spread.median,
       rebuilt_spread.p95, rebuilt_spread.max, path_tilt.median, path_tilt.p95, path_tilt.max,

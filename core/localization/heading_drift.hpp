@@ -1,0 +1,37 @@
+#pragma once
+
+#include <optional>
+#include <span>
+
+namespace strata {
+
+struct HeadingDriftOptions {
+  bool enabled = true;
+  /// The stretch of motion the drift is fitted over, seconds: long, as the estimate's heading errors are
+  /// tenths of a degree where the drift grows with time (a gyro's 10 degrees an hour: 1.7 degrees in 10
+  /// minutes); short enough to follow a bias that wanders with temperature.
+  double window = 1200.0;
+  /// Less motion than this: no drift is fitted yet, seconds.
+  double min_window = 300.0;
+  /// A larger drift, rad/s, is not the odometry's (a map that turned under the robot): not taken. 1e-3 is
+  /// 200 degrees an hour, twenty times a consumer gyro's bias after calibration.
+  double max_rate = 1e-3;
+};
+
+/// Where a keyframe's heading was: what the odometry said (its turns summed since the start, radians, not
+/// wrapped) after `seconds` of motion since the start, and where the optimized pose graph has it.
+struct HeadingSample {
+  double seconds = 0.0;
+  double odometry_heading = 0.0;
+  double estimated_heading = 0.0;
+};
+
+/// The odometry's heading drift, radians to add per second of motion: a gyro's bias, which walks the
+/// heading wherever scan matching cannot measure it (partial scans over open ground take their heading
+/// from odometry) until a loop closes. The slope, by least squares, of the optimized graph's heading less
+/// the odometry's over the samples of the last `window` seconds of motion: the loops' corrections spread
+/// along the way. None where the samples span too little motion or the slope is no odometry's drift.
+[[nodiscard]] std::optional<double> fit_heading_drift(std::span<const HeadingSample> samples,
+                                                      const HeadingDriftOptions& options = {});
+
+}  // namespace strata
