@@ -51,7 +51,7 @@ struct GraphLocalizerOptions {
   double odometry_sigma = 0.05;
   LoopClosureOptions loops;
   PoseGraphOptions optimizer;
-  /// The odometry's heading drift, learnt from scan matching and taken out of its guesses.
+  /// The odometry's heading drift, fitted to the optimized graph and taken out of the scan path's guesses.
   HeadingDriftOptions heading_drift;
 };
 

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -184,6 +185,46 @@ TEST(ScanToMapLocalizer, CorridorAxisComesFromOdometry) {
   }
   EXPECT_GE(partial, 4u);
   EXPECT_LT(worst_along, 0.1);
+}
+
+// In the corridor every scan slides along its axis and so keeps the odometry's heading: a heading drift
+// handed in (HeadingDrift: the odometry's own, learnt elsewhere) turns each of those scans' guess, and
+// the turns add up as the odometry's drift would have.
+TEST(ScanToMapLocalizer, TheOdometrysHeadingDriftTurnsTheGuessOfAScanThatKeepsItsHeading) {
+  sim::WorldDescription corridor;
+  corridor.boxes.push_back({"floor", {0, 0, -0.1}, {200, 4, 0.2}, 0.0});
+  corridor.boxes.push_back({"wall-left", {0, 1.35, 1.5}, {200, 0.2, 3}, 0.0});
+  corridor.boxes.push_back({"wall-right", {0, -1.35, 1.5}, {200, 0.2, 3}, 0.0});
+  corridor.spawn = {-20, 0, 0};
+  corridor.route = {{20, 0}, {21, 0}};
+  auto world = std::make_shared<const sim::World>(std::move(corridor));
+  sim::Simulator simulator(world, {.seed = 5});
+  ScanToMapLocalizer plain({}, Eigen::Isometry3d::Identity());
+  ScanToMapLocalizer turned({}, Eigen::Isometry3d::Identity());
+  constexpr double kDrift = 0.004;  // radians a scan
+  std::size_t scans = 0;
+  std::size_t kept = 0;  // scans since the first that kept the odometry's heading in both
+  while (scans < 6) {
+    simulator.step(0.01);
+    for (const ScanEvent& scan : simulator.take_scans()) {
+      const PointCloud points = pipeline::points_in_base(scan);
+      const LocalizationUpdate a = plain.add_scan(points, planar(scan.odometry));
+      const LocalizationUpdate b =
+          turned.add_scan(points, planar(scan.odometry), std::nullopt, GuessSource::kOdometry, std::nullopt,
+                          std::nullopt, scans == 0 ? 0.0 : kDrift);
+      const auto keeps_heading = [](const LocalizationUpdate& u) {
+        return std::ranges::any_of(u.odometry_axes,
+                                   [](const Eigen::Vector3d& axis) { return axis.z() > 0.9; });
+      };
+      if (scans > 0) {
+        ASSERT_TRUE(keeps_heading(a) && keeps_heading(b)) << "the corridor's scans slide";
+        ++kept;
+      }
+      EXPECT_NEAR(heading_of(b.pose) - heading_of(a.pose), kDrift * static_cast<double>(kept), 2e-4);
+      ++scans;
+    }
+  }
+  EXPECT_GE(kept, 4u);
 }
 
 // A map saved from one run (its keyframes at their poses) and a second run that starts 0.5 m and 4 degrees
