@@ -19,6 +19,18 @@ PointCloud keyframe_points(const PointCloud& points, const PointCloud& map_point
   return voxel_downsample(nested ? map_points : points, voxel);
 }
 
+/// The odometry's heading drift over the keyframes at their poses in `graph` (HeadingDrift).
+std::optional<double> heading_drift_of(const PoseGraph& graph, const std::vector<KeyframePtr>& keyframes,
+                                       const HeadingDriftOptions& options) {
+  std::vector<HeadingSample> headings;
+  for (std::size_t i = 0; i < graph.size(); ++i)
+    if (const std::optional<HeadingSample>& sample = keyframes[i]->odometry_heading; sample) {
+      headings.push_back(*sample);
+      headings.back().estimated_heading = heading_of(graph.pose(i));
+    }
+  return fit_heading_drift(headings, options);
+}
+
 }  // namespace
 
 PoseInformation chain_information(const GraphLocalizerOptions& options, double distance,
@@ -207,11 +219,22 @@ bool GraphLocalizer::close_loops() {
       found.push_back(std::move(*loop));
     }
   }
-  if (found.empty())
+  if (found.empty()) {
+    // No loop yet, but scan matching's heading (where the scans' surfaces show it) against the odometry's
+    // tells the drift too: before the first loop, the route's open stretches take their heading from it.
+    const std::optional<double> drift = heading_drift_of(graph, keyframes, options_.heading_drift);
+    std::lock_guard lock(mutex_);
+    if (drift && generation == generation_) {
+      pending_heading_drift_ = *drift;
+      status_.heading_drift = *drift;
+    }
     return false;
+  }
   const PoseGraphSummary summary = graph.optimize(options_.optimizer);
   if (!summary.solved)
     return false;
+  // The odometry's heading drift, from the loops' corrections spread along the way.
+  const std::optional<double> drift = heading_drift_of(graph, keyframes, options_.heading_drift);
 
   std::lock_guard lock(mutex_);
   if (generation != generation_)
@@ -227,14 +250,7 @@ bool GraphLocalizer::close_loops() {
           return e.loop && e.from == edge.from && e.to == edge.to;
         }))
       graph_.add_edge(edge);
-  // The odometry's heading drift, from the loops' corrections spread along the way.
-  std::vector<HeadingSample> headings;
-  for (std::size_t i = 0; i < optimized; ++i)
-    if (const std::optional<HeadingSample>& sample = keyframes[i]->odometry_heading; sample) {
-      headings.push_back(*sample);
-      headings.back().estimated_heading = heading_of(graph.pose(i));
-    }
-  if (const std::optional<double> drift = fit_heading_drift(headings, options_.heading_drift); drift) {
+  if (drift) {
     pending_heading_drift_ = *drift;
     status_.heading_drift = *drift;
   }

@@ -28,9 +28,10 @@ struct HeadingSample {
 
 /// The odometry's heading drift, radians to add per second of motion: a gyro's bias, which walks the
 /// heading wherever scan matching cannot measure it (partial scans over open ground take their heading
-/// from odometry) until a loop closes. The slope, by least squares, of the optimized graph's heading less
-/// the odometry's over the samples of the last `window` seconds of motion: the loops' corrections spread
-/// along the way. None where the samples span too little motion or the slope is no odometry's drift.
+/// from odometry) until a loop closes. The slope, by least squares, of the graph's heading less the
+/// odometry's over the samples of the last `window` seconds of motion: where walls held the scans' heading
+/// (before any loop), and the loops' corrections spread along the way (after). None where the samples span
+/// too little motion or the slope is no odometry's drift.
 [[nodiscard]] std::optional<double> fit_heading_drift(std::span<const HeadingSample> samples,
                                                       const HeadingDriftOptions& options = {});
 

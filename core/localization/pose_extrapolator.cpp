@@ -26,13 +26,14 @@ void PoseExtrapolator::add_sample(double stamp, const Pose3& odometry,
   gravity_ = gravity && GravityLeveling::usable(*gravity) ? gravity : std::nullopt;
   Step step{stamp, odometry, steps_.empty() ? 0.0 : steps_.back().climb};
   if (!steps_.empty() && gravity_) {
-    // The way driven, in the heading's frame, lifted onto the ground the reading says the base stands
-    // on: the ground's normal is R z, so dz = -tan(pitch) dx + tan(roll) / cos(pitch) dy.
+    // The way driven, in the heading's frame: wheels count it along the ground the reading says the base
+    // stands on, the base's own x-y plane, whose rise is R's last row: dz = -sin(pitch) dx +
+    // cos(pitch) sin(roll) dy.
     const Pose3& before = steps_.back().odometry;
     const Eigen::Vector2d way =
         Eigen::Rotation2Dd(-before.yaw) * (odometry.position - before.position).head<2>();
     const Eigen::Vector2d tilt = roll_pitch(*gravity_);
-    step.climb += -std::tan(tilt.y()) * way.x() + std::tan(tilt.x()) / std::cos(tilt.y()) * way.y();
+    step.climb += -std::sin(tilt.y()) * way.x() + std::cos(tilt.y()) * std::sin(tilt.x()) * way.y();
   }
   steps_.push_back(step);
   if (steps_.size() > kMaxSteps)

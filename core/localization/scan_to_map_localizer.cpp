@@ -13,6 +13,25 @@ namespace {
 constexpr double kRetryAgreement = 0.05;                           // metres
 constexpr double kRetryAgreementAngle = std::numbers::pi / 180.0;  // radians: 1 degree
 
+/// How much of ICP's turn about the vertical a partial scan keeps, the rest being the odometry's: as much as
+/// its surfaces resist turning (LocalizerOptions::sliding_yaw_full_information), and as much as the gyro may
+/// have drifted over the way since the last scan: a complementary filter, the gyro for the short term and
+/// the walls for the long. None for a turn no gyro drifts between two scans (a false minimum).
+double sliding_yaw_weight(const LocalizerOptions& options, const TranslationConstraint& constraint,
+                          double icp_yaw_change, std::optional<double> moved) {
+  if (std::abs(icp_yaw_change) > options.sliding_yaw_max_change)
+    return 0.0;
+  const Eigen::Vector3d along = constraint.rotation_axes.transpose() * Eigen::Vector3d::UnitZ();
+  const double information = along.cwiseProduct(along).dot(constraint.rotation_eigenvalues);
+  const double span = options.sliding_yaw_full_information - options.weak_rotation_guard;
+  const double surfaces =
+      span > 0.0 ? std::clamp((information - options.weak_rotation_guard) / span, 0.0, 1.0) : 1.0;
+  const double way = moved && options.sliding_yaw_distance > 0.0
+                         ? 1.0 - std::exp(-*moved / options.sliding_yaw_distance)
+                         : 1.0;
+  return options.sliding_yaw_weight * surfaces * way;
+}
+
 }  // namespace
 
 std::string_view to_string(Correction correction) {
@@ -69,13 +88,13 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   Eigen::Isometry3d guess = odometry_guess;
   guess.linear() =
       Eigen::AngleAxisd(heading_drift, Eigen::Vector3d::UnitZ()).toRotationMatrix() * guess.linear();
-  if (up) {
-    const std::optional<double> moved =
-        last_odometry_
-            ? std::optional(std::hypot(odometry.x - last_odometry_->x, odometry.y - last_odometry_->y))
-            : std::nullopt;
+  // Metres driven since the last scan, by the odometry: how far its tilt and heading may be stale.
+  const std::optional<double> moved =
+      last_odometry_
+          ? std::optional(std::hypot(odometry.x - last_odometry_->x, odometry.y - last_odometry_->y))
+          : std::nullopt;
+  if (up)
     guess.linear() = leveling_.align(guess, *up, moved) * guess.linear();
-  }
   last_odometry_ = odometry;
   LocalizationUpdate update;
   update.pose = guess;
@@ -125,14 +144,15 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
         turn -= axis * axis.dot(turn);
         update.odometry_axes.push_back(axis);
       }
-      // A scan that slides has too few surfaces for its yaw to be better than measured odometry's.
+      // A scan that slides has few surfaces: its yaw is weighed against measured odometry's.
       const bool sliding = result.constraint.weakest < options_.weak_direction_guard;
-      if (sliding && source == GuessSource::kOdometry && options_.yaw_from_odometry_when_sliding) {
+      if (sliding && source == GuessSource::kOdometry) {
         const Eigen::Vector3d vertical = Eigen::Vector3d::UnitZ();
         const bool taken = std::ranges::any_of(
             update.odometry_axes, [&](const Eigen::Vector3d& a) { return std::abs(a.dot(vertical)) > 0.9; });
-        turn -= vertical * vertical.dot(turn);
-        if (!taken)
+        const double weight = sliding_yaw_weight(options_, result.constraint, vertical.dot(turn), moved);
+        turn -= vertical * vertical.dot(turn) * (1.0 - weight);
+        if (!taken && weight < 0.5)
           update.odometry_axes.push_back(vertical);
       }
       const double angle = turn.norm();

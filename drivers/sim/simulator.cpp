@@ -34,6 +34,11 @@ void Simulator::step(double dt) {
   const auto placed = standing ? TerrainPlacer::Result{true, stance_, {}} : placer_.move(stance_, next.pose);
   if (placed.ok) {
     base_.apply(next);
+    // The base moves `distance` across the map; on a slope its wheels roll the longer way along the ground,
+    // and that is what encoders count (a real robot's odometry over a 5-degree ramp reads 0.4 % more than
+    // the ramp's length on the map).
+    const double along_ground = 1.0 / std::cos(0.5 * (stance_.pose.pitch + placed.stance.pose.pitch));
+    const WheelTravel rolled{next.wheels.left * along_ground, next.wheels.right * along_ground};
     stance_ = placed.stance;
     // Standing, the base holds its heading (and recalibrates the gyro's bias): only a moving base turns.
     std::optional<double> gyro_turn;
@@ -42,7 +47,7 @@ void Simulator::step(double dt) {
                       ? 0.0
                       : imu_->measure_turn(
                             (next.wheels.right - next.wheels.left) / config_.limits.wheel_separation, dt);
-    odometry_.integrate(next.wheels, gyro_turn);
+    odometry_.integrate(rolled, gyro_turn);
     since_last_scan_ += std::abs(next.velocity.v) * dt;
     blocked_by_.clear();
   } else {

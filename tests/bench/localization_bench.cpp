@@ -120,6 +120,18 @@ std::string eigen_text(const TranslationConstraint& c) {
                 c.rotation_axes(1, 0), c.rotation_axes(2, 0), c.rotation_eigenvalues[1]);
   return text;
 }
+/// How far ICP's own result (before any direction was taken from odometry) turned from the truth about
+/// the vertical, degrees.
+double icp_heading_error(const RegistrationResult& r, const Pose3& truth) {
+  const Eigen::Matrix3d turn = r.refined.linear() * truth.to_isometry().linear().transpose();
+  return std::atan2(turn(1, 0), turn(0, 0)) * 180.0 / M_PI;
+}
+
+/// The rotation information about the vertical: z^T A diag(lambda) A^T z.
+double yaw_information(const TranslationConstraint& c) {
+  const Eigen::Vector3d along = c.rotation_axes.transpose() * Eigen::Vector3d::UnitZ();
+  return along.cwiseProduct(along).dot(c.rotation_eigenvalues);
+}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -266,14 +278,16 @@ int main(int argc, char** argv) {
             stderr,
             "t=%7.1f yaw=%.3f truth=(%7.3f %7.3f %6.3f) error=(%6.2f %6.2f %6.2f) rot=(%5.2f %5.2f %5.2f) "
             "%-8s %s eig=%s "
-            "rmse=%.3f\n",
+            "rmse=%.3f icp_yaw=%.3f yaw_info=%.4f\n",
             scan.stamp, scan.truth->yaw * 180.0 / M_PI, scan.truth->position.x(), scan.truth->position.y(),
             scan.truth->position.z(), error.x(), error.y(), error.z(), turn_deg.x(), turn_deg.y(),
             turn_deg.z(), std::string(to_string(update.correction)).c_str(),
             update.registration ? std::string(to_string(update.registration->assessment.reason)).c_str()
                                 : "-",
             update.registration ? eigen_text(update.registration->constraint).c_str() : "-",
-            update.registration ? update.registration->rmse : 0.0);
+            update.registration ? update.registration->rmse : 0.0,
+            update.registration ? icp_heading_error(*update.registration, *scan.truth) : 0.0,
+            update.registration ? yaw_information(update.registration->constraint) : 0.0);
       }
     }
     // Error of the pose the server would stream now.

@@ -12,6 +12,7 @@
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
+#include "tests/support/corridor_world.hpp"
 
 namespace strata {
 namespace {
@@ -80,6 +81,40 @@ TEST(GraphLocalizer, TheFirstLapsLoopIsClosedAndTheSecondLapLandsOnTheFirst) {
   const RunResult alone = run_yard(false, 600.0);
   EXPECT_EQ(alone.graph.keyframes, 0U);
   EXPECT_EQ(alone.graph.loops, 0U);
+}
+
+// Down a corridor no place is passed twice, so no loop closes; its walls hold the scans' heading while the
+// odometry's drifts (a gyro's bias), and the drift is fitted from the two before any loop, for the open
+// ground ahead where the heading can only be the odometry's.
+TEST(GraphLocalizer, BeforeAnyLoopTheOdometrysHeadingDriftIsFittedToTheWallsHeading) {
+  sim::Simulator simulator(test::corridor_world(false, 30.0),
+                           {.seed = 5, .tilting = {.slice_step_deg = 2.0, .rotation_step_deg = 2.0}});
+  GraphLocalizerOptions options;
+  options.heading_drift.min_window = 60.0;  // seconds: the corridor's 50 m take about 100
+  GraphLocalizer localizer(options, Eigen::Isometry3d::Identity());
+  constexpr double kRate = 2e-4;  // rad/s: the odometry's heading drifts 41 degrees an hour
+  std::optional<ScanEvent> last;
+  Pose2 drifted;
+  while (simulator.sample().stamp < 200.0) {
+    simulator.step(0.02);
+    for (const ScanEvent& scan : simulator.take_scans()) {
+      // The true motion since the last scan, carried on from the drifting heading.
+      const Pose2 truth{scan.truth->position.x(), scan.truth->position.y(), scan.truth->yaw};
+      if (last) {
+        const Pose2 before{last->truth->position.x(), last->truth->position.y(), last->truth->yaw};
+        drifted = drifted.compose(truth.relative_to(before));
+        drifted.theta += kRate * (scan.stamp - last->stamp);
+      } else {
+        drifted = truth;
+      }
+      last = scan;
+      localizer.add_scan(pipeline::points_in_base(scan), drifted, scan.stamp);
+      localizer.close_loops();
+    }
+  }
+  const PoseGraphStatus status = localizer.status();
+  EXPECT_EQ(status.loops, 0U);
+  EXPECT_NEAR(status.heading_drift, -kRate, 0.3 * kRate) << "turned back as fast as it drifts";
 }
 
 TEST(GraphLocalizer, TheChainKeepsTheTiltBetweenKeyframesThatTheirGravityReadingsScatter) {

@@ -8,9 +8,11 @@
 #include <numbers>
 #include <vector>
 
+#include "core/geometry/angles.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
+#include "tests/support/corridor_world.hpp"
 #include "tests/support/sim_saved_map.hpp"
 #include "tests/support/synthetic_scenes.hpp"
 
@@ -18,6 +20,7 @@ namespace strata {
 namespace {
 
 using test::corridor_scene;
+using test::corridor_world;
 using test::make_transform;
 using test::room_scene;
 using test::rotation_error;
@@ -150,15 +153,7 @@ TEST(ScanToMapLocalizer, BeatsOdometryInTheYard) {
 // In a long featureless corridor ICP cannot tell how far the robot went: the localizer must take that
 // from odometry (partial correction) instead of letting ICP slide.
 TEST(ScanToMapLocalizer, CorridorAxisComesFromOdometry) {
-  sim::WorldDescription corridor;
-  corridor.boxes.push_back({"floor", {0, 0, -0.1}, {200, 4, 0.2}, 0.0});
-  corridor.boxes.push_back({"wall-left", {0, 1.35, 1.5}, {200, 0.2, 3}, 0.0});
-  corridor.boxes.push_back({"wall-right", {0, -1.35, 1.5}, {200, 0.2, 3}, 0.0});
-  corridor.boxes.push_back({"ceiling", {0, 0, 3.1}, {200, 4, 0.2}, 0.0});
-  corridor.spawn = {-20, 0, 0};
-  corridor.route = {{20, 0}, {21, 0}};
-  auto world = std::make_shared<const sim::World>(std::move(corridor));
-  sim::Simulator simulator(world, {.seed = 5});
+  sim::Simulator simulator(corridor_world(/*ceiling=*/true), {.seed = 5});
   ScanToMapLocalizer localizer({}, Eigen::Isometry3d::Identity());
   std::size_t partial = 0, scans = 0;
   double worst_along = 0.0;
@@ -187,20 +182,15 @@ TEST(ScanToMapLocalizer, CorridorAxisComesFromOdometry) {
   EXPECT_LT(worst_along, 0.1);
 }
 
-// In the corridor every scan slides along its axis and so keeps the odometry's heading: a heading drift
-// handed in (HeadingDrift: the odometry's own, learnt elsewhere) turns each of those scans' guess, and
-// the turns add up as the odometry's drift would have.
+// In the corridor every scan slides along its axis; taking none of ICP's turn, each keeps the odometry's
+// heading: a heading drift handed in (HeadingDrift: the odometry's own, learnt elsewhere) turns each of
+// those scans' guess, and the turns add up as the odometry's drift would have.
 TEST(ScanToMapLocalizer, TheOdometrysHeadingDriftTurnsTheGuessOfAScanThatKeepsItsHeading) {
-  sim::WorldDescription corridor;
-  corridor.boxes.push_back({"floor", {0, 0, -0.1}, {200, 4, 0.2}, 0.0});
-  corridor.boxes.push_back({"wall-left", {0, 1.35, 1.5}, {200, 0.2, 3}, 0.0});
-  corridor.boxes.push_back({"wall-right", {0, -1.35, 1.5}, {200, 0.2, 3}, 0.0});
-  corridor.spawn = {-20, 0, 0};
-  corridor.route = {{20, 0}, {21, 0}};
-  auto world = std::make_shared<const sim::World>(std::move(corridor));
-  sim::Simulator simulator(world, {.seed = 5});
-  ScanToMapLocalizer plain({}, Eigen::Isometry3d::Identity());
-  ScanToMapLocalizer turned({}, Eigen::Isometry3d::Identity());
+  sim::Simulator simulator(corridor_world(), {.seed = 5});
+  LocalizerOptions options;
+  options.sliding_yaw_weight = 0.0;
+  ScanToMapLocalizer plain(options, Eigen::Isometry3d::Identity());
+  ScanToMapLocalizer turned(options, Eigen::Isometry3d::Identity());
   constexpr double kDrift = 0.004;  // radians a scan
   std::size_t scans = 0;
   std::size_t kept = 0;  // scans since the first that kept the odometry's heading in both
@@ -225,6 +215,49 @@ TEST(ScanToMapLocalizer, TheOdometrysHeadingDriftTurnsTheGuessOfAScanThatKeepsIt
     }
   }
   EXPECT_GE(kept, 4u);
+}
+
+// The corridor's scans slide along its axis, but its walls resist turning: their heading is ICP's, so an
+// odometry whose heading drifts (a gyro's bias) leaves the estimate's heading where the walls are. Taking
+// none of ICP's turn, the estimate drifts with the odometry.
+TEST(ScanToMapLocalizer, ThePartialScansOfACorridorTakeTheirHeadingFromItsWalls) {
+  sim::Simulator simulator(corridor_world(), {.seed = 5});
+  LocalizerOptions gyro_only;
+  gyro_only.sliding_yaw_weight = 0.0;
+  ScanToMapLocalizer weighed({}, Eigen::Isometry3d::Identity());
+  ScanToMapLocalizer from_odometry(gyro_only, Eigen::Isometry3d::Identity());
+  constexpr double kDrift = 0.004;  // radians a scan: the odometry's heading error grows by this
+  std::optional<Pose2> last_truth;
+  Pose2 drifted;
+  std::size_t scans = 0;
+  double worst_weighed = 0.0;
+  double last_from_odometry = 0.0;
+  while (scans < 8) {
+    simulator.step(0.01);
+    for (const ScanEvent& scan : simulator.take_scans()) {
+      const Pose2 truth = planar(scan.odometry);
+      // The odometry's own motion since the last scan, carried on from a heading that drifted.
+      drifted = last_truth ? drifted.compose(truth.relative_to(*last_truth)) : truth;
+      if (last_truth)
+        drifted.theta += kDrift;
+      last_truth = truth;
+      const PointCloud points = pipeline::points_in_base(scan);
+      const LocalizationUpdate a = weighed.add_scan(points, drifted);
+      const LocalizationUpdate b = from_odometry.add_scan(points, drifted);
+      if (scans > 0) {
+        EXPECT_EQ(a.correction, Correction::kPartial) << "the corridor's scans slide along it";
+        EXPECT_TRUE(std::ranges::none_of(a.odometry_axes, [](const Eigen::Vector3d& axis) {
+          return axis.z() > 0.9;
+        })) << "its heading is not the odometry's";
+      }
+      worst_weighed = std::max(worst_weighed, std::abs(wrap_angle(heading_of(a.pose) - scan.truth->yaw)));
+      last_from_odometry = std::abs(wrap_angle(heading_of(b.pose) - scan.truth->yaw));
+      ++scans;
+    }
+  }
+  // Scans 2 m apart take 86 % of ICP's turn: what is left of a scan's drift does not add up.
+  EXPECT_LT(worst_weighed, 1.5 * kDrift);
+  EXPECT_GT(last_from_odometry, 5 * kDrift) << "the odometry's drift, kept";
 }
 
 // A map saved from one run (its keyframes at their poses) and a second run that starts 0.5 m and 4 degrees
