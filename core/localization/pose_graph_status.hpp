@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstddef>
+#include <numbers>
 
 namespace strata {
 
@@ -13,9 +14,14 @@ struct PoseGraphStatus {
   double last_loop_stamp = -1.0;  ///< scan time of the newest keyframe of the last loop closure; -1: none
   double last_correction = 0.0;   ///< metres the last loop closure moved the newest keyframe
   double last_optimization_seconds = 0.0;
-  /// The odometry's heading drift fitted after the last optimization, rad per second of motion, taken out
-  /// of its turns (fit_heading_drift); 0 until there is one.
+  /// The odometry's heading drift last fitted (before the first loop, or after the last optimization),
+  /// rad per second of motion, taken out of its turns (fit_heading_drift); 0 until there is one.
   double heading_drift = 0.0;
+
+  /// The same in degrees an hour, as status and logs report it (a gyro's datasheet unit).
+  [[nodiscard]] double heading_drift_deg_per_h() const {
+    return heading_drift * 180.0 / std::numbers::pi * 3600.0;
+  }
 };
 
 }  // namespace strata

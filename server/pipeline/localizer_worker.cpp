@@ -74,7 +74,7 @@ void LocalizerWorker::close_loops() {
             "localization: loop closed at t={:.1f}, {:.2f} m of drift corrected ({} loops over {} "
             "keyframes, optimized in {:.2f} s; the odometry's heading drifts {:.1f} degrees an hour)",
             graph.last_loop_stamp, graph.last_correction, graph.loops, graph.keyframes,
-            graph.last_optimization_seconds, graph.heading_drift * 180.0 / std::numbers::pi * 3600.0);
+            graph.last_optimization_seconds, graph.heading_drift_deg_per_h());
         if (keyframes_sink_)
           keyframes_sink_(localizer_.keyframes());
       }

@@ -1,7 +1,6 @@
 #include "server/protocol/messages.hpp"
 
 #include <chrono>
-#include <numbers>
 
 #include "server/protocol/build_info.hpp"
 #include "server/protocol/protocol.hpp"
@@ -55,14 +54,13 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
                    {"pairs", last.pairs},   {"iterations", last.iterations}, {"seconds", last.seconds}};
   }
   const PoseGraphStatus& graph = registration.graph;
-  nlohmann::json pose_graph{
-      {"keyframes", graph.keyframes},
-      {"loops", graph.loops},
-      {"loops_dropped", graph.loops_dropped},
-      {"optimizations", graph.optimizations},
-      {"last_loop_stamp", nullptr},
-      {"last_correction_m", graph.last_correction},
-      {"heading_drift_deg_per_h", graph.heading_drift * 180.0 / std::numbers::pi * 3600.0}};
+  nlohmann::json pose_graph{{"keyframes", graph.keyframes},
+                            {"loops", graph.loops},
+                            {"loops_dropped", graph.loops_dropped},
+                            {"optimizations", graph.optimizations},
+                            {"last_loop_stamp", nullptr},
+                            {"last_correction_m", graph.last_correction},
+                            {"heading_drift_deg_per_h", graph.heading_drift_deg_per_h()}};
   if (graph.last_loop_stamp >= 0.0)
     pose_graph["last_loop_stamp"] = graph.last_loop_stamp;
   nlohmann::json map{{"version", 0}, {"tiles", 0},    {"cells", 0},       {"patches", 0},

@@ -365,11 +365,10 @@ int main(int argc, char** argv) {
       times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
       pct_of(source_points, 0.5), graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops,
-      graph.loops_dropped, graph.optimizations, loop_seconds,
-      graph.heading_drift * 180.0 / std::numbers::pi * 3600.0, keyframe_points, keyframe_mb_per_km,
-      keyframe_map_points, map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(), live_spread.pairs,
-      live_spread.median, live_spread.p95, live_spread.max, rebuilt_spread.pairs, rebuilt_spread.median,
-      rebuilt_spread.p95, rebuilt_spread.max, path_tilt.median, path_tilt.p95, path_tilt.max,
-      graph_tilt.median, graph_tilt.p95, graph_tilt.max, max_keyframe_tilt);
+      graph.loops_dropped, graph.optimizations, loop_seconds, graph.heading_drift_deg_per_h(),
+      keyframe_points, keyframe_mb_per_km, keyframe_map_points, map_mb_per_km, rebuild_seconds,
+      rebuilt_map.patch_count(), live_spread.pairs, live_spread.median, live_spread.p95, live_spread.max,
+      rebuilt_spread.pairs, rebuilt_spread.median, rebuilt_spread.p95, rebuilt_spread.max, path_tilt.median,
+      path_tilt.p95, path_tilt.max, graph_tilt.median, graph_tilt.p95, graph_tilt.max, max_keyframe_tilt);
   return 0;
 }
