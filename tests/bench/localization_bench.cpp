@@ -278,7 +278,7 @@ int main(int argc, char** argv) {
             stderr,
             "t=%7.1f yaw=%.3f truth=(%7.3f %7.3f %6.3f) error=(%6.2f %6.2f %6.2f) rot=(%5.2f %5.2f %5.2f) "
             "%-8s %s eig=%s "
-            "rmse=%.3f icp_yaw=%.3f yaw_info=%.4f\n",
+            "rmse=%.3f icp_yaw=%.3f yaw_info=%.4f drift=%.2f\n",
             scan.stamp, scan.truth->yaw * 180.0 / M_PI, scan.truth->position.x(), scan.truth->position.y(),
             scan.truth->position.z(), error.x(), error.y(), error.z(), turn_deg.x(), turn_deg.y(),
             turn_deg.z(), std::string(to_string(update.correction)).c_str(),
@@ -287,7 +287,8 @@ int main(int argc, char** argv) {
             update.registration ? eigen_text(update.registration->constraint).c_str() : "-",
             update.registration ? update.registration->rmse : 0.0,
             update.registration ? icp_heading_error(*update.registration, *scan.truth) : 0.0,
-            update.registration ? yaw_information(update.registration->constraint) : 0.0);
+            update.registration ? yaw_information(update.registration->constraint) : 0.0,
+            localizer.status().heading_drift_deg_per_h());
       }
     }
     // Error of the pose the server would stream now.
