@@ -21,8 +21,7 @@ double sliding_yaw_weight(const LocalizerOptions& options, const TranslationCons
                           double icp_yaw_change, std::optional<double> moved) {
   if (std::abs(icp_yaw_change) > options.sliding_yaw_max_change)
     return 0.0;
-  const Eigen::Vector3d along = constraint.rotation_axes.transpose() * Eigen::Vector3d::UnitZ();
-  const double information = along.cwiseProduct(along).dot(constraint.rotation_eigenvalues);
+  const double information = rotation_information(constraint, Eigen::Vector3d::UnitZ());
   const double span = options.sliding_yaw_full_information - options.weak_rotation_guard;
   const double surfaces =
       span > 0.0 ? std::clamp((information - options.weak_rotation_guard) / span, 0.0, 1.0) : 1.0;
@@ -152,7 +151,7 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
             update.odometry_axes, [&](const Eigen::Vector3d& a) { return std::abs(a.dot(vertical)) > 0.9; });
         const double weight = sliding_yaw_weight(options_, result.constraint, vertical.dot(turn), moved);
         turn -= vertical * vertical.dot(turn) * (1.0 - weight);
-        if (!taken && weight < 0.5)
+        if (!taken && weight < 0.5)  // mostly the odometry's: what the status's explanation says
           update.odometry_axes.push_back(vertical);
       }
       const double angle = turn.norm();

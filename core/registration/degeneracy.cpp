@@ -45,4 +45,9 @@ TranslationConstraint translation_constraint(const std::vector<Correspondence>& 
   return constraint;
 }
 
+double rotation_information(const TranslationConstraint& constraint, const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d along = constraint.rotation_axes.transpose() * axis;
+  return along.cwiseProduct(along).dot(constraint.rotation_eigenvalues);
+}
+
 }  // namespace strata

@@ -29,4 +29,9 @@ struct TranslationConstraint {
 [[nodiscard]] TranslationConstraint translation_constraint(const std::vector<Correspondence>& pairs,
                                                            LazyNormals& normals, const PointCloud& target);
 
+/// How much the surfaces resist turning about `axis` (a unit vector, target frame): the rotation
+/// eigenvalues weighed by how much of `axis` each eigenvector holds, on the same normalised scale.
+[[nodiscard]] double rotation_information(const TranslationConstraint& constraint,
+                                          const Eigen::Vector3d& axis);
+
 }  // namespace strata

@@ -127,11 +127,6 @@ double icp_heading_error(const RegistrationResult& r, const Pose3& truth) {
   return std::atan2(turn(1, 0), turn(0, 0)) * 180.0 / M_PI;
 }
 
-/// The rotation information about the vertical: z^T A diag(lambda) A^T z.
-double yaw_information(const TranslationConstraint& c) {
-  const Eigen::Vector3d along = c.rotation_axes.transpose() * Eigen::Vector3d::UnitZ();
-  return along.cwiseProduct(along).dot(c.rotation_eigenvalues);
-}
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -287,7 +282,9 @@ int main(int argc, char** argv) {
             update.registration ? eigen_text(update.registration->constraint).c_str() : "-",
             update.registration ? update.registration->rmse : 0.0,
             update.registration ? icp_heading_error(*update.registration, *scan.truth) : 0.0,
-            update.registration ? yaw_information(update.registration->constraint) : 0.0,
+            update.registration
+                ? rotation_information(update.registration->constraint, Eigen::Vector3d::UnitZ())
+                : 0.0,
             localizer.status().heading_drift_deg_per_h());
       }
     }
