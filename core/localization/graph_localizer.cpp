@@ -68,6 +68,7 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
   const bool pose_graph = options_.pose_graph && !scan_matching_.localizing();
   if (pose_graph) {
     std::optional<Eigen::Isometry3d> correction;
+    std::optional<Eigen::Vector3d> mounting;
     {
       std::lock_guard lock(mutex_);
       correction = std::exchange(pending_correction_, std::nullopt);
@@ -75,9 +76,12 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
         last_keyframe_frontend_ = *correction * last_keyframe_frontend_;
       if (pending_heading_drift_)
         heading_drift_ = *std::exchange(pending_heading_drift_, std::nullopt);
+      mounting = std::exchange(pending_mounting_, std::nullopt);
     }
     if (correction)
       scan_matching_.correct(*correction);
+    if (mounting)
+      scan_matching_.set_gravity_mounting(*mounting);
     map_moved = correction.has_value();
   }
   map_moved = std::exchange(placed_, false) || map_moved;
@@ -115,7 +119,7 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
   }
   const bool registered = !update.registration || update.correction != Correction::kNone;
   if (pose_graph && registered)
-    add_keyframe(points, update, stamp, sensor_origin);
+    add_keyframe(points, update, stamp, sensor_origin, gravity);
   return update;
 }
 
@@ -138,7 +142,8 @@ void GraphLocalizer::deskew(PointCloud& points, std::span<const float> times,
 }
 
 void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp,
-                                  const Eigen::Vector3d& sensor_origin) {
+                                  const Eigen::Vector3d& sensor_origin,
+                                  const std::optional<GravityReading>& gravity) {
   // Read without the lock: the scan path is the only writer of last_keyframe_frontend_ and keyframes_,
   // and this is the scan path. So the thinning below, the costly part, runs before the lock the pose
   // graph's thread waits on.
@@ -183,9 +188,13 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
     chain.information = chain_information(options_, distance, from_odometry);
     graph_.add_edge(chain);
   }
-  // Gravity holds the graph's roll and pitch (and so its heights) where the chain would let them walk.
-  if (const std::optional<GravityReading>& gravity = update.gravity; gravity)  // only usable ones are set
-    graph_.add_prior({.node = graph_.size() - 1, .up_in_body = gravity->up_in_base, .sigma = gravity->sigma});
+  // Gravity holds the graph's roll and pitch (and so its heights) where the chain would let them walk. The
+  // reading as measured where the graph estimates its mounting error itself, from all of them; else as
+  // the scan path corrected it.
+  if (update.gravity && gravity) {  // the update's is set for usable readings the scan path used
+    const GravityReading& reading = options_.optimizer.mounting_sigma > 0.0 ? *gravity : *update.gravity;
+    graph_.add_prior({.node = graph_.size() - 1, .up_in_body = reading.up_in_base, .sigma = reading.sigma});
+  }
   keyframes_.push_back(std::move(keyframe));
   last_keyframe_frontend_ = update.pose;
   status_.keyframes = keyframes_.size();
@@ -253,6 +262,11 @@ bool GraphLocalizer::close_loops() {
   if (drift) {
     pending_heading_drift_ = *drift;
     status_.heading_drift = *drift;
+  }
+  graph_.set_mounting_error(graph.mounting_error());
+  if (options_.optimizer.mounting_sigma > 0.0) {  // else it was held where it was, at nothing learnt
+    pending_mounting_ = graph.mounting_error();
+    status_.gravity_mounting = graph.mounting_error();
   }
   // The scan path's frame moves as its newest keyframe did (last_keyframe_frontend_ is in the scan path's
   // frame as it is now, before any correction still pending: this one replaces it).

@@ -113,7 +113,7 @@ class GraphLocalizer {
 
  private:
   void add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp,
-                    const Eigen::Vector3d& sensor_origin);
+                    const Eigen::Vector3d& sensor_origin, const std::optional<GravityReading>& gravity);
 
   GraphLocalizerOptions options_;
   ScanToMapLocalizer scan_matching_;   // scan path only
@@ -149,6 +149,8 @@ class GraphLocalizer {
   std::optional<Eigen::Isometry3d> pending_correction_;
   /// The heading drift fitted after the last optimization, not yet taken by the scan path.
   std::optional<double> pending_heading_drift_;
+  /// The gravity reading's mounting error estimated by the last optimization, not yet taken by the scan path.
+  std::optional<Eigen::Vector3d> pending_mounting_;
   PoseGraphStatus status_;
 };
 

@@ -68,6 +68,9 @@ class GravityLeveling {
   [[nodiscard]] double variance() const { return variance_; }
   /// The learnt mounting error, a rotation vector in the base frame (radians; z always 0).
   [[nodiscard]] const Eigen::Vector3d& bias() const { return bias_; }
+  /// Takes an estimate of the mounting error from elsewhere (the pose graph's, from every keyframe's
+  /// reading at once); learning per radian turned goes on from it.
+  void set_bias(const Eigen::Vector3d& bias) { bias_ = {bias.x(), bias.y(), 0.0}; }
 
  private:
   GravityLevelingOptions options_;

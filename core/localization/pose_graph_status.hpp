@@ -1,5 +1,6 @@
 #pragma once
 
+#include <Eigen/Core>
 #include <cstddef>
 #include <numbers>
 
@@ -17,10 +18,17 @@ struct PoseGraphStatus {
   /// The odometry's heading drift last fitted (before the first loop, or after the last optimization),
   /// rad per second of motion, taken out of its turns (fit_heading_drift); 0 until there is one.
   double heading_drift = 0.0;
+  /// The gravity reading's mounting error as the last optimization estimated it: a rotation vector in the
+  /// base frame, radians (x roll, y pitch; z 0). Zero until then.
+  Eigen::Vector3d gravity_mounting = Eigen::Vector3d::Zero();
 
   /// The same in degrees an hour, as status and logs report it (a gyro's datasheet unit).
   [[nodiscard]] double heading_drift_deg_per_h() const {
     return heading_drift * 180.0 / std::numbers::pi * 3600.0;
+  }
+  /// The mounting error's roll and pitch in degrees, as status and logs report it.
+  [[nodiscard]] Eigen::Vector2d gravity_mounting_deg() const {
+    return gravity_mounting.head<2>() * 180.0 / std::numbers::pi;
   }
 };
 

@@ -161,6 +161,8 @@ class ScanToMapLocalizer {
   /// Moves the estimate by `correction` (new map <- old map), as a pose graph optimization asks: the
   /// global pose and the local map follow, so the next scan registers where the graph put the robot.
   void correct(const Eigen::Isometry3d& correction);
+  /// The gravity reading's mounting error as the pose graph estimated it (GravityLeveling::set_bias).
+  void set_gravity_mounting(const Eigen::Vector3d& mounting) { leveling_.set_bias(mounting); }
 
   /// From the next scan on, registers against `map` (a saved map's points, map frame) instead of the
   /// recent scans, and keeps no local map: the saved map is fixed, and the estimate cannot drift from it

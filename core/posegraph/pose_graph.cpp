@@ -1,6 +1,7 @@
 #include "core/posegraph/pose_graph.hpp"
 
 #include <ceres/ceres.h>
+#include <ceres/rotation.h>
 
 #include <Eigen/Eigenvalues>
 #include <chrono>
@@ -54,23 +55,43 @@ class RelativePoseError {
   Eigen::Matrix<double, 6, 6> root_;
 };
 
-/// Which way is up in the body frame, estimated (R^T z) against measured, over its standard deviation.
+/// Which way is up in the body frame as the sensor reads it, estimated (R^T z, turned by the mounting
+/// error m about the body's x and y) against measured, over its standard deviation.
 class AttitudeError {
  public:
   AttitudeError(const Eigen::Vector3d& up_in_body, double sigma)
       : up_(up_in_body.normalized()), weight_(1.0 / sigma) {}
 
   template <typename T>
-  bool operator()(const T* rotation, T* residual) const {
+  bool operator()(const T* rotation, const T* mounting, T* residual) const {
     const Eigen::Map<const Eigen::Quaternion<T>> q(rotation);
     const Eigen::Matrix<T, 3, 1> up = q.conjugate() * Eigen::Matrix<T, 3, 1>(T(0), T(0), T(1));
+    const T angle_axis[3] = {mounting[0], mounting[1], T(0)};
+    Eigen::Matrix<T, 3, 1> read;
+    ceres::AngleAxisRotatePoint(angle_axis, up.data(), read.data());
     Eigen::Map<Eigen::Matrix<T, 3, 1>> out(residual);
-    out = T(weight_) * (up - up_.cast<T>());
+    out = T(weight_) * (read - up_.cast<T>());
     return true;
   }
 
  private:
   Eigen::Vector3d up_;
+  double weight_;
+};
+
+/// The mounting error's own prior: near zero, by its standard deviation.
+class MountingPrior {
+ public:
+  explicit MountingPrior(double sigma) : weight_(1.0 / sigma) {}
+
+  template <typename T>
+  bool operator()(const T* mounting, T* residual) const {
+    residual[0] = T(weight_) * mounting[0];
+    residual[1] = T(weight_) * mounting[1];
+    return true;
+  }
+
+ private:
   double weight_;
 };
 
@@ -142,9 +163,17 @@ PoseGraphSummary PoseGraph::optimize(const PoseGraphOptions& options) {
                                rotations_[edge.to].coeffs().data());
     }
     for (const AttitudePrior& prior : priors_) {
-      auto* cost = new ceres::AutoDiffCostFunction<AttitudeError, 3, 4>(
+      auto* cost = new ceres::AutoDiffCostFunction<AttitudeError, 3, 4, 2>(
           new AttitudeError(prior.up_in_body, prior.sigma));
-      problem.AddResidualBlock(cost, nullptr, rotations_[prior.node].coeffs().data());
+      problem.AddResidualBlock(cost, nullptr, rotations_[prior.node].coeffs().data(), mounting_.data());
+    }
+    if (!priors_.empty()) {
+      if (options.mounting_sigma > 0.0)
+        problem.AddResidualBlock(
+            new ceres::AutoDiffCostFunction<MountingPrior, 2, 2>(new MountingPrior(options.mounting_sigma)),
+            nullptr, mounting_.data());
+      else
+        problem.SetParameterBlockConstant(mounting_.data());
     }
     problem.SetParameterBlockConstant(positions_[0].data());
     problem.SetParameterBlockConstant(rotations_[0].coeffs().data());

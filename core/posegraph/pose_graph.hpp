@@ -25,8 +25,9 @@ struct PoseGraphEdge {
 };
 
 /// Gravity seen by the robot (an inclinometer, the terrain under the wheels): which way is up in the
-/// node's body frame, with the standard deviation of its tilt. Anchors roll and pitch, and so the height
-/// a tilt error would otherwise walk.
+/// node's body frame as the sensor read it, with the standard deviation of its tilt. Anchors roll and
+/// pitch, and so the height a tilt error would otherwise walk. The sensor's mounting error, a tilt fixed in
+/// the body frame and the same for every reading, is estimated with the poses (PoseGraph::mounting_error).
 struct AttitudePrior {
   std::size_t node = 0;
   Eigen::Vector3d up_in_body = Eigen::Vector3d::UnitZ();
@@ -38,6 +39,12 @@ struct PoseGraphOptions {
   /// A loop edge whose whitened residual (in standard deviations) is above this after optimizing is
   /// taken for a false match: it is dropped and the graph optimized again without it.
   double max_loop_residual = 5.0;
+  /// How far the gravity sensor's mounting may be off, radians (standard deviation of the prior that holds
+  /// the graph's estimate of it near zero); 0 holds it at its current value. One tilt shared by every
+  /// attitude prior, fixed in the body frame: a map tilted by it would tilt one way driven out and the
+  /// other way driven back, which the loops between the two forbid, so an out-and-back tells it (the IMU
+  /// of docs/benchmarks.md, "The IMU's mounting error in the pose graph").
+  double mounting_sigma = 0.01;
 };
 
 struct PoseGraphSummary {
@@ -66,6 +73,11 @@ class PoseGraph {
   [[nodiscard]] Eigen::Isometry3d pose(std::size_t node) const;
   void set_pose(std::size_t node, const Eigen::Isometry3d& pose);
   [[nodiscard]] const std::vector<PoseGraphEdge>& edges() const { return edges_; }
+  /// The gravity sensor's mounting error as estimated: a rotation vector in the body frame (radians; z
+  /// always 0, gravity cannot see a turn about it) that takes the body's up to where the sensor reads it.
+  [[nodiscard]] Eigen::Vector3d mounting_error() const { return {mounting_.x(), mounting_.y(), 0.0}; }
+  /// Where the next optimization starts from (an estimate from elsewhere, the scan path's).
+  void set_mounting_error(const Eigen::Vector3d& mounting) { mounting_ = mounting.head<2>(); }
   [[nodiscard]] std::size_t loop_count() const;
 
   /// The whitened residual of an edge at the current estimates: how many standard deviations the
@@ -77,6 +89,7 @@ class PoseGraph {
   std::vector<Eigen::Quaterniond> rotations_;
   std::vector<PoseGraphEdge> edges_;
   std::vector<AttitudePrior> priors_;
+  Eigen::Vector2d mounting_ = Eigen::Vector2d::Zero();  ///< about the body's x and y
 };
 
 }  // namespace strata

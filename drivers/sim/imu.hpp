@@ -37,6 +37,9 @@ class SimulatedImu {
   /// The same accelerometer as the base controller streams it with every sample (same bias). Its noise
   /// comes from a sequence of its own, so streaming it leaves the readings with the scans as they were.
   [[nodiscard]] GravityReading stream_gravity(const Pose3& truth, bool standing);
+  /// The accelerometer's mounting error drawn for this run: a rotation vector in the base frame (radians;
+  /// z 0) that takes the true up to where it reads it, noise aside. What a localizer should find.
+  [[nodiscard]] Eigen::Vector3d mounting_error() const { return {tilt_bias_.x(), tilt_bias_.y(), 0.0}; }
 
  private:
   [[nodiscard]] GravityReading read_gravity(const Pose3& truth, bool standing, std::mt19937_64& rng) const;

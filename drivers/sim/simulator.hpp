@@ -68,6 +68,8 @@ class Simulator {
   [[nodiscard]] const World& world() const { return *world_; }
   [[nodiscard]] const Stance& stance() const { return stance_; }
   [[nodiscard]] const SimulatorConfig& config() const { return config_; }
+  /// The base's IMU, none without one: its drawn errors, for tests and benchmarks to compare against.
+  [[nodiscard]] const std::optional<SimulatedImu>& imu() const { return imu_; }
 
  private:
   void finish_scan(ScanEvent scan);

@@ -72,9 +72,11 @@ void LocalizerWorker::close_loops() {
         const PoseGraphStatus graph = localizer_.status();
         spdlog::info(
             "localization: loop closed at t={:.1f}, {:.2f} m of drift corrected ({} loops over {} "
-            "keyframes, optimized in {:.2f} s; the odometry's heading drifts {:.1f} degrees an hour)",
+            "keyframes, optimized in {:.2f} s; the odometry's heading drifts {:.1f} degrees an hour; the "
+            "IMU is mounted {:.2f} degrees rolled, {:.2f} pitched)",
             graph.last_loop_stamp, graph.last_correction, graph.loops, graph.keyframes,
-            graph.last_optimization_seconds, graph.heading_drift_deg_per_h());
+            graph.last_optimization_seconds, graph.heading_drift_deg_per_h(),
+            graph.gravity_mounting_deg().x(), graph.gravity_mounting_deg().y());
         if (keyframes_sink_)
           keyframes_sink_(localizer_.keyframes());
       }

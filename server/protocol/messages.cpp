@@ -60,7 +60,9 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
                             {"optimizations", graph.optimizations},
                             {"last_loop_stamp", nullptr},
                             {"last_correction_m", graph.last_correction},
-                            {"heading_drift_deg_per_h", graph.heading_drift_deg_per_h()}};
+                            {"heading_drift_deg_per_h", graph.heading_drift_deg_per_h()},
+                            {"gravity_mounting_roll_deg", graph.gravity_mounting_deg().x()},
+                            {"gravity_mounting_pitch_deg", graph.gravity_mounting_deg().y()}};
   if (graph.last_loop_stamp >= 0.0)
     pose_graph["last_loop_stamp"] = graph.last_loop_stamp;
   nlohmann::json map{{"version", 0}, {"tiles", 0},    {"cells", 0},       {"patches", 0},

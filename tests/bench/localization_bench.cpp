@@ -172,6 +172,9 @@ int main(int argc, char** argv) {
     graph_options.chain_sigma_tilt = std::atof(tilt);
   if (const char* weak = std::getenv("STRATA_BENCH_LOOP_WEAK"))  // a loop edge's weak eigenvalue
     graph_options.loops.weak_direction = std::atof(weak);
+  // STRATA_BENCH_MOUNTING_SIGMA=0: the graph does not estimate the IMU's mounting error (as before).
+  if (const char* mounting = std::getenv("STRATA_BENCH_MOUNTING_SIGMA"))
+    graph_options.optimizer.mounting_sigma = std::atof(mounting);
   LocalizerOptions& options = graph_options.scan_matching;
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
   // STRATA_BENCH_LOCAL_METRES=<metres>, STRATA_BENCH_LOCAL_VOXEL=<metres>, STRATA_BENCH_SOURCE_POINTS=<n>,
@@ -273,7 +276,7 @@ int main(int argc, char** argv) {
             stderr,
             "t=%7.1f yaw=%.3f truth=(%7.3f %7.3f %6.3f) error=(%6.2f %6.2f %6.2f) rot=(%5.2f %5.2f %5.2f) "
             "%-8s %s eig=%s "
-            "rmse=%.3f icp_yaw=%.3f yaw_info=%.4f drift=%.2f\n",
+            "rmse=%.3f icp_yaw=%.3f yaw_info=%.4f drift=%.2f odometry_yaw=%.3f mounting=(%.3f %.3f)\n",
             scan.stamp, scan.truth->yaw * 180.0 / M_PI, scan.truth->position.x(), scan.truth->position.y(),
             scan.truth->position.z(), error.x(), error.y(), error.z(), turn_deg.x(), turn_deg.y(),
             turn_deg.z(), std::string(to_string(update.correction)).c_str(),
@@ -285,7 +288,12 @@ int main(int argc, char** argv) {
             update.registration
                 ? rotation_information(update.registration->constraint, Eigen::Vector3d::UnitZ())
                 : 0.0,
-            localizer.status().heading_drift_deg_per_h());
+            localizer.status().heading_drift_deg_per_h(),
+            // The odometry's own heading error (its drift so far), degrees.
+            std::remainder(heading_of(map_from_odom * scan.odometry.to_isometry()) - scan.truth->yaw,
+                           2.0 * M_PI) *
+                180.0 / M_PI,
+            localizer.status().gravity_mounting_deg().x(), localizer.status().gravity_mounting_deg().y());
       }
     }
     // Error of the pose the server would stream now.
@@ -348,7 +356,8 @@ int main(int argc, char** argv) {
       "\"registration_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f,\"mean\":%.1f},"
       "\"add_scan_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f},\"source_points_median\":%.0f,"
       "\"pose_graph\":{\"on\":%s,\"keyframes\":%zu,\"loops\":%zu,\"loops_dropped\":%zu,\"optimizations\":%zu,"
-      "\"background_s\":%.2f,\"heading_drift_deg_per_h\":%.2f,\"keyframe_points\":%zu,\"keyframe_mb_per_km\":"
+      "\"background_s\":%.2f,\"heading_drift_deg_per_h\":%.2f,\"gravity_mounting_deg\":[%.3f,%.3f],"
+      "\"keyframe_points\":%zu,\"keyframe_mb_per_km\":"
       "%.1f,"
       "\"keyframe_map_points\":%zu,\"keyframe_map_mb_per_km\":%.1f,\"rebuild_s\":%.2f,\"rebuilt_patches\":%"
       "zu},"
@@ -364,9 +373,10 @@ int main(int argc, char** argv) {
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
       pct_of(source_points, 0.5), graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops,
       graph.loops_dropped, graph.optimizations, loop_seconds, graph.heading_drift_deg_per_h(),
-      keyframe_points, keyframe_mb_per_km, keyframe_map_points, map_mb_per_km, rebuild_seconds,
-      rebuilt_map.patch_count(), live_spread.pairs, live_spread.median, live_spread.p95, live_spread.max,
-      rebuilt_spread.pairs, rebuilt_spread.median, rebuilt_spread.p95, rebuilt_spread.max, path_tilt.median,
-      path_tilt.p95, path_tilt.max, graph_tilt.median, graph_tilt.p95, graph_tilt.max, max_keyframe_tilt);
+      graph.gravity_mounting_deg().x(), graph.gravity_mounting_deg().y(), keyframe_points, keyframe_mb_per_km,
+      keyframe_map_points, map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(), live_spread.pairs,
+      live_spread.median, live_spread.p95, live_spread.max, rebuilt_spread.pairs, rebuilt_spread.median,
+      rebuilt_spread.p95, rebuilt_spread.max, path_tilt.median, path_tilt.p95, path_tilt.max,
+      graph_tilt.median, graph_tilt.p95, graph_tilt.max, max_keyframe_tilt);
   return 0;
 }

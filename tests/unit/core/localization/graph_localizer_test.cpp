@@ -22,11 +22,12 @@ struct RunResult {
   double second_lap_error = 0.0;  ///< mean over the scans after the first lap (t > 260 s)
   double max_error = 0.0;         ///< over all scans: the first loop closure's too
   PoseGraphStatus graph;
+  Eigen::Vector3d imu_mounting = Eigen::Vector3d::Zero();  ///< the simulated IMU's, drawn for the run
 };
 
 /// The yard for `seconds` simulated, two degrees between beams (a quarter of the rays: quick under ASan),
 /// the loop search run after every scan as the server's thread would.
-RunResult run_yard(bool pose_graph, double seconds) {
+RunResult run_yard(bool pose_graph, double seconds, bool gravity = false) {
   sim::Simulator simulator(std::make_shared<const sim::World>(sim::builtin_world("yard")),
                            {.seed = 1, .tilting = {.slice_step_deg = 2.0, .rotation_step_deg = 2.0}});
   const Eigen::Isometry3d map_from_odom =
@@ -41,7 +42,8 @@ RunResult run_yard(bool pose_graph, double seconds) {
     for (const ScanEvent& scan : simulator.take_scans()) {
       const Pose2 odometry{scan.odometry.position.x(), scan.odometry.position.y(), scan.odometry.yaw};
       const LocalizationUpdate update =
-          localizer.add_scan(pipeline::points_in_base(scan), odometry, scan.stamp);
+          localizer.add_scan(pipeline::points_in_base(scan), odometry, scan.stamp, Eigen::Vector3d::Zero(),
+                             gravity ? scan.gravity : std::nullopt);
       localizer.close_loops();
       result.final_error = (update.pose.translation() - scan.truth->position).norm();
       result.max_error = std::max(result.max_error, result.final_error);
@@ -52,6 +54,7 @@ RunResult run_yard(bool pose_graph, double seconds) {
     }
   }
   result.graph = localizer.status();
+  result.imu_mounting = simulator.imu()->mounting_error();
   result.second_lap_error /= static_cast<double>(std::max<std::size_t>(second_lap_scans, 1));
   return result;
 }
@@ -81,6 +84,23 @@ TEST(GraphLocalizer, TheFirstLapsLoopIsClosedAndTheSecondLapLandsOnTheFirst) {
   const RunResult alone = run_yard(false, 600.0);
   EXPECT_EQ(alone.graph.keyframes, 0U);
   EXPECT_EQ(alone.graph.loops, 0U);
+}
+
+// The IMU's accelerometer is mounted a little tilted (the simulator draws 0.1-0.2 degrees per axis): its
+// readings tilt the map one way where the robot drives one way and another where it turns, which the
+// chain between the keyframes and the loops between the laps forbid. The pose graph estimates the tilt
+// with the poses. The yard's laps all go one way round and the chain's tilt may walk a little around a
+// lap, so it is found in part (measured: -0.0032, 0.0003 rad for -0.0042, 0.0011; the campus's out-and-back
+// over the bridge finds it within 0.0003: docs/benchmarks.md, "The IMU's mounting error in the pose graph").
+TEST(GraphLocalizer, TheLoopsTellTheImusMountingError) {
+  const RunResult run = run_yard(true, 600.0, true);
+  ASSERT_GE(run.graph.loops, 1U);
+  const Eigen::Vector3d truth = run.imu_mounting;
+  ASSERT_GT(truth.head<2>().norm(), 2e-3) << "seed 1 draws a tilt to find";
+  const Eigen::Vector3d estimated = run.graph.gravity_mounting;
+  EXPECT_GT(estimated.dot(truth) / truth.squaredNorm(), 0.5) << "most of it, along it";
+  EXPECT_LT((estimated - truth).norm(), 0.5 * truth.norm());
+  EXPECT_EQ(estimated.z(), 0.0) << "gravity cannot tell a turn about it";
 }
 
 // Down a corridor no place is passed twice, so no loop closes; its walls hold the scans' heading while the

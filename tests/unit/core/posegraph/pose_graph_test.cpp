@@ -140,5 +140,60 @@ TEST(PoseGraph, AnAttitudePriorLevelsATiltedChain) {
   EXPECT_LT(std::abs(graph.pose(20).translation().z()), 0.5);
 }
 
+TEST(PoseGraph, AnOutAndBackTellsTheGravitySensorsMountingError) {
+  // 30 m out along x and 30 m back 2 m beside it, on flat ground, loops across. The gravity sensor is
+  // mounted tilted (about the body's x and y): driven straight, its readings tilt the map with them; out
+  // and back they tilt it opposite ways, which the loops forbid.
+  const Eigen::Vector3d mounting(0.002, -0.003, 0.0);  // radians: 0.11 and 0.17 degrees
+  std::vector<Eigen::Isometry3d> truth;
+  for (int i = 0; i <= 30; ++i)
+    truth.push_back(planar(i, 0.0, 0.0));
+  for (int i = 30; i >= 0; --i)
+    truth.push_back(planar(i, 2.0, std::numbers::pi));
+  const auto optimized = [&](double mounting_sigma) {
+    PoseGraph graph;
+    graph.add_node(truth[0]);
+    for (std::size_t i = 1; i < truth.size(); ++i) {
+      graph.add_node(truth[i]);
+      PoseGraphEdge chain;
+      chain.from = i - 1;
+      chain.to = i;
+      chain.measurement = truth[i - 1].inverse() * truth[i];
+      chain.information = PoseInformation::Identity() * 1e4;
+      chain.information(3, 3) = chain.information(4, 4) = 1.0 / (0.002 * 0.002);  // the tilt walks a little
+      graph.add_edge(chain);
+    }
+    for (std::size_t out = 2; out <= 28; out += 2) {
+      const std::size_t back = truth.size() - 1 - out;
+      graph.add_edge(true_loop(truth, out, back));
+    }
+    const Eigen::Matrix3d tilted =
+        Eigen::AngleAxisd(mounting.norm(), mounting.normalized()).toRotationMatrix();
+    for (std::size_t i = 1; i < truth.size(); ++i)
+      graph.add_prior({.node = i,
+                       .up_in_body = tilted * truth[i].linear().transpose() * Eigen::Vector3d::UnitZ(),
+                       .sigma = 0.01});
+    PoseGraphOptions options;
+    options.mounting_sigma = mounting_sigma;
+    EXPECT_TRUE(graph.optimize(options).solved);
+    return graph;
+  };
+  const auto worst_height = [&](const PoseGraph& graph) {
+    double worst = 0.0;
+    for (std::size_t i = 0; i < truth.size(); ++i)
+      worst = std::max(worst, std::abs(graph.pose(i).translation().z()));
+    return worst;
+  };
+
+  const PoseGraph held = optimized(0.0);
+  EXPECT_EQ(held.mounting_error(), Eigen::Vector3d::Zero()) << "held where it was";
+  const PoseGraph estimated = optimized(0.01);
+  EXPECT_NEAR(estimated.mounting_error().x(), mounting.x(), 2e-4);
+  EXPECT_NEAR(estimated.mounting_error().y(), mounting.y(), 2e-4);
+  EXPECT_EQ(estimated.mounting_error().z(), 0.0);
+  EXPECT_GT(worst_height(held), 0.01) << "the readings tilt the map where nothing tells their error";
+  EXPECT_LT(worst_height(estimated), 0.2 * worst_height(held));
+}
+
 }  // namespace
 }  // namespace strata
