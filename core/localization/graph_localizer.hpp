@@ -108,6 +108,9 @@ class GraphLocalizer {
   Eigen::Isometry3d place(const Eigen::Isometry3d& pose, const std::optional<Pose2>& odometry, double stamp);
 
   [[nodiscard]] PoseGraphStatus status() const;
+  /// The gravity reading's mounting error the scan path levels with (ScanToMapLocalizer::
+  /// gravity_mounting), for the live pose's tilt. On the scan path's thread.
+  [[nodiscard]] const Eigen::Vector3d& gravity_mounting() const { return scan_matching_.gravity_mounting(); }
   /// The keyframes and their current pose estimates (map frame), oldest first, for rebuilding the map.
   [[nodiscard]] std::vector<KeyframePose> keyframes() const;
 

@@ -163,6 +163,9 @@ class ScanToMapLocalizer {
   void correct(const Eigen::Isometry3d& correction);
   /// The gravity reading's mounting error as the pose graph estimated it (GravityLeveling::set_bias).
   void set_gravity_mounting(const Eigen::Vector3d& mounting) { leveling_.set_bias(mounting); }
+  /// The mounting error the readings are levelled with now: the pose graph's estimate and what turning
+  /// has taught since (a rotation vector in the base frame, radians).
+  [[nodiscard]] const Eigen::Vector3d& gravity_mounting() const { return leveling_.bias(); }
 
   /// From the next scan on, registers against `map` (a saved map's points, map frame) instead of the
   /// recent scans, and keeps no local map: the saved map is fixed, and the estimate cannot drift from it

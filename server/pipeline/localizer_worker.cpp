@@ -360,6 +360,7 @@ void LocalizerWorker::process(ScanEvent event) {
   }
   // Published after the scan is handed on: whoever sees the count can queue a map command (a save) knowing
   // it runs after this scan is mapped.
+  state_.set_gravity_mounting(localizer_.gravity_mounting());
   state_.set_correction(map_from_odom, true, stamp);
   status_.graph = localizer_.status();
   state_.set_registration(status_);

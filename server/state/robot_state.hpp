@@ -92,6 +92,11 @@ class RobotState {
     extrapolator_.set_correction(map_from_odom, scan_stamp);
     localized_ = localized;
   }
+  /// The gravity reading's mounting error the localizer has learnt (PoseExtrapolator::set_mounting_error).
+  void set_gravity_mounting(const Eigen::Vector3d& mounting) {
+    std::lock_guard lock(mutex_);
+    extrapolator_.set_mounting_error(mounting);
+  }
   void set_registration(const RegistrationStatus& status) {
     std::lock_guard lock(mutex_);
     registration_ = status;

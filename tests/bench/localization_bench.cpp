@@ -247,6 +247,7 @@ int main(int argc, char** argv) {
       const LocalizationUpdate update =
           localizer.add_scan(points, measured, scan.stamp, scan.sensor_to_base.translation(),
                              gravity ? scan.gravity : std::nullopt);
+      streamed.set_mounting_error(localizer.gravity_mounting());
       streamed.set_correction(update.map_from_odom, scan.stamp);
       truth_at[scan.stamp] = scan.truth->to_isometry();
       if (!update.registration || update.correction != Correction::kNone)

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <numbers>
 
 namespace strata {
 namespace {
@@ -70,6 +71,34 @@ TEST(PoseExtrapolator, OverThePlatformAndDownTheFarRampTheHeightFollowsTheGround
       << "truth 0.25 m, the ramp's tilt carried says 0.85";
   EXPECT_NEAR(estimate.pitch, ground_pitch(3.5), 0.005) << "nose down, as the reading says";
   EXPECT_NEAR(estimate.yaw, 0.0, 1e-9);
+}
+
+TEST(PoseExtrapolator, TheReadingsAreTakenWithoutTheMountingErrorItIsGiven) {
+  // An IMU mounted 0.5 degrees nose down about the base's y: on level ground it reads a climb.
+  const Eigen::Vector3d mounting(0.0, 0.5 * std::numbers::pi / 180.0, 0.0);
+  const Eigen::Matrix3d to_reading =
+      Eigen::AngleAxisd(mounting.y(), Eigen::Vector3d::UnitY()).toRotationMatrix();
+  const auto drive_level = [&](PoseExtrapolator& extrapolator) {
+    double stamp = 100.0;
+    for (double x = 6.0; x <= 16.0 + 1e-9; x += 0.005, stamp += 0.01) {
+      GravityReading gravity{.up_in_base = to_reading * gravity_at(x).up_in_base, .sigma = 0.01};
+      extrapolator.add_sample(stamp, odometry_at(x), gravity);
+      if (x < 6.001)
+        extrapolator.set_correction(correction_at(6.0), stamp);
+    }
+    return extrapolator.estimate();
+  };
+  PoseExtrapolator told;
+  told.set_mounting_error(mounting);
+  const Pose3 estimate = drive_level(told);
+  EXPECT_NEAR(estimate.position.z(), 0.0, 1e-6);
+  EXPECT_NEAR(estimate.pitch, 0.0, 1e-9);
+  EXPECT_NEAR(estimate.roll, 0.0, 1e-9);
+
+  PoseExtrapolator not_told;
+  const Pose3 tilted = drive_level(not_told);
+  EXPECT_GT(std::abs(tilted.position.z()), 0.08) << "10 m at 0.5 degrees: 0.087 m";
+  EXPECT_NEAR(std::abs(tilted.pitch), mounting.y(), 1e-6);
 }
 
 TEST(PoseExtrapolator, WithoutGravityTheOdometryIsCarriedByTheCorrection) {
