@@ -16,11 +16,27 @@
 namespace strata {
 namespace {
 
-Eigen::Isometry3d pose_at(double x, double y, double z, double yaw) {
+/// A base at `position` standing on ground whose up is `up` (map frame), heading `yaw`: the base's z along
+/// `up`, its x the heading's direction laid onto that ground. On the bridge's 5.7 degree ramp a level
+/// candidate put the scan's points 8 m ahead 0.8 m off the ramp, and no candidate there was refined into
+/// the right place (docs/benchmarks.md, "Finding the robot": on the ramp's tilt).
+Eigen::Isometry3d pose_on(const Eigen::Vector3d& position, const Eigen::Vector3d& up, double yaw) {
+  const Eigen::Vector3d z = up.normalized();
+  const Eigen::Vector3d heading(std::cos(yaw), std::sin(yaw), 0.0);
+  const Eigen::Vector3d x = (heading - heading.dot(z) * z).normalized();
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
-  pose.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  pose.translation() = Eigen::Vector3d(x, y, z);
+  pose.linear().col(0) = x;
+  pose.linear().col(1) = z.cross(x);
+  pose.linear().col(2) = z;
+  pose.translation() = position;
   return pose;
+}
+
+/// The ground's up under a keyframe: its base's z axis (the robot that made the map stood on it).
+Eigen::Vector3d ground_up(const Eigen::Isometry3d& keyframe) {
+  const Eigen::Vector3d up = keyframe.linear().col(2);
+  // A keyframe tipped past 60 degrees is no ground to stand a candidate on: level instead.
+  return up.z() > 0.5 ? up : Eigen::Vector3d::UnitZ();
 }
 
 /// The registration the localizer uses, judged by nothing but its fit: the candidates are up to a step
@@ -73,16 +89,26 @@ double Relocalizer::structure_fit(const PointCloud& structure, const Eigen::Isom
 
 RelocalizationResult Relocalizer::around(const PointCloud& scan, double x, double y, double yaw,
                                          std::optional<double> z) {
-  if (!z) {
-    double nearest = std::numeric_limits<double>::infinity();
-    for (const Eigen::Isometry3d& keyframe : map_->keyframe_poses) {
-      const double d = (keyframe.translation().head<2>() - Eigen::Vector2d(x, y)).norm();
-      if (d < nearest) {
-        nearest = d;
-        z = keyframe.translation().z();
-      }
+  // The keyframe nearest the hint tells the ground there: its height, when the hint has none (the level
+  // the robot that made the map drove), and its slope; with a height, the nearest in 3D (a bridge deck
+  // over a road: the level the operator picked).
+  const Eigen::Isometry3d* nearest = nullptr;
+  double nearest_distance = std::numeric_limits<double>::infinity();
+  for (const Eigen::Isometry3d& keyframe : map_->keyframe_poses) {
+    const Eigen::Vector3d d = keyframe.translation() - Eigen::Vector3d(x, y, z.value_or(0.0));
+    const double distance = z ? d.norm() : d.head<2>().norm();
+    if (distance < nearest_distance) {
+      nearest_distance = distance;
+      nearest = &keyframe;
     }
   }
+  const Eigen::Vector3d up = nearest != nullptr ? ground_up(*nearest) : Eigen::Vector3d::UnitZ();
+  // The candidates stand on that ground's plane, through the hint at its height or through the keyframe.
+  const Eigen::Vector3d on_plane =
+      z || nearest == nullptr ? Eigen::Vector3d(x, y, z.value_or(0.0)) : nearest->translation();
+  const auto height_at = [&](double px, double py) {
+    return on_plane.z() - (up.x() * (px - on_plane.x()) + up.y() * (py - on_plane.y())) / up.z();
+  };
   std::vector<Eigen::Isometry3d> poses;
   const int steps = static_cast<int>(std::floor(options_.hint_radius / options_.position_step));
   const int turns = static_cast<int>(std::floor(options_.hint_yaw / options_.yaw_step));
@@ -92,8 +118,9 @@ RelocalizationResult Relocalizer::around(const PointCloud& scan, double x, doubl
       const double dy = j * options_.position_step;
       if (std::hypot(dx, dy) > options_.hint_radius + 1e-9)
         continue;
+      const Eigen::Vector3d position(x + dx, y + dy, height_at(x + dx, y + dy));
       for (int k = -turns; k <= turns; ++k)
-        poses.push_back(pose_at(x + dx, y + dy, z.value_or(0.0), yaw + k * options_.yaw_step));
+        poses.push_back(pose_on(position, up, yaw + k * options_.yaw_step));
     }
   return search(scan, std::move(poses), true);
 }
@@ -110,7 +137,7 @@ RelocalizationResult Relocalizer::anywhere(const PointCloud& scan) {
     places.push_back(place);
     const int turns = static_cast<int>(std::lround(2.0 * std::numbers::pi / options_.yaw_step));
     for (int k = 0; k < turns; ++k)
-      poses.push_back(pose_at(place.x(), place.y(), place.z(), k * 2.0 * std::numbers::pi / turns));
+      poses.push_back(pose_on(place, ground_up(keyframe), k * 2.0 * std::numbers::pi / turns));
   }
   return search(scan, std::move(poses), false);
 }
