@@ -200,6 +200,21 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
   status_.keyframes = keyframes_.size();
 }
 
+std::optional<double> GraphLocalizer::height_before_loops(PoseGraph graph, std::size_t optimized_at) const {
+  if (!options_.height_before_loops || graph.loop_count() > 0 || graph.prior_count() < 2 ||
+      options_.optimizer.mounting_sigma <= 0.0 || graph.size() < 2)
+    return std::nullopt;
+  // Each keyframe's at first; a long way with no loop (thousands of keyframes) every 2 % more, so the
+  // optimizations over it cost a few times one of the whole graph.
+  if (graph.size() < optimized_at + std::max<std::size_t>(1, optimized_at / 50))
+    return std::nullopt;
+  const PoseGraphSummary summary = graph.optimize(options_.optimizer);
+  if (!summary.solved)
+    return std::nullopt;
+  const double z = graph.pose(graph.size() - 1).translation().z();
+  return std::isfinite(z) ? std::optional(z) : std::nullopt;
+}
+
 bool GraphLocalizer::close_loops() {
   if (!options_.pose_graph)
     return false;
@@ -208,11 +223,13 @@ bool GraphLocalizer::close_loops() {
   std::vector<KeyframePtr> keyframes;
   std::size_t from = 0;
   std::uint64_t generation = 0;
+  std::size_t height_optimized_at = 0;
   {
     std::lock_guard lock(mutex_);
     if (searched_ == keyframes_.size())
       return false;
     generation = generation_;
+    height_optimized_at = height_optimized_at_;
     graph = graph_;
     keyframes = keyframes_;
     from = searched_;
@@ -232,10 +249,22 @@ bool GraphLocalizer::close_loops() {
     // No loop yet, but scan matching's heading (where the scans' surfaces show it) against the odometry's
     // tells the drift too: before the first loop, the route's open stretches take their heading from it.
     const std::optional<double> drift = heading_drift_of(graph, keyframes, options_.heading_drift);
+    const std::optional<double> height = height_before_loops(graph, height_optimized_at);
     std::lock_guard lock(mutex_);
-    if (drift && generation == generation_) {
+    if (generation != generation_)
+      return false;
+    if (drift) {
       pending_heading_drift_ = *drift;
       status_.heading_drift = *drift;
+    }
+    // Nothing but the height, and only while no keyframe came meanwhile: the newest frontend pose is then
+    // the one the graph has last. It replaces a correction not yet taken, as a loop's does.
+    if (height)
+      height_optimized_at_ = graph.size();
+    if (height && graph_.size() == graph.size()) {
+      Eigen::Isometry3d lift = Eigen::Isometry3d::Identity();
+      lift.translation().z() = *height - last_keyframe_frontend_.translation().z();
+      pending_correction_ = lift;
     }
     return false;
   }
@@ -288,6 +317,7 @@ void GraphLocalizer::localize_in(std::shared_ptr<const LocalizationMap> map) {
   graph_ = PoseGraph();
   last_keyframe_frontend_ = Eigen::Isometry3d::Identity();
   searched_ = 0;
+  height_optimized_at_ = 0;
   pending_correction_.reset();
   ++generation_;
 }

@@ -53,6 +53,15 @@ struct GraphLocalizerOptions {
   PoseGraphOptions optimizer;
   /// The odometry's heading drift, fitted to the optimized graph and taken out of the scan path's guesses.
   HeadingDriftOptions heading_drift;
+  /// Before the first loop, where the keyframes have gravity readings and the graph estimates their
+  /// mounting error: the graph is optimized as keyframes come and the scan path takes its height from it,
+  /// nothing else. Scan matching's tilt follows the readings, tilted by the IMU's mounting error, which the
+  /// scan path learns only as the robot turns (the campus's first 200 m are straight): 0.0025 m of climb a
+  /// metre put the bridge deck 0.3-0.4 m high. The graph holds its first keyframe at the start's tilt and
+  /// tells the mounting error in part from there. Moving the scan path's tilt or heading too, to a graph
+  /// with no loop, carried more heading error onto new ground (docs/benchmarks.md, "Height before the
+  /// first loop").
+  bool height_before_loops = true;
 };
 
 /// The information of the chain edge between two consecutive keyframes `distance` metres apart
@@ -115,6 +124,9 @@ class GraphLocalizer {
   [[nodiscard]] std::vector<KeyframePose> keyframes() const;
 
  private:
+  /// The newest keyframe's height in `graph` optimized (a copy), where height_before_loops applies and
+  /// enough keyframes came since the graph had `optimized_at`.
+  [[nodiscard]] std::optional<double> height_before_loops(PoseGraph graph, std::size_t optimized_at) const;
   void add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp,
                     const Eigen::Vector3d& sensor_origin, const std::optional<GravityReading>& gravity);
 
@@ -139,7 +151,8 @@ class GraphLocalizer {
   /// The scan matcher's pose of the last keyframe, in the scan matcher's current frame: the chain's
   /// relative measurement starts there.
   Eigen::Isometry3d last_keyframe_frontend_ = Eigen::Isometry3d::Identity();
-  std::size_t searched_ = 0;  ///< keyframes looked at for loops so far
+  std::size_t height_optimized_at_ = 0;  ///< the graph's size at the last height_before_loops
+  std::size_t searched_ = 0;             ///< keyframes looked at for loops so far
   /// Counts the graph's restarts: an optimization of a graph since replaced is thrown away.
   std::uint64_t generation_ = 0;
   bool placed_ = false;  // scan path only: place() moved the estimate since the last scan

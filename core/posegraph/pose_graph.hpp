@@ -79,6 +79,7 @@ class PoseGraph {
   /// Where the next optimization starts from (an estimate from elsewhere, the scan path's).
   void set_mounting_error(const Eigen::Vector3d& mounting) { mounting_ = mounting.head<2>(); }
   [[nodiscard]] std::size_t loop_count() const;
+  [[nodiscard]] std::size_t prior_count() const { return priors_.size(); }
 
   /// The whitened residual of an edge at the current estimates: how many standard deviations the
   /// estimates are from its measurement.

@@ -170,6 +170,11 @@ int main(int argc, char** argv) {
     graph_options.pose_graph = std::string(graph) != "0";
   if (const char* tilt = std::getenv("STRATA_BENCH_CHAIN_TILT"))  // the chain's roll and pitch sigma, rad
     graph_options.chain_sigma_tilt = std::atof(tilt);
+  if (const char* tilt = std::getenv("STRATA_BENCH_CHAIN_TILT_PER_METRE"))  // rad per metre
+    graph_options.chain_sigma_tilt_per_metre = std::atof(tilt);
+  // STRATA_BENCH_HEIGHT_BEFORE_LOOPS=0: the scan path keeps its own height until the first loop (as before).
+  if (const char* height = std::getenv("STRATA_BENCH_HEIGHT_BEFORE_LOOPS"))
+    graph_options.height_before_loops = std::string(height) != "0";
   if (const char* weak = std::getenv("STRATA_BENCH_LOOP_WEAK"))  // a loop edge's weak eigenvalue
     graph_options.loops.weak_direction = std::atof(weak);
   // STRATA_BENCH_MOUNTING_SIGMA=0: the graph does not estimate the IMU's mounting error (as before).
