@@ -61,4 +61,10 @@ double heading_of(const Eigen::Isometry3d& pose) {
   return std::atan2(pose.linear()(1, 0), pose.linear()(0, 0));
 }
 
+Eigen::Matrix3d rotation_from_vector(const Eigen::Vector3d& rotation_vector) {
+  const double angle = rotation_vector.norm();
+  return angle > 0.0 ? Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix()
+                     : Eigen::Matrix3d::Identity();
+}
+
 }  // namespace strata

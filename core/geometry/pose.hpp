@@ -35,4 +35,7 @@ struct Pose3 {
 /// (its yaw, when roll and pitch are small).
 [[nodiscard]] double heading_of(const Eigen::Isometry3d& pose);
 
+/// The rotation a rotation vector (axis times angle, radians) stands for; the identity for the zero vector.
+[[nodiscard]] Eigen::Matrix3d rotation_from_vector(const Eigen::Vector3d& rotation_vector);
+
 }  // namespace strata

@@ -200,7 +200,7 @@ void GraphLocalizer::add_keyframe(const PointCloud& points, const LocalizationUp
   status_.keyframes = keyframes_.size();
 }
 
-std::optional<double> GraphLocalizer::height_before_loops(PoseGraph graph, std::size_t optimized_at) const {
+std::optional<double> GraphLocalizer::height_before_loops(PoseGraph& graph, std::size_t optimized_at) const {
   if (!options_.height_before_loops || graph.loop_count() > 0 || graph.prior_count() < 2 ||
       options_.optimizer.mounting_sigma <= 0.0 || graph.size() < 2)
     return std::nullopt;

@@ -124,9 +124,9 @@ class GraphLocalizer {
   [[nodiscard]] std::vector<KeyframePose> keyframes() const;
 
  private:
-  /// The newest keyframe's height in `graph` optimized (a copy), where height_before_loops applies and
-  /// enough keyframes came since the graph had `optimized_at`.
-  [[nodiscard]] std::optional<double> height_before_loops(PoseGraph graph, std::size_t optimized_at) const;
+  /// The newest keyframe's height in `graph` (close_loops' copy) optimized in place, where
+  /// height_before_loops applies and enough keyframes came since the graph had `optimized_at`.
+  [[nodiscard]] std::optional<double> height_before_loops(PoseGraph& graph, std::size_t optimized_at) const;
   void add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp,
                     const Eigen::Vector3d& sensor_origin, const std::optional<GravityReading>& gravity);
 

@@ -20,12 +20,6 @@ Eigen::Vector3d tilt_error(const Eigen::Isometry3d& pose, const Eigen::Vector3d&
   return axis / sine * std::atan2(sine, measured_up.z());
 }
 
-Eigen::Matrix3d rotation(const Eigen::Vector3d& rotation_vector) {
-  const double angle = rotation_vector.norm();
-  return angle > 0.0 ? Eigen::AngleAxisd(angle, rotation_vector / angle).toRotationMatrix()
-                     : Eigen::Matrix3d::Identity();
-}
-
 }  // namespace
 
 bool GravityLeveling::usable(const GravityReading& gravity) {
@@ -38,12 +32,18 @@ GravityLeveling::GravityLeveling(GravityLevelingOptions options, bool start_give
       variance_(
           std::pow(start_given ? options.given_start_tilt_sigma : options.unknown_start_tilt_sigma, 2)) {}
 
-GravityReading GravityLeveling::corrected(const GravityReading& gravity) const {
+GravityReading GravityLeveling::without_mounting(const GravityReading& gravity,
+                                                 const Eigen::Vector3d& mounting) {
   if (!usable(gravity))
     return gravity;
   GravityReading out = gravity;
-  out.up_in_base = (rotation(bias_).transpose() * gravity.up_in_base.normalized()).normalized();
+  out.up_in_base =
+      (rotation_from_vector(mounting).transpose() * gravity.up_in_base.normalized()).normalized();
   return out;
+}
+
+GravityReading GravityLeveling::corrected(const GravityReading& gravity) const {
+  return without_mounting(gravity, bias_);
 }
 
 Eigen::Matrix3d GravityLeveling::level(const Eigen::Isometry3d& pose, const GravityReading& gravity) {
@@ -62,7 +62,7 @@ Eigen::Matrix3d GravityLeveling::level(const Eigen::Isometry3d& pose, const Grav
   variance_ += options_.drift_per_scan * options_.drift_per_scan;
   const double gain = variance_ / (variance_ + gravity.sigma * gravity.sigma);
   variance_ *= 1.0 - gain;
-  return rotation(gain * error);
+  return rotation_from_vector(gain * error);
 }
 
 Eigen::Matrix3d GravityLeveling::align(const Eigen::Isometry3d& pose, const GravityReading& gravity,
@@ -76,7 +76,7 @@ Eigen::Matrix3d GravityLeveling::align(const Eigen::Isometry3d& pose, const Grav
     const double change = options_.tilt_change_per_metre * *moved;
     gain = change * change / (change * change + gravity.sigma * gravity.sigma);
   }
-  return rotation(gain * tilt_error(pose, corrected(gravity).up_in_base));
+  return rotation_from_vector(gain * tilt_error(pose, corrected(gravity).up_in_base));
 }
 
 }  // namespace strata

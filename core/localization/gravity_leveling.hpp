@@ -49,6 +49,10 @@ class GravityLeveling {
   /// Anything else is ignored here and never reaches the pose graph.
   [[nodiscard]] static bool usable(const GravityReading& gravity);
 
+  /// The reading without the mounting error `mounting` (a rotation vector in the base frame, radians:
+  /// the one that takes the true up to where the reading has it); unchanged when it is not usable.
+  [[nodiscard]] static GravityReading without_mounting(const GravityReading& gravity,
+                                                       const Eigen::Vector3d& mounting);
   /// The reading without the learnt mounting error; unchanged when it is not usable.
   [[nodiscard]] GravityReading corrected(const GravityReading& gravity) const;
 

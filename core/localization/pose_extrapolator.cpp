@@ -23,9 +23,9 @@ void PoseExtrapolator::add_sample(double stamp, const Pose3& odometry,
                                   const std::optional<GravityReading>& gravity) {
   if (!steps_.empty() && stamp < steps_.back().stamp)
     steps_.clear();
-  gravity_ = gravity && GravityLeveling::usable(*gravity) ? gravity : std::nullopt;
-  if (gravity_)
-    gravity_->up_in_base = (mounting_.transpose() * gravity_->up_in_base.normalized()).normalized();
+  gravity_ = gravity && GravityLeveling::usable(*gravity)
+                 ? std::optional(GravityLeveling::without_mounting(*gravity, mounting_))
+                 : std::nullopt;
   Step step{stamp, odometry, steps_.empty() ? 0.0 : steps_.back().climb};
   if (!steps_.empty() && gravity_) {
     // The way driven, in the heading's frame: wheels count it along the ground the reading says the base
@@ -40,12 +40,6 @@ void PoseExtrapolator::add_sample(double stamp, const Pose3& odometry,
   steps_.push_back(step);
   if (steps_.size() > kMaxSteps)
     steps_.pop_front();
-}
-
-void PoseExtrapolator::set_mounting_error(const Eigen::Vector3d& mounting) {
-  const double angle = mounting.norm();
-  mounting_ = angle > 0.0 ? Eigen::AngleAxisd(angle, mounting / angle).toRotationMatrix()
-                          : Eigen::Matrix3d::Identity();
 }
 
 void PoseExtrapolator::set_correction(const Eigen::Isometry3d& map_from_odom,

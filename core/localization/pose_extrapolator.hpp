@@ -26,7 +26,7 @@ class PoseExtrapolator {
   void set_correction(const Eigen::Isometry3d& map_from_odom, std::optional<double> scan_stamp);
   /// The reading's mounting error, a rotation vector in the base frame (radians; GravityLeveling::bias):
   /// the samples from now on are taken without it.
-  void set_mounting_error(const Eigen::Vector3d& mounting);
+  void set_mounting_error(const Eigen::Vector3d& mounting) { mounting_ = mounting; }
   /// Where the robot is now; the odometry's origin before the first sample.
   [[nodiscard]] Pose3 estimate() const;
 
@@ -39,7 +39,7 @@ class PoseExtrapolator {
 
   std::deque<Step> steps_;                 ///< from the correction's scan (or just before it) to now
   std::optional<GravityReading> gravity_;  ///< the newest sample's, when usable, less the mounting error
-  Eigen::Matrix3d mounting_ = Eigen::Matrix3d::Identity();  ///< the reading's frame in the base frame
+  Eigen::Vector3d mounting_ = Eigen::Vector3d::Zero();  ///< the readings' mounting error (set_mounting_error)
   Eigen::Isometry3d map_from_odom_ = Eigen::Isometry3d::Identity();
   std::optional<double> scan_stamp_;
 };

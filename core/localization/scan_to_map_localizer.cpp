@@ -154,10 +154,7 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
         if (!taken && weight < 0.5)  // mostly the odometry's: what the status's explanation says
           update.odometry_axes.push_back(vertical);
       }
-      const double angle = turn.norm();
-      const Eigen::Matrix3d kept = angle > 0.0 ? Eigen::AngleAxisd(angle, turn / angle).toRotationMatrix()
-                                               : Eigen::Matrix3d::Identity();
-      update.pose.linear() = kept * guess.linear();
+      update.pose.linear() = rotation_from_vector(turn) * guess.linear();
       const Eigen::Vector3d offset = guess.translation() - result.refined.translation();
       for (int k = 0; k < 3; ++k) {
         if (result.constraint.eigenvalues[k] >= options_.weak_direction_guard)
