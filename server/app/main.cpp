@@ -9,6 +9,7 @@
 #include <string>
 
 #include "server/app/map_command.hpp"
+#include "server/app/memory_policy.hpp"
 #include "server/app/plan_command.hpp"
 #include "server/app/register_command.hpp"
 #include "server/app/serve_command.hpp"
@@ -44,6 +45,7 @@ int print_version() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  const bool freed_memory_kept = strata::app::keep_freed_memory();  // before any thread starts
   CLI::App app{
       "Strata: a map server for mobile robots on uneven, multi-level ground.\n"
       "Registers 3D scans, builds a Multi-Level Surface map, plans and drives to goals, and serves\n"
@@ -80,6 +82,8 @@ int main(int argc, char** argv) {
   // Logs go to stderr; stdout carries only what scripts read (the "serving on" line, command output).
   spdlog::set_default_logger(spdlog::stderr_color_mt("strata"));
   spdlog::set_level(spdlog::level::from_str(log_level));
+  if (!freed_memory_kept)
+    spdlog::debug("the C library's allocator keeps its own settings (not glibc, or a sanitizer's)");
 
   try {
     if (*serve_cmd)

@@ -25,6 +25,7 @@
 #include "core/points/voxel_downsample.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
+#include "server/app/memory_policy.hpp"
 #include "server/pipeline/map_rebuilder.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 
@@ -130,6 +131,7 @@ double icp_heading_error(const RegistrationResult& r, const Pose3& truth) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  strata::app::keep_freed_memory();  // as the server does: the scan path's buffers stay mapped
   const std::string world_name = argc > 1 ? argv[1] : "campus";
   const double duration = argc > 2 ? std::atof(argv[2]) : 800.0;
   const std::string scanner = argc > 3 ? argv[3] : "tilting";

@@ -24,6 +24,7 @@
 #include "core/localization/scan_to_map_localizer.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
+#include "server/app/memory_policy.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 
 using namespace strata;
@@ -79,6 +80,7 @@ struct Tally {
 }  // namespace
 
 int main(int argc, char** argv) {
+  strata::app::keep_freed_memory();  // as the server does: the scan path's buffers stay mapped
   const std::string world_name = argc > 1 ? argv[1] : "campus";
   const double duration = argc > 2 ? std::atof(argv[2]) : (world_name == "yard" ? 200.0 : 800.0);
   const std::size_t samples = argc > 3 ? std::strtoul(argv[3], nullptr, 10) : 50;
