@@ -240,7 +240,8 @@ bool GraphLocalizer::close_loops() {
     poses[i] = graph.pose(i);
   std::vector<LoopClosure> found;
   for (std::size_t newest = from; newest < keyframes.size(); ++newest) {
-    if (std::optional<LoopClosure> loop = find_loop_closure(keyframes, poses, newest, options_.loops)) {
+    if (std::optional<LoopClosure> loop =
+            find_loop_closure(keyframes, poses, newest, graph.edges(), options_.loops)) {
       graph.add_edge(loop->edge);
       found.push_back(std::move(*loop));
     }

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "core/localization/keyframe.hpp"
@@ -60,10 +61,20 @@ struct LoopClosure {
 /// coarse to fine and with the fine stage alone, and takes the better fit; keeps the match only when the
 /// fault check accepts it and it moved the newest no further than the estimate can have drifted. `poses` are
 /// the current estimates, one per keyframe.
+/// `edges`: the graph's edges so far; its loops shorten the way between the newest and older keyframes,
+/// and with it how far the estimate can have drifted (way_between).
 [[nodiscard]] std::optional<LoopClosure> find_loop_closure(const std::vector<KeyframePtr>& keyframes,
                                                            const std::vector<Eigen::Isometry3d>& poses,
                                                            std::size_t newest,
+                                                           std::span<const PoseGraphEdge> edges = {},
                                                            const LoopClosureOptions& options = {});
+
+/// The way driven between keyframes `older` and `newer`, metres, along the chain or through one loop
+/// edge (the chain to one end of the loop, the chain from its other end): what their estimates can have
+/// drifted apart. Once a loop has tied the robot to the map, the drift since is the way driven since that
+/// loop, not since the older keyframe was made.
+[[nodiscard]] double way_between(const std::vector<KeyframePtr>& keyframes,
+                                 std::span<const PoseGraphEdge> edges, std::size_t older, std::size_t newer);
 
 /// Information of a relative pose measured by point-to-plane registration: its well-constrained
 /// directions at 1/sigma^2, weak ones scaled down by their eigenvalue (below `weak`). The constraint's

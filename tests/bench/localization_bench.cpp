@@ -263,8 +263,12 @@ int main(int argc, char** argv) {
       // The server runs this on a thread of its own; here it runs after each scan, so the numbers do not
       // depend on the machine's speed.
       const auto loop_start = std::chrono::steady_clock::now();
+      const std::size_t loops_before = localizer.status().loops;
       localizer.close_loops();
       loop_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
+      if (std::getenv("STRATA_BENCH_TRACE") != nullptr && localizer.status().loops != loops_before)
+        std::fprintf(stderr, "loops %zu -> %zu at t=%.1f: the last moved its keyframe %.3f m\n", loops_before,
+                     localizer.status().loops, scan.stamp, localizer.status().last_correction);
       ++scans;
       retried += update.retried ? 1 : 0;
       if (update.registration) {

@@ -67,5 +67,52 @@ TEST(LoopClosure, AMatchMovesTheNewKeyframeAsFarAsTheEstimateCanHaveDrifted) {
   EXPECT_TRUE(revisit(options.min_travel, 0.3).has_value());
 }
 
+TEST(LoopClosure, TheWayBetweenKeyframesGoesThroughTheLoopsClosedSoFar) {
+  std::vector<KeyframePtr> keyframes;
+  for (double travelled : {0.0, 100.0, 300.0, 310.0}) {
+    auto keyframe = std::make_shared<Keyframe>();
+    keyframe->travelled = travelled;
+    keyframes.push_back(keyframe);
+  }
+  EXPECT_DOUBLE_EQ(way_between(keyframes, {}, 0, 3), 310.0);
+  // A loop tied keyframe 2 to keyframe 0's place: from 3 back to 0 it is 10 m, to 1 the 100 m from 0.
+  PoseGraphEdge loop;
+  loop.from = 0;
+  loop.to = 2;
+  loop.loop = true;
+  PoseGraphEdge chain;  // odometry edges are the chain itself: no shortcut
+  chain.from = 1;
+  chain.to = 3;
+  const std::vector<PoseGraphEdge> edges{chain, loop};
+  EXPECT_DOUBLE_EQ(way_between(keyframes, edges, 0, 3), 10.0);
+  EXPECT_DOUBLE_EQ(way_between(keyframes, edges, 1, 3), 110.0);
+  EXPECT_DOUBLE_EQ(way_between(keyframes, edges, 2, 3), 10.0);
+}
+
+TEST(LoopClosure, AfterALoopTheDriftAllowedIsThatOfTheWaySinceIt) {
+  // Keyframe 2 back in the room 40 m after keyframe 0, its estimate 1.5 m off: over 40 m that is drift
+  // (0.5 m + 3 % of 40 = 1.7 m) and the loop is closed. But if keyframe 1, 10 m before it, was tied to
+  // keyframe 0 by a loop, the estimate can have drifted 0.8 m since: 1.5 m is a slide.
+  const LoopClosureOptions options;
+  ASSERT_LT(1.5, options.min_drift + options.drift_allowance * 40.0);
+  ASSERT_GT(1.5, options.min_drift + options.drift_allowance * 10.0);
+  std::vector<KeyframePtr> keyframes;
+  for (double travelled : {0.0, 30.0, 40.0}) {
+    auto keyframe = std::make_shared<Keyframe>();
+    keyframe->points = room();
+    keyframe->travelled = travelled;
+    keyframes.push_back(keyframe);
+  }
+  const std::vector<Eigen::Isometry3d> poses{Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity(),
+                                             Eigen::Isometry3d(Eigen::Translation3d(1.5, 0.0, 0.0))};
+  EXPECT_TRUE(find_loop_closure(keyframes, poses, 2).has_value());
+  PoseGraphEdge loop;
+  loop.from = 0;
+  loop.to = 1;
+  loop.loop = true;
+  const std::vector<PoseGraphEdge> edges{loop};
+  EXPECT_FALSE(find_loop_closure(keyframes, poses, 2, edges).has_value());
+}
+
 }  // namespace
 }  // namespace strata
