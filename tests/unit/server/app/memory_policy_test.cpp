@@ -11,7 +11,15 @@
 
 namespace {
 
+// GCC names the sanitizers by macros, Clang by __has_feature.
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define STRATA_TEST_SANITIZER_ALLOCATOR 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+#define STRATA_TEST_SANITIZER_ALLOCATOR 1
+#endif
+#endif
+#if defined(STRATA_TEST_SANITIZER_ALLOCATOR)
 constexpr bool kSanitizerAllocator = true;
 #else
 constexpr bool kSanitizerAllocator = false;
