@@ -46,13 +46,11 @@ struct RelocalizationOptions {
   /// a map point. The ground fits anywhere at any heading, and within ICP's 0.25 m bound a hallway fits
   /// 100 % a metre along itself; the walls' and doors' centimetres tell where. The best is taken when it
   /// holds `min_structure_share`, no candidate elsewhere comes within `ambiguity_margin` of it, and the
-  /// scan has `min_structure_points` to judge by. 0.9: on the campus a scan of the open stretch south of
-  /// the hallway fitted 89 % of its structure 0.42 m along the way, where every right find fitted 93-100 %
-  /// (docs/benchmarks.md, "Finding the robot").
+  /// scan has `min_structure_points` to judge by.
   double structure_height = 0.3;
   double structure_voxel = 0.2;
   double tight_distance = 0.1;
-  double min_structure_share = 0.9;
+  double min_structure_share = 0.75;
   double ambiguity_margin = 0.05;
   std::size_t min_structure_points = 30;
 };
