@@ -80,11 +80,22 @@ PointCloud Relocalizer::structure_of(const PointCloud& scan) const {
   return voxel_downsample(structure, options_.structure_voxel);
 }
 
-double Relocalizer::structure_fit(const PointCloud& structure, const Eigen::Isometry3d& pose) const {
+Relocalizer::StructureFit Relocalizer::structure_fit(const PointCloud& structure,
+                                                     const Eigen::Isometry3d& pose) const {
+  const double tight_squared = options_.tight_distance * options_.tight_distance;
   std::size_t near = 0;
+  std::size_t covered = 0;
   for (const Eigen::Vector3d& p : structure)
-    near += tree_.nearest(pose * p, options_.tight_distance) ? 1 : 0;
-  return structure.empty() ? 0.0 : static_cast<double>(near) / static_cast<double>(structure.size());
+    if (const auto neighbor = tree_.nearest(pose * p, options_.covered_distance)) {
+      ++covered;
+      near += neighbor->squared_distance <= tight_squared ? 1 : 0;
+    }
+  StructureFit fit;
+  if (!structure.empty())
+    fit.share = static_cast<double>(near) / static_cast<double>(structure.size());
+  if (covered > 0)
+    fit.covered_share = static_cast<double>(near) / static_cast<double>(covered);
+  return fit;
 }
 
 RelocalizationResult Relocalizer::around(const PointCloud& scan, double x, double y, double yaw,
@@ -223,6 +234,7 @@ RelocalizationResult Relocalizer::decide(const PointCloud& scan, const PointClou
     double share = 0.0;
     double rmse = 0.0;
     double structure = 0.0;
+    double covered_structure = 0.0;
   };
   RelocalizationResult result;
   std::vector<Refined> refined;
@@ -230,8 +242,9 @@ RelocalizationResult Relocalizer::decide(const PointCloud& scan, const PointClou
     const RegistrationResult fit = registration_.register_scan(scan, candidate.pose);
     if (!fit.refined.matrix().allFinite() || fit.source_points == 0)
       continue;
+    const StructureFit structure_at = structure_fit(structure, fit.refined);
     refined.push_back({fit.refined, static_cast<double>(fit.pairs) / static_cast<double>(fit.source_points),
-                       fit.rmse, structure_fit(structure, fit.refined)});
+                       fit.rmse, structure_at.share, structure_at.covered_share});
   }
   if (refined.empty()) {
     result.message = "no candidate could be registered";
@@ -242,6 +255,7 @@ RelocalizationResult Relocalizer::decide(const PointCloud& scan, const PointClou
   result.inlier_share = best->share;
   result.rmse = best->rmse;
   result.structure_share = best->structure;
+  result.covered_structure_share = best->covered_structure;
 
   const Refined* rival = nullptr;
   result.places.push_back(best->pose);
@@ -283,6 +297,16 @@ RelocalizationResult Relocalizer::decide(const PointCloud& scan, const PointClou
                   "and objects within %.0f cm; %.0f %% and %.0f %% needed",
                   100.0 * best->share, best->rmse, 100.0 * best->structure, 100.0 * options_.tight_distance,
                   100.0 * options_.min_inlier_share, 100.0 * options_.min_structure_share);
+    result.message = text;
+    return result;
+  }
+  if (best->covered_structure < options_.min_covered_structure_share) {
+    char text[192];
+    std::snprintf(text, sizeof(text),
+                  "no place fits closely: at best %.0f %% of the walls and objects the map has there within "
+                  "%.0f cm; %.0f %% needed",
+                  100.0 * best->covered_structure, 100.0 * options_.tight_distance,
+                  100.0 * options_.min_covered_structure_share);
     result.message = text;
     return result;
   }
