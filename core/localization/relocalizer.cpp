@@ -1,5 +1,6 @@
 #include "core/localization/relocalizer.hpp"
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -85,17 +86,47 @@ Relocalizer::StructureFit Relocalizer::structure_fit(const PointCloud& structure
   const double tight_squared = options_.tight_distance * options_.tight_distance;
   std::size_t near = 0;
   std::size_t covered = 0;
-  for (const Eigen::Vector3d& p : structure)
-    if (const auto neighbor = tree_.nearest(pose * p, options_.covered_distance)) {
-      ++covered;
-      near += neighbor->squared_distance <= tight_squared ? 1 : 0;
-    }
+  std::size_t on_map = 0;
+  for (const Eigen::Vector3d& p : structure) {
+    const Eigen::Vector3d point = pose * p;
+    const auto neighbor = tree_.nearest(point, options_.covered_distance);
+    if (!neighbor)
+      continue;
+    ++covered;
+    const bool close = neighbor->squared_distance <= tight_squared;
+    near += close ? 1 : 0;
+    on_map += close || on_surface(point, std::sqrt(neighbor->squared_distance)) ? 1 : 0;
+  }
   StructureFit fit;
   if (!structure.empty())
     fit.share = static_cast<double>(near) / static_cast<double>(structure.size());
   if (covered > 0)
-    fit.covered_share = static_cast<double>(near) / static_cast<double>(covered);
+    fit.covered_share = static_cast<double>(on_map) / static_cast<double>(covered);
   return fit;
+}
+
+bool Relocalizer::on_surface(const Eigen::Vector3d& point, double distance) const {
+  if (distance > options_.surface_reach)
+    return false;
+  thread_local std::vector<Neighbor> neighbors;
+  tree_.k_nearest(point, options_.surface_neighbors, neighbors);
+  if (neighbors.size() < 3)
+    return false;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Neighbor& n : neighbors)
+    mean += tree_.points()[n.index];
+  mean /= static_cast<double>(neighbors.size());
+  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
+  for (const Neighbor& n : neighbors) {
+    const Eigen::Vector3d d = tree_.points()[n.index] - mean;
+    spread += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(spread);
+  const Eigen::Vector3d& eigenvalues = solver.eigenvalues();  // ascending
+  if (!(eigenvalues.x() < options_.surface_flatness * eigenvalues.y()))
+    return false;
+  const Eigen::Vector3d normal = solver.eigenvectors().col(0);
+  return std::abs(normal.dot(point - mean)) <= 0.5 * options_.tight_distance;
 }
 
 RelocalizationResult Relocalizer::around(const PointCloud& scan, double x, double y, double yaw,
