@@ -40,6 +40,9 @@ class SimulatedImu {
   /// The accelerometer's mounting error drawn for this run: a rotation vector in the base frame (radians;
   /// z 0) that takes the true up to where it reads it, noise aside. What a localizer should find.
   [[nodiscard]] Eigen::Vector3d mounting_error() const { return {tilt_bias_.x(), tilt_bias_.y(), 0.0}; }
+  /// The gyro's bias drawn for this run, rad/s: the heading drift a localizer should find (with the
+  /// opposite sign: HeadingDrift's is what to add).
+  [[nodiscard]] double gyro_bias() const { return gyro_bias_; }
 
  private:
   [[nodiscard]] GravityReading read_gravity(const Pose3& truth, bool standing, std::mt19937_64& rng) const;

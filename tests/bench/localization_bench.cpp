@@ -330,6 +330,17 @@ int main(int argc, char** argv) {
       keyframe_map_points += scan.points.size();
     rebuilt.push_back(
         {truth_at.at(keyframe->stamp), pose, voxel_downsample(keyframe->points, 0.5), keyframe->travelled});
+    // What the heading drift is fitted to, against the truth: the graph's heading error and the raw
+    // odometry's, degrees, at the seconds of motion the localizer counted.
+    if (std::getenv("STRATA_BENCH_HEADINGS") != nullptr && keyframe->odometry_heading) {
+      const double truth_heading = heading_of(truth_at.at(keyframe->stamp));
+      std::fprintf(stderr,
+                   "keyframe t=%.1f moving=%.1f graph_heading_error=%.3f odometry_heading_error=%.3f\n",
+                   keyframe->stamp, keyframe->odometry_heading->seconds,
+                   std::remainder(heading_of(pose) - truth_heading, 2.0 * M_PI) * 180.0 / M_PI,
+                   std::remainder(keyframe->odometry_heading->odometry_heading - truth_heading, 2.0 * M_PI) *
+                       180.0 / M_PI);
+    }
   }
   // What the keyframes hold per kilometre driven: their registration points (Eigen::Vector3d, 24 bytes
   // each) and their map points (Eigen::Vector3f, 12 bytes).
@@ -368,7 +379,8 @@ int main(int argc, char** argv) {
       "\"registration_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f,\"mean\":%.1f},"
       "\"add_scan_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f},\"source_points_median\":%.0f,"
       "\"pose_graph\":{\"on\":%s,\"keyframes\":%zu,\"loops\":%zu,\"loops_dropped\":%zu,\"optimizations\":%zu,"
-      "\"background_s\":%.2f,\"heading_drift_deg_per_h\":%.2f,\"gravity_mounting_deg\":[%.3f,%.3f],"
+      "\"background_s\":%.2f,\"heading_drift_deg_per_h\":%.2f,\"sim_gyro_drift_deg_per_h\":%.2f,"
+      "\"gravity_mounting_deg\":[%.3f,%.3f],"
       "\"keyframe_points\":%zu,\"keyframe_mb_per_km\":"
       "%.1f,"
       "\"keyframe_map_points\":%zu,\"keyframe_map_mb_per_km\":%.1f,\"rebuild_s\":%.2f,\"rebuilt_patches\":%"
@@ -385,6 +397,7 @@ int main(int argc, char** argv) {
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
       pct_of(source_points, 0.5), graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops,
       graph.loops_dropped, graph.optimizations, loop_seconds, graph.heading_drift_deg_per_h(),
+      simulator.imu() ? -simulator.imu()->gyro_bias() * 180.0 / M_PI * 3600.0 : 0.0,
       graph.gravity_mounting_deg().x(), graph.gravity_mounting_deg().y(), keyframe_points, keyframe_mb_per_km,
       keyframe_map_points, map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(), live_spread.pairs,
       live_spread.median, live_spread.p95, live_spread.max, rebuilt_spread.pairs, rebuilt_spread.median,
