@@ -48,10 +48,10 @@ struct RelocalizationOptions {
   /// holds `min_structure_share`, no candidate elsewhere comes within `ambiguity_margin` of it, and the
   /// scan has `min_structure_points` to judge by.
   /// And where the map covers the scan's structure (a map point within `covered_distance`), it must fit
-  /// closely: `min_covered_structure_share` of that part within tight_distance. A place 0.4 m along a
-  /// path held 89 % of its structure and right finds 93-100 %; but a map made in the robot's first
-  /// seconds lacks walls the robot sees later, and a scan there held 81 % of all its structure in the
-  /// right place (docs/benchmarks.md, "Finding the robot").
+  /// closely: `min_covered_structure_share` of that part within tight_distance of the map. A place 0.4 m
+  /// along a path held 89 % of its structure and right finds 93-100 %; but a map of the robot's first
+  /// seconds lacks walls it sees later, and the right place held 81 % of all of a scan's structure there
+  /// (docs/benchmarks.md, "Finding the robot").
   double structure_height = 0.3;
   double structure_voxel = 0.2;
   double tight_distance = 0.1;
