@@ -236,6 +236,7 @@ int main(int argc, char** argv) {
   std::vector<Visit> mapped;                     // every scan the live map took, at the pose it took it with
   std::map<double, Eigen::Isometry3d> truth_at;  // by scan stamp
   double odometry_error = 0.0, corrected_error = 0.0;
+  bool dumped = false;
   for (double t = 0.0; t < duration; t += 0.01) {
     simulator.step(0.01);
     const RobotSample s = simulator.sample();
@@ -269,6 +270,21 @@ int main(int argc, char** argv) {
       if (std::getenv("STRATA_BENCH_TRACE") != nullptr && localizer.status().loops != loops_before)
         std::fprintf(stderr, "loops %zu -> %zu at t=%.1f: the last moved its keyframe %.3f m\n", loops_before,
                      localizer.status().loops, scan.stamp, localizer.status().last_correction);
+      // STRATA_BENCH_HEADINGS_AT=<t>: the keyframes' heading errors as the graph has them at t (what the
+      // drift is fitted to then), against the raw odometry's, degrees.
+      if (const char* at = std::getenv("STRATA_BENCH_HEADINGS_AT");
+          at && !dumped && scan.stamp >= std::atof(at)) {
+        dumped = true;
+        for (const auto& [keyframe, pose] : localizer.keyframes())
+          if (keyframe->odometry_heading) {
+            const double truth_heading = heading_of(truth_at.at(keyframe->stamp));
+            std::fprintf(
+                stderr, "at t=%.1f keyframe t=%.1f graph=%.3f odometry=%.3f\n", scan.stamp, keyframe->stamp,
+                std::remainder(heading_of(pose) - truth_heading, 2.0 * M_PI) * 180.0 / M_PI,
+                std::remainder(keyframe->odometry_heading->odometry_heading - truth_heading, 2.0 * M_PI) *
+                    180.0 / M_PI);
+          }
+      }
       ++scans;
       retried += update.retried ? 1 : 0;
       if (update.registration) {
