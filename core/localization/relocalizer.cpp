@@ -1,6 +1,5 @@
 #include "core/localization/relocalizer.hpp"
 
-#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -58,6 +57,7 @@ Relocalizer::Relocalizer(std::shared_ptr<const LocalizationMap> map, Relocalizat
       options_(options),
       hits_(map_->points.size()),
       tree_(map_->cloud()),
+      normals_(tree_),
       registration_(refinement(options_)) {
   const double inverse = 1.0 / options_.hit_voxel;
   for (const Eigen::Vector3f& p : map_->points)
@@ -82,7 +82,7 @@ PointCloud Relocalizer::structure_of(const PointCloud& scan) const {
 }
 
 Relocalizer::StructureFit Relocalizer::structure_fit(const PointCloud& structure,
-                                                     const Eigen::Isometry3d& pose) const {
+                                                     const Eigen::Isometry3d& pose) {
   const double tight_squared = options_.tight_distance * options_.tight_distance;
   std::size_t near = 0;
   std::size_t covered = 0;
@@ -95,7 +95,7 @@ Relocalizer::StructureFit Relocalizer::structure_fit(const PointCloud& structure
     ++covered;
     const bool close = neighbor->squared_distance <= tight_squared;
     near += close ? 1 : 0;
-    on_map += close || on_surface(point, std::sqrt(neighbor->squared_distance)) ? 1 : 0;
+    on_map += close || on_surface(point, *neighbor) ? 1 : 0;
   }
   StructureFit fit;
   if (!structure.empty())
@@ -105,28 +105,12 @@ Relocalizer::StructureFit Relocalizer::structure_fit(const PointCloud& structure
   return fit;
 }
 
-bool Relocalizer::on_surface(const Eigen::Vector3d& point, double distance) const {
-  if (distance > options_.surface_reach)
+bool Relocalizer::on_surface(const Eigen::Vector3d& point, const Neighbor& nearest) {
+  if (nearest.squared_distance > options_.surface_reach * options_.surface_reach)
     return false;
-  thread_local std::vector<Neighbor> neighbors;
-  tree_.k_nearest(point, options_.surface_neighbors, neighbors);
-  if (neighbors.size() < 3)
-    return false;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Neighbor& n : neighbors)
-    mean += tree_.points()[n.index];
-  mean /= static_cast<double>(neighbors.size());
-  Eigen::Matrix3d spread = Eigen::Matrix3d::Zero();
-  for (const Neighbor& n : neighbors) {
-    const Eigen::Vector3d d = tree_.points()[n.index] - mean;
-    spread += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(spread);
-  const Eigen::Vector3d& eigenvalues = solver.eigenvalues();  // ascending
-  if (!(eigenvalues.x() < options_.surface_flatness * eigenvalues.y()))
-    return false;
-  const Eigen::Vector3d normal = solver.eigenvectors().col(0);
-  return std::abs(normal.dot(point - mean)) <= 0.5 * options_.tight_distance;
+  const Eigen::Vector3d* normal = normals_.at(nearest.index);
+  return normal != nullptr &&
+         std::abs(normal->dot(point - tree_.points()[nearest.index])) <= 0.5 * options_.tight_distance;
 }
 
 RelocalizationResult Relocalizer::around(const PointCloud& scan, double x, double y, double yaw,

@@ -9,6 +9,7 @@
 
 #include "core/ann/kdtree.hpp"
 #include "core/localization/localization_map.hpp"
+#include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/points/voxel_key_map.hpp"
 #include "core/registration/register_scan.hpp"
@@ -60,13 +61,11 @@ struct RelocalizationOptions {
   double min_covered_structure_share = 0.9;
   /// That share is of the map's surfaces, not only its points: a map of one scan has points 0.15-0.2 m
   /// apart on far walls, and a scan's points between them are up to 0.1 m from the nearest (the browser
-  /// test's map of the first seconds: 82 % by points, 93 % by surfaces). A point with a map point within
-  /// `surface_reach` is also near when the plane through its `surface_neighbors` nearest map points
-  /// (flat: their least spread under `surface_flatness` of the next) passes within tight_distance / 2.
-  /// Ranking candidates by surfaces too made more of them fit as well (campus hint 49 -> 41 % right).
+  /// test's map of the first seconds: 82 % by points). A point whose nearest map point is within
+  /// `surface_reach` is also near when it lies within tight_distance / 2 of that point's surface (the
+  /// registration's normals, LazyNormals). Ranking candidates by surfaces too made more of them fit as
+  /// well (campus hint 49 -> 41 % right).
   double surface_reach = 0.2;
-  std::size_t surface_neighbors = 6;
-  double surface_flatness = 0.1;
   double ambiguity_margin = 0.05;
   std::size_t min_structure_points = 30;
 };
@@ -126,10 +125,10 @@ class Relocalizer {
     double share = 0.0;
     double covered_share = 0.0;
   };
-  [[nodiscard]] StructureFit structure_fit(const PointCloud& structure, const Eigen::Isometry3d& pose) const;
-  /// Whether `point` (map frame), whose nearest map point is `distance` away, lies on the map's surface
-  /// there (RelocalizationOptions::surface_reach).
-  [[nodiscard]] bool on_surface(const Eigen::Vector3d& point, double distance) const;
+  [[nodiscard]] StructureFit structure_fit(const PointCloud& structure, const Eigen::Isometry3d& pose);
+  /// Whether `point` (map frame) lies on the surface of its nearest map point `nearest`
+  /// (RelocalizationOptions::surface_reach).
+  [[nodiscard]] bool on_surface(const Eigen::Vector3d& point, const Neighbor& nearest);
   /// Refines each candidate by ICP and takes the best if it fits and no other place fits as well.
   [[nodiscard]] RelocalizationResult decide(const PointCloud& scan, const PointCloud& structure,
                                             const std::vector<Candidate>& candidates);
@@ -139,8 +138,9 @@ class Relocalizer {
 
   std::shared_ptr<const LocalizationMap> map_;
   RelocalizationOptions options_;
-  VoxelKeyMap hits_;  // the map's voxels of hit_voxel
-  KdTree tree_;       // the map's points, for structure_fit
+  VoxelKeyMap hits_;     // the map's voxels of hit_voxel
+  KdTree tree_;          // the map's points, for structure_fit
+  LazyNormals normals_;  // their surfaces, estimated as structure_fit asks
   ScanRegistration registration_;
 };
 
