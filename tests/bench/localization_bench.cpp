@@ -236,6 +236,18 @@ int main(int argc, char** argv) {
   std::vector<Visit> mapped;                     // every scan the live map took, at the pose it took it with
   std::map<double, Eigen::Isometry3d> truth_at;  // by scan stamp
   double odometry_error = 0.0, corrected_error = 0.0;
+  // A keyframe's heading error where the graph has it and the raw odometry's, against the truth, degrees:
+  // what the heading drift is fitted to (STRATA_BENCH_HEADINGS, STRATA_BENCH_HEADINGS_AT).
+  const auto print_heading_errors = [&](const char* prefix, const Keyframe& keyframe,
+                                        const Eigen::Isometry3d& pose) {
+    const double truth_heading = heading_of(truth_at.at(keyframe.stamp));
+    std::fprintf(stderr,
+                 "%skeyframe t=%.1f moving=%.1f graph_heading_error=%.3f odometry_heading_error=%.3f\n",
+                 prefix, keyframe.stamp, keyframe.odometry_heading->seconds,
+                 std::remainder(heading_of(pose) - truth_heading, 2.0 * M_PI) * 180.0 / M_PI,
+                 std::remainder(keyframe.odometry_heading->odometry_heading - truth_heading, 2.0 * M_PI) *
+                     180.0 / M_PI);
+  };
   bool dumped = false;
   for (double t = 0.0; t < duration; t += 0.01) {
     simulator.step(0.01);
@@ -270,20 +282,14 @@ int main(int argc, char** argv) {
       if (std::getenv("STRATA_BENCH_TRACE") != nullptr && localizer.status().loops != loops_before)
         std::fprintf(stderr, "loops %zu -> %zu at t=%.1f: the last moved its keyframe %.3f m\n", loops_before,
                      localizer.status().loops, scan.stamp, localizer.status().last_correction);
-      // STRATA_BENCH_HEADINGS_AT=<t>: the keyframes' heading errors as the graph has them at t (what the
-      // drift is fitted to then), against the raw odometry's, degrees.
+      // STRATA_BENCH_HEADINGS_AT=<t>: the keyframes' heading errors as the graph has them at t.
       if (const char* at = std::getenv("STRATA_BENCH_HEADINGS_AT");
           at && !dumped && scan.stamp >= std::atof(at)) {
         dumped = true;
+        const std::string prefix = "at t=" + std::to_string(scan.stamp) + " ";
         for (const auto& [keyframe, pose] : localizer.keyframes())
-          if (keyframe->odometry_heading) {
-            const double truth_heading = heading_of(truth_at.at(keyframe->stamp));
-            std::fprintf(
-                stderr, "at t=%.1f keyframe t=%.1f graph=%.3f odometry=%.3f\n", scan.stamp, keyframe->stamp,
-                std::remainder(heading_of(pose) - truth_heading, 2.0 * M_PI) * 180.0 / M_PI,
-                std::remainder(keyframe->odometry_heading->odometry_heading - truth_heading, 2.0 * M_PI) *
-                    180.0 / M_PI);
-          }
+          if (keyframe->odometry_heading)
+            print_heading_errors(prefix.c_str(), *keyframe, pose);
       }
       ++scans;
       retried += update.retried ? 1 : 0;
@@ -346,17 +352,8 @@ int main(int argc, char** argv) {
       keyframe_map_points += scan.points.size();
     rebuilt.push_back(
         {truth_at.at(keyframe->stamp), pose, voxel_downsample(keyframe->points, 0.5), keyframe->travelled});
-    // What the heading drift is fitted to, against the truth: the graph's heading error and the raw
-    // odometry's, degrees, at the seconds of motion the localizer counted.
-    if (std::getenv("STRATA_BENCH_HEADINGS") != nullptr && keyframe->odometry_heading) {
-      const double truth_heading = heading_of(truth_at.at(keyframe->stamp));
-      std::fprintf(stderr,
-                   "keyframe t=%.1f moving=%.1f graph_heading_error=%.3f odometry_heading_error=%.3f\n",
-                   keyframe->stamp, keyframe->odometry_heading->seconds,
-                   std::remainder(heading_of(pose) - truth_heading, 2.0 * M_PI) * 180.0 / M_PI,
-                   std::remainder(keyframe->odometry_heading->odometry_heading - truth_heading, 2.0 * M_PI) *
-                       180.0 / M_PI);
-    }
+    if (std::getenv("STRATA_BENCH_HEADINGS") != nullptr && keyframe->odometry_heading)
+      print_heading_errors("", *keyframe, pose);
   }
   // What the keyframes hold per kilometre driven: their registration points (Eigen::Vector3d, 24 bytes
   // each) and their map points (Eigen::Vector3f, 12 bytes).
