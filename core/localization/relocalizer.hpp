@@ -34,6 +34,8 @@ struct RelocalizationOptions {
   /// the scan path's 0.2 m fine stage a yard scan fitted its mirror image 9 m away nearly as well (98 and
   /// 93 % of its walls) and was refused as ambiguous (docs/benchmarks.md, "Finding the robot").
   double refinement_source_voxel = 0.3;
+  /// And a last stage with the source at this, run to a standstill (relocalizer.cpp, refinement).
+  double polish_source_voxel = 0.2;
   /// Accepting the best refined candidate: this share of its points paired within ICP's fine bound at
   /// an RMSE below `max_rmse`, and no other refined candidate elsewhere (more than `distinct_metres` or
   /// `distinct_radians` away) within `ambiguity_margin` of its share: two places that fit as well are not

@@ -102,12 +102,14 @@ class LocalizerWorker final : public LocalizationCommands {
   std::optional<PoseEstimate> pending_estimate_;
   std::unique_ptr<Relocalizer> relocalizer_;  // scan path only: searches the map localized in
   std::size_t lost_scans_ = 0;                // scan path only: in a row, while lost
-  /// Places a pose estimate's search found fitting as well, for the next scans to decide between (one scan
-  /// of a hallway fits a metre along it as well; as the robot drives on, its scans see a door or an end).
+  /// Places a search found fitting as well (a pose estimate's, or the whole map's while lost), for the next
+  /// scans to decide between (one scan of a hallway fits a metre along it as well; as the robot drives
+  /// on, its scans see a door or an end).
   struct Following {
     std::vector<Eigen::Isometry3d> places;  // map frame, at the scan of `odometry`
     Pose2 odometry;
     std::size_t scans = 0;  // followed so far
+    double metres = 0.0;    // driven between them
   };
   std::optional<Following> following_;  // scan path only
   /// The latest scan, what a pose estimate is searched with at once.

@@ -41,8 +41,9 @@ struct Seen {
   Eigen::Isometry3d odometry = Eigen::Isometry3d::Identity();  ///< the base in the odometry frame
 };
 
-/// How many of the run's next scans a search that found places fitting as well may follow them through.
-constexpr std::size_t kFollowScans = 5;
+/// How far the robot may drive on while a search that found places fitting as well follows them through the
+/// run's next scans (as the server does: server/pipeline/localizer_worker.cpp).
+constexpr double kFollowMetres = 50.0;
 
 bool right(const RelocalizationResult& result, const Eigen::Isometry3d& truth) {
   const double heading =
@@ -218,9 +219,11 @@ int main(int argc, char** argv) {
   const auto follow = [&](std::size_t index, RelocalizationResult result) {
     std::vector<Eigen::Isometry3d> places = result.places;
     std::size_t j = index;
-    while (!result.found && !places.empty() && j + 1 < seen.size() && j - index < kFollowScans) {
+    double driven = 0.0;
+    while (!result.found && !places.empty() && j + 1 < seen.size() && driven < kFollowMetres) {
       ++j;
       const Eigen::Isometry3d moved = seen[j - 1].odometry.inverse() * seen[j].odometry;
+      driven += moved.translation().head<2>().norm();
       for (Eigen::Isometry3d& place : places)
         place = place * moved;
       result = relocalizer.follow(seen[j].points, places);

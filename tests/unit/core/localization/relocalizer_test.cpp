@@ -183,6 +183,21 @@ TEST(Relocalizer, FollowingPlacesKeepsTheOneTheNextScanFits) {
   const RelocalizationResult none = relocalizer.follow(seen[7].points, {});
   EXPECT_FALSE(none.found);
   EXPECT_FALSE(none.message.empty());
+
+  // The same scan's ground alone decides nothing, not even with one place to follow: flat ground fits
+  // wherever the places stand. The places go on to the next scan.
+  PointCloud ground;
+  for (const Eigen::Vector3d& p : seen[7].points)
+    if (p.z() < 0.2)
+      ground.push_back(p);
+  for (const std::vector<Eigen::Isometry3d>& places :
+       {std::vector<Eigen::Isometry3d>{elsewhere, near}, std::vector<Eigen::Isometry3d>{near}}) {
+    const RelocalizationResult bare = relocalizer.follow(ground, places);
+    EXPECT_FALSE(bare.found) << bare.message;
+    EXPECT_NE(bare.message.find("nothing but ground"), std::string::npos) << bare.message;
+    EXPECT_FALSE(bare.places.empty());
+    EXPECT_LE(bare.places.size(), places.size());
+  }
 }
 
 }  // namespace

@@ -61,6 +61,48 @@ TEST(LocalizerWorker, ARobotLostInASavedMapIsFoundAgain) {
   EXPECT_LT(*last_error, 0.2);
 }
 
+// Lost in the campus's hallway, the whole-map search fits places along it as well; they are followed as
+// the robot drives on, as an operator's estimate's are (before, each lost search began anew). Any place
+// taken is the right one.
+TEST(LocalizerWorker, ALostRobotsPlacesAreFollowedAsItDrivesOn) {
+  auto world = std::make_shared<const sim::World>(sim::builtin_world("campus"));
+  auto saved = std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 40));
+  sim::Simulator run(world, {.seed = 2});
+  Eigen::Isometry3d wrong = Eigen::Isometry3d::Identity();
+  wrong.translation() = Eigen::Vector3d(0.0, 3.0, 0.0);
+  const Eigen::Isometry3d believed =
+      wrong * run.sample().truth->to_isometry() * run.sample().odometry.to_isometry().inverse();
+  RobotState state;
+  LocalizerWorker worker(state, GraphLocalizerOptions{}, believed);
+  worker.localize_in(saved);
+  worker.start();
+  std::vector<std::string> answers;
+  std::optional<RegistrationStatus::Relocalization> answer;
+  std::size_t scans = 0;
+  while (scans < 16 && !(answer && answer->found)) {
+    run.step(0.01);
+    state.publish(run.sample());
+    for (ScanEvent& scan : run.take_scans()) {
+      worker.submit(std::move(scan));
+      ASSERT_TRUE(worker.flush());
+      ++scans;
+      answer = state.registration().relocalization;
+      if (answer && (answers.empty() || answers.back() != answer->message))
+        answers.push_back(answer->message);
+    }
+  }
+  worker.stop();
+  ASSERT_GE(answers.size(), 2U) << "searched once lost, then followed";
+  EXPECT_TRUE(answers.front().starts_with("lost: ")) << answers.front();
+  EXPECT_NE(answers.front().find("looked for at these"), std::string::npos) << answers.front();
+  EXPECT_FALSE(answers[1].starts_with("lost: ")) << "the next scan follows the places: " << answers[1];
+  if (answer->found) {
+    const Pose3 estimate = state.snapshot()->estimate;
+    const Pose3 truth = *run.sample().truth;
+    EXPECT_LT((estimate.position.head<2>() - truth.position.head<2>()).norm(), 0.2) << answer->message;
+  }
+}
+
 /// A second run (seed 2) of a world, its worker started where the robot truly is and localizing in a map
 /// saved from the first run's first `map_scans` scans.
 struct RunInSavedMap {
