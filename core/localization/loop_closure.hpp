@@ -34,6 +34,11 @@ struct LoopClosureOptions {
   /// How hard a match must be to count as a loop: the registration's fault check with these limits,
   /// plus an RMSE bound stricter than the scan path's (a loop edge moves the whole map).
   RegistrationOptions registration = default_registration();
+  /// The match finished point-to-plane from where that left it, and kept if it moves it no more than
+  /// `max_polish_translation` (metres) and `max_polish_rotation` (radians, 2 degrees).
+  RegistrationOptions polish = default_polish();
+  double max_polish_translation = 0.3;
+  double max_polish_rotation = 0.035;
   /// metres and radians: the standard deviation of a loop edge in its well-constrained directions.
   /// 0.1 m rather than 0.05: keyframes thinned to 0.2 m match within about that, and a stiffer loop let one
   /// biased early match pull the campus run further (max error 3.4 m against 2.4 m).
@@ -46,6 +51,7 @@ struct LoopClosureOptions {
   double weak_direction = 0.08;
 
   static RegistrationOptions default_registration();
+  static RegistrationOptions default_polish();
 };
 
 /// A verified loop closure: where keyframe `to` (the newer) is seen from keyframe `from`.

@@ -13,8 +13,8 @@ namespace {
 /// A room 10 x 8 m with a floor, its walls and three boxes, seen from its middle, points scattered over
 /// the surfaces (a grid would give ICP's pairs steps to stop on): every direction constrained, so a match
 /// from a guess a metre or two off lands on the truth.
-PointCloud room() {
-  std::mt19937 random(7);
+PointCloud room(unsigned seed = 7) {
+  std::mt19937 random(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   PointCloud points;
   // Axis-aligned rectangles: a corner and two edge vectors.
@@ -65,6 +65,34 @@ TEST(LoopClosure, AMatchMovesTheNewKeyframeAsFarAsTheEstimateCanHaveDrifted) {
   EXPECT_LT(loop->edge.measurement.translation().norm(), 0.05) << "the same place as keyframe 0";
   // A small drift is closed after the least way a loop needs.
   EXPECT_TRUE(revisit(options.min_travel, 0.3).has_value());
+}
+
+// The match measures the turn between the keyframes as well as the place: the second view of the room is
+// sampled anew and its estimate turned 1.5 degrees and 0.4 m off. Point-to-point ICP stopped short of it
+// (the campus's loops: 0.21 degrees on average, most the same way); finished point-to-plane, it is on it.
+TEST(LoopClosure, TheMatchMeasuresTheTurnBetweenTheKeyframes) {
+  auto first = std::make_shared<Keyframe>();
+  first->points = room(7);
+  auto second = std::make_shared<Keyframe>();
+  second->points = room(8);
+  second->travelled = 40.0;
+  const std::vector<KeyframePtr> keyframes{first, second};
+  const std::vector<Eigen::Isometry3d> poses{
+      Eigen::Isometry3d::Identity(),
+      Eigen::Translation3d(0.4, -0.2, 0.0) * Eigen::AngleAxisd(0.026, Eigen::Vector3d::UnitZ())};
+  const auto turn_error = [](const LoopClosure& loop) {
+    return Eigen::AngleAxisd(loop.edge.measurement.linear()).angle() * 180.0 / 3.14159265358979323846;
+  };
+  LoopClosureOptions unfinished;
+  unfinished.max_polish_rotation = 0.0;
+  unfinished.max_polish_translation = 0.0;
+  const std::optional<LoopClosure> stopped = find_loop_closure(keyframes, poses, 1, {}, unfinished);
+  const std::optional<LoopClosure> loop = find_loop_closure(keyframes, poses, 1);
+  ASSERT_TRUE(stopped.has_value());
+  ASSERT_TRUE(loop.has_value());
+  EXPECT_GT(turn_error(*stopped), 0.1) << "point-to-point alone stops short here (0.25 degrees)";
+  EXPECT_LT(turn_error(*loop), 0.05);
+  EXPECT_LT(loop->edge.measurement.translation().norm(), 0.005);
 }
 
 TEST(LoopClosure, TheWayBetweenKeyframesGoesThroughTheLoopsClosedSoFar) {
