@@ -336,6 +336,15 @@ PoseGraphStatus GraphLocalizer::status() const {
   return status_;
 }
 
+std::vector<PoseGraphEdge> GraphLocalizer::loops() const {
+  std::lock_guard lock(mutex_);
+  std::vector<PoseGraphEdge> out;
+  for (const PoseGraphEdge& edge : graph_.edges())
+    if (edge.loop)
+      out.push_back(edge);
+  return out;
+}
+
 std::vector<KeyframePose> GraphLocalizer::keyframes() const {
   std::lock_guard lock(mutex_);
   std::vector<KeyframePose> out;

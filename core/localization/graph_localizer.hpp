@@ -122,6 +122,9 @@ class GraphLocalizer {
   [[nodiscard]] const Eigen::Vector3d& gravity_mounting() const { return scan_matching_.gravity_mounting(); }
   /// The keyframes and their current pose estimates (map frame), oldest first, for rebuilding the map.
   [[nodiscard]] std::vector<KeyframePose> keyframes() const;
+  /// The loop closures in the graph (their `from` and `to` index keyframes()), for judging what they
+  /// measured (strata_localization_bench).
+  [[nodiscard]] std::vector<PoseGraphEdge> loops() const;
 
  private:
   /// The newest keyframe's height in `graph` (close_loops' copy) optimized in place, where

@@ -10,6 +10,8 @@
 // at its final pose graph estimate. Keyframe tilt steps: how much the tilt error changes between
 // consecutive keyframes, as the scan path mapped them and after the pose graph (floor far away doubles
 // where it does); keyframe_tilt_max_deg: the largest tilt error of a keyframe after the pose graph.
+// Loop measurements: each loop edge's relative pose against its two keyframes' true relative pose, the
+// heading (signed: a mean off zero is a bias the loops hand to the map) and the position.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -179,6 +181,11 @@ int main(int argc, char** argv) {
     graph_options.height_before_loops = std::string(height) != "0";
   if (const char* weak = std::getenv("STRATA_BENCH_LOOP_WEAK"))  // a loop edge's weak eigenvalue
     graph_options.loops.weak_direction = std::atof(weak);
+  // STRATA_BENCH_LOOP_POLISH=0: the loops' point-to-point match as it stops, not finished point-to-plane.
+  if (const char* polish = std::getenv("STRATA_BENCH_LOOP_POLISH"); polish && std::string(polish) == "0") {
+    graph_options.loops.max_polish_translation = 0.0;
+    graph_options.loops.max_polish_rotation = 0.0;
+  }
   // STRATA_BENCH_MOUNTING_SIGMA=0: the graph does not estimate the IMU's mounting error (as before).
   if (const char* mounting = std::getenv("STRATA_BENCH_MOUNTING_SIGMA"))
     graph_options.optimizer.mounting_sigma = std::atof(mounting);
@@ -376,6 +383,21 @@ int main(int argc, char** argv) {
     max_keyframe_tilt =
         std::max(max_keyframe_tilt,
                  degrees_between(error_up(pose, truth_at.at(keyframe->stamp)), Eigen::Vector3d::UnitZ()));
+  // What the loops measured against the truth.
+  double loop_heading_sum = 0.0, loop_heading_abs_sum = 0.0, loop_heading_worst = 0.0;
+  std::vector<double> loop_position_errors;
+  for (const PoseGraphEdge& loop : localizer.loops()) {
+    const Eigen::Isometry3d truth = truth_at.at(keyframes[loop.from].keyframe->stamp).inverse() *
+                                    truth_at.at(keyframes[loop.to].keyframe->stamp);
+    const Eigen::Isometry3d error = truth.inverse() * loop.measurement;
+    const double heading = heading_of(error) * 180.0 / std::numbers::pi;
+    loop_heading_sum += heading;
+    loop_heading_abs_sum += std::abs(heading);
+    loop_heading_worst = std::max(loop_heading_worst, std::abs(heading));
+    loop_position_errors.push_back(error.translation().norm());
+  }
+  std::sort(loop_position_errors.begin(), loop_position_errors.end());
+  const double loop_count = static_cast<double>(std::max<std::size_t>(1, loop_position_errors.size()));
   const auto pct_of = [](const std::vector<double>& sorted, double q) {
     return sorted.empty() ? 0.0
                           : sorted[static_cast<std::size_t>(q * static_cast<double>(sorted.size() - 1))];
@@ -401,7 +423,9 @@ int main(int argc, char** argv) {
       "\"revisit_spread_m\":{\"live_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f},"
       "\"rebuilt_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}},"
       "\"keyframe_tilt_step_deg\":{\"scan_path\":{\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f},"
-      "\"graph\":{\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}},\"keyframe_tilt_max_deg\":%.3f}\n",
+      "\"graph\":{\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}},\"keyframe_tilt_max_deg\":%.3f,"
+      "\"loop_measurement\":{\"heading_error_deg\":{\"mean\":%.3f,\"mean_abs\":%.3f,\"max_abs\":%.3f},"
+      "\"position_error_m\":{\"median\":%.3f,\"max\":%.3f}}}\n",
       world_name.c_str(), scanner.c_str(), duration, travelled, scans, full, partial, none, retried,
       corrected_error, odometry_error, 100.0 * corrected_error / travelled,
       100.0 * odometry_error / travelled, max_corrected_error, max_odometry_error, max_height_error,
@@ -415,6 +439,8 @@ int main(int argc, char** argv) {
       keyframe_map_points, map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(), live_spread.pairs,
       live_spread.median, live_spread.p95, live_spread.max, rebuilt_spread.pairs, rebuilt_spread.median,
       rebuilt_spread.p95, rebuilt_spread.max, path_tilt.median, path_tilt.p95, path_tilt.max,
-      graph_tilt.median, graph_tilt.p95, graph_tilt.max, max_keyframe_tilt);
+      graph_tilt.median, graph_tilt.p95, graph_tilt.max, max_keyframe_tilt, loop_heading_sum / loop_count,
+      loop_heading_abs_sum / loop_count, loop_heading_worst, pct_of(loop_position_errors, 0.5),
+      pct_of(loop_position_errors, 1.0));
   return 0;
 }
