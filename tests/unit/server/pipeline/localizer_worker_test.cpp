@@ -16,6 +16,19 @@
 namespace strata::pipeline {
 namespace {
 
+/// What the status's relocalization says as the scans come: each new message once, and the latest answer.
+struct RelocalizationAnswers {
+  std::vector<std::string> messages;
+  std::optional<RegistrationStatus::Relocalization> latest;
+
+  void take(const RobotState& state) {
+    latest = state.registration().relocalization;
+    if (latest && (messages.empty() || messages.back() != latest->message))
+      messages.push_back(latest->message);
+  }
+  [[nodiscard]] bool found() const { return latest && latest->found; }
+};
+
 // A robot that believes it starts 5.7 m from where it does, in a saved map of the yard: its scans cannot
 // register (the jump limit is 1 m), it is lost after ten of them, and then it is searched for over the whole
 // map (at the first lost scan and every 5th after, until found); from there its scans register where it is.
@@ -76,30 +89,29 @@ TEST(LocalizerWorker, ALostRobotsPlacesAreFollowedAsItDrivesOn) {
   LocalizerWorker worker(state, GraphLocalizerOptions{}, believed);
   worker.localize_in(saved);
   worker.start();
-  std::vector<std::string> answers;
-  std::optional<RegistrationStatus::Relocalization> answer;
+  RelocalizationAnswers answers;
   std::size_t scans = 0;
-  while (scans < 16 && !(answer && answer->found)) {
+  while (scans < 16 && !answers.found()) {
     run.step(0.01);
     state.publish(run.sample());
     for (ScanEvent& scan : run.take_scans()) {
       worker.submit(std::move(scan));
       ASSERT_TRUE(worker.flush());
       ++scans;
-      answer = state.registration().relocalization;
-      if (answer && (answers.empty() || answers.back() != answer->message))
-        answers.push_back(answer->message);
+      answers.take(state);
     }
   }
   worker.stop();
-  ASSERT_GE(answers.size(), 2U) << "searched once lost, then followed";
-  EXPECT_TRUE(answers.front().starts_with("lost: ")) << answers.front();
-  EXPECT_NE(answers.front().find("looked for at these"), std::string::npos) << answers.front();
-  EXPECT_FALSE(answers[1].starts_with("lost: ")) << "the next scan follows the places: " << answers[1];
-  if (answer->found) {
+  const std::vector<std::string>& said = answers.messages;
+  ASSERT_GE(said.size(), 2U) << "searched once lost, then followed";
+  EXPECT_TRUE(said.front().starts_with("lost: ")) << said.front();
+  EXPECT_NE(said.front().find("looked for at these"), std::string::npos) << said.front();
+  EXPECT_FALSE(said[1].starts_with("lost: ")) << "the next scan follows the places: " << said[1];
+  if (answers.found()) {
     const Pose3 estimate = state.snapshot()->estimate;
     const Pose3 truth = *run.sample().truth;
-    EXPECT_LT((estimate.position.head<2>() - truth.position.head<2>()).norm(), 0.2) << answer->message;
+    EXPECT_LT((estimate.position.head<2>() - truth.position.head<2>()).norm(), 0.2)
+        << answers.latest->message;
   }
 }
 
@@ -179,9 +191,8 @@ TEST(LocalizerWorker, APoseEstimateThatFitsSeveralPlacesIsDecidedAsTheRobotDrive
   LocalizerWorker& worker = in_map.worker;
   std::size_t scans = 0;
   bool estimated = false;
-  std::vector<std::string> answers;
-  std::optional<RegistrationStatus::Relocalization> answer;
-  while (scans < 30 && !(answer && answer->found)) {
+  RelocalizationAnswers answers;
+  while (scans < 30 && !answers.found()) {
     run.step(0.01);
     state.publish(run.sample());
     for (ScanEvent& scan : run.take_scans()) {
@@ -189,9 +200,7 @@ TEST(LocalizerWorker, APoseEstimateThatFitsSeveralPlacesIsDecidedAsTheRobotDrive
       worker.submit(std::move(scan));
       ASSERT_TRUE(worker.flush());
       ++scans;
-      answer = state.registration().relocalization;
-      if (answer && (answers.empty() || answers.back() != answer->message))
-        answers.push_back(answer->message);
+      answers.take(state);
       if (!estimated && truth.position.x() > 40.0) {  // along the hallway, the robot driving east
         estimated = true;
         ASSERT_TRUE(worker
@@ -204,11 +213,12 @@ TEST(LocalizerWorker, APoseEstimateThatFitsSeveralPlacesIsDecidedAsTheRobotDrive
     }
   }
   worker.stop();
-  ASSERT_TRUE(answer) << "never searched";
-  ASSERT_GE(answers.size(), 2U);
-  EXPECT_NE(answers.front().find("two places fit as well"), std::string::npos) << answers.front();
-  EXPECT_NE(answers.front().find("looked for at these"), std::string::npos) << answers.front();
-  ASSERT_TRUE(answer->found) << answer->message;
+  ASSERT_TRUE(answers.latest) << "never searched";
+  const std::vector<std::string>& said = answers.messages;
+  ASSERT_GE(said.size(), 2U);
+  EXPECT_NE(said.front().find("two places fit as well"), std::string::npos) << said.front();
+  EXPECT_NE(said.front().find("looked for at these"), std::string::npos) << said.front();
+  ASSERT_TRUE(answers.found()) << answers.latest->message;
   const Pose3 estimate = state.snapshot()->estimate;
   const Pose3 truth = *run.sample().truth;
   EXPECT_LT((estimate.position.head<2>() - truth.position.head<2>()).norm(), 0.2)
