@@ -317,7 +317,8 @@ int main(int argc, char** argv) {
             stderr,
             "t=%7.1f yaw=%.3f truth=(%7.3f %7.3f %6.3f) error=(%6.2f %6.2f %6.2f) rot=(%5.2f %5.2f %5.2f) "
             "%-8s %s eig=%s "
-            "rmse=%.3f icp_yaw=%.3f yaw_info=%.4f drift=%.2f odometry_yaw=%.3f mounting=(%.3f %.3f)\n",
+            "rmse=%.3f icp_yaw=%.3f yaw_info=%.4f drift=%.2f odometry_yaw=%.3f mounting=(%.3f %.3f) "
+            "leveling_mounting=(%.3f %.3f)\n",
             scan.stamp, scan.truth->yaw * 180.0 / M_PI, scan.truth->position.x(), scan.truth->position.y(),
             scan.truth->position.z(), error.x(), error.y(), error.z(), turn_deg.x(), turn_deg.y(),
             turn_deg.z(), std::string(to_string(update.correction)).c_str(),
@@ -334,7 +335,8 @@ int main(int argc, char** argv) {
             std::remainder(heading_of(map_from_odom * scan.odometry.to_isometry()) - scan.truth->yaw,
                            2.0 * M_PI) *
                 180.0 / M_PI,
-            localizer.status().gravity_mounting_deg().x(), localizer.status().gravity_mounting_deg().y());
+            localizer.status().gravity_mounting_deg().x(), localizer.status().gravity_mounting_deg().y(),
+            localizer.gravity_mounting().x() * 180.0 / M_PI, localizer.gravity_mounting().y() * 180.0 / M_PI);
       }
     }
     // Error of the pose the server would stream now.
@@ -415,7 +417,7 @@ int main(int argc, char** argv) {
       "\"add_scan_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f},\"source_points_median\":%.0f,"
       "\"pose_graph\":{\"on\":%s,\"keyframes\":%zu,\"loops\":%zu,\"loops_dropped\":%zu,\"optimizations\":%zu,"
       "\"background_s\":%.2f,\"heading_drift_deg_per_h\":%.2f,\"sim_gyro_drift_deg_per_h\":%.2f,"
-      "\"gravity_mounting_deg\":[%.3f,%.3f],"
+      "\"gravity_mounting_deg\":[%.3f,%.3f],\"sim_gravity_mounting_deg\":[%.3f,%.3f],"
       "\"keyframe_points\":%zu,\"keyframe_mb_per_km\":"
       "%.1f,"
       "\"keyframe_map_points\":%zu,\"keyframe_map_mb_per_km\":%.1f,\"rebuild_s\":%.2f,\"rebuilt_patches\":%"
@@ -435,12 +437,14 @@ int main(int argc, char** argv) {
       pct_of(source_points, 0.5), graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops,
       graph.loops_dropped, graph.optimizations, loop_seconds, graph.heading_drift_deg_per_h(),
       simulator.imu() ? -simulator.imu()->gyro_bias() * 180.0 / M_PI * 3600.0 : 0.0,
-      graph.gravity_mounting_deg().x(), graph.gravity_mounting_deg().y(), keyframe_points, keyframe_mb_per_km,
-      keyframe_map_points, map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(), live_spread.pairs,
-      live_spread.median, live_spread.p95, live_spread.max, rebuilt_spread.pairs, rebuilt_spread.median,
-      rebuilt_spread.p95, rebuilt_spread.max, path_tilt.median, path_tilt.p95, path_tilt.max,
-      graph_tilt.median, graph_tilt.p95, graph_tilt.max, max_keyframe_tilt, loop_heading_sum / loop_count,
-      loop_heading_abs_sum / loop_count, loop_heading_worst, pct_of(loop_position_errors, 0.5),
-      pct_of(loop_position_errors, 1.0));
+      graph.gravity_mounting_deg().x(), graph.gravity_mounting_deg().y(),
+      simulator.imu() ? simulator.imu()->mounting_error().x() * 180.0 / M_PI : 0.0,
+      simulator.imu() ? simulator.imu()->mounting_error().y() * 180.0 / M_PI : 0.0, keyframe_points,
+      keyframe_mb_per_km, keyframe_map_points, map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(),
+      live_spread.pairs, live_spread.median, live_spread.p95, live_spread.max, rebuilt_spread.pairs,
+      rebuilt_spread.median, rebuilt_spread.p95, rebuilt_spread.max, path_tilt.median, path_tilt.p95,
+      path_tilt.max, graph_tilt.median, graph_tilt.p95, graph_tilt.max, max_keyframe_tilt,
+      loop_heading_sum / loop_count, loop_heading_abs_sum / loop_count, loop_heading_worst,
+      pct_of(loop_position_errors, 0.5), pct_of(loop_position_errors, 1.0));
   return 0;
 }
