@@ -242,6 +242,16 @@ RelocalizationResult Relocalizer::follow(const PointCloud& scan,
     result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;
   }
+  // None of the places fits this scan: they were all wrong (the few the first scan's search refined,
+  // metres from the robot in a hallway or on the deck). The whole map is searched with this scan instead,
+  // and its places are the ones to follow on.
+  if (!result.found && result.places.empty() && !places.empty()) {
+    RelocalizationResult anew = anywhere(scan);
+    anew.candidates += result.candidates;
+    anew.message = "none of the places followed fits; searched the whole map: " + anew.message;
+    anew.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return anew;
+  }
   // The places followed are the few the first scan's search refined: the right one may not be among
   // them, and the next scans then choose between wrong ones. A place is taken only if a search around it
   // with this scan agrees (campus: wrong finds 12 -> 7 %, docs/benchmarks.md "Finding the robot").

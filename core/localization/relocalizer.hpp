@@ -107,7 +107,9 @@ class Relocalizer {
   /// `places` are where each would put the robot now (moved by the odometry since). One scan of a hallway
   /// fits a metre along it as well; the scans the robot takes as it drives on see a door or an end. The
   /// place left is taken only if a search around it (as `around`) agrees; otherwise that search's places
-  /// are the ones to follow on. A scan of bare ground only drops the places it does not fit.
+  /// are the ones to follow on. A scan of bare ground only drops the places it does not fit. A scan that
+  /// fits none of them (all were wrong) is searched for in the whole map (as `anywhere`), and that
+  /// search's places are the ones to follow on.
   [[nodiscard]] RelocalizationResult follow(const PointCloud& scan,
                                             const std::vector<Eigen::Isometry3d>& places);
 

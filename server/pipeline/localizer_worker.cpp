@@ -22,6 +22,9 @@ namespace {
 constexpr double kFollowStep = 0.5;
 constexpr double kFollowTurn = 0.35;
 constexpr double kFollowMetres = 50.0;
+/// A lost robot is looked for in the whole map at its first lost scan and every this many after (a search
+/// takes 0.1-0.5 s on the scan path; a tilting scanner's 5 scans are 10 m driven).
+constexpr std::size_t kLostSearchEvery = 5;
 
 std::string looked_for(std::size_t places) {
   if (places == 1)
@@ -342,7 +345,7 @@ void LocalizerWorker::process(ScanEvent event) {
   // the whole map would fit as many places again.
   Eigen::Isometry3d map_from_odom = update.map_from_odom;
   if (relocalizer_ && status_.localization.state == LocalizationState::kLost && !following_) {
-    if (lost_scans_++ % 5 == 0) {
+    if (lost_scans_++ % kLostSearchEvery == 0) {
       const RelocalizationResult found = relocalizer_->anywhere(preprocessed.points);
       std::string message = "lost: " + found.message;
       if (!found.found && found.places.size() > 1 && odometry) {

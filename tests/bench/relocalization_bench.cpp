@@ -44,6 +44,8 @@ struct Seen {
 /// How far the robot may drive on while a search that found places fitting as well follows them through the
 /// run's next scans (as the server does: server/pipeline/localizer_worker.cpp).
 constexpr double kFollowMetres = 50.0;
+/// A lost robot's whole-map search, every this many scans (server/pipeline/localizer_worker.cpp).
+constexpr std::size_t kLostSearchEvery = 5;
 
 bool right(const RelocalizationResult& result, const Eigen::Isometry3d& truth) {
   const double heading =
@@ -215,18 +217,30 @@ int main(int argc, char** argv) {
       blind_followed_outside;
   std::vector<double> follow_scans;  // scans followed until a followed search decided
   // A search that found places fitting as well follows them through the run's next scans, each moved by
-  // the odometry since, until one place is left (as the server does while the robot drives on).
-  const auto follow = [&](std::size_t index, RelocalizationResult result) {
+  // the odometry since, until one place is left (as the server does while the robot drives on). A lost
+  // robot (no hint) that has no places to follow is looked for in the whole map again, at once after a
+  // follow ended and every 5th scan after a search (as the server does: kLostSearchEvery).
+  const auto follow = [&](std::size_t index, RelocalizationResult result, bool lost) {
     std::vector<Eigen::Isometry3d> places = result.places;
     std::size_t j = index;
     double driven = 0.0;
-    while (!result.found && !places.empty() && j + 1 < seen.size() && driven < kFollowMetres) {
+    std::size_t wait = kLostSearchEvery - 1;  // scans until the next whole-map search
+    while (!result.found && (lost || !places.empty()) && j + 1 < seen.size() && driven < kFollowMetres) {
       ++j;
       const Eigen::Isometry3d moved = seen[j - 1].odometry.inverse() * seen[j].odometry;
       driven += moved.translation().head<2>().norm();
-      for (Eigen::Isometry3d& place : places)
-        place = place * moved;
-      result = relocalizer.follow(seen[j].points, places);
+      if (!places.empty()) {
+        for (Eigen::Isometry3d& place : places)
+          place = place * moved;
+        result = relocalizer.follow(seen[j].points, places);
+        wait = 0;
+      } else if (wait > 0) {
+        --wait;
+        continue;
+      } else {
+        result = relocalizer.anywhere(seen[j].points);
+        wait = kLostSearchEvery - 1;
+      }
       places = result.places;
     }
     follow_scans.push_back(static_cast<double>(j - index));
@@ -246,7 +260,7 @@ int main(int argc, char** argv) {
     hinted.add(around, s.truth);
     if (!s.in_hallway)
       hinted_outside.add(around, s.truth);
-    const auto [after, at] = follow(index, around);
+    const auto [after, at] = follow(index, around, false);
     if (std::getenv("STRATA_BENCH_VERBOSE") != nullptr && at != index) {
       std::fprintf(stderr, "places at the start, m from the truth:");
       for (const Eigen::Isometry3d& place : around.places)
@@ -277,7 +291,7 @@ int main(int argc, char** argv) {
     blind.add(anywhere, s.truth);
     if (!s.in_hallway)
       blind_outside.add(anywhere, s.truth);
-    const auto [blind_after, blind_at] = follow(index, anywhere);
+    const auto [blind_after, blind_at] = follow(index, anywhere, true);
     blind_followed.add(blind_after, seen[blind_at].truth);
     if (!s.in_hallway)
       blind_followed_outside.add(blind_after, seen[blind_at].truth);

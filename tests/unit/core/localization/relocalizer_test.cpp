@@ -200,5 +200,25 @@ TEST(Relocalizer, FollowingPlacesKeepsTheOneTheNextScanFits) {
   }
 }
 
+// The places a hallway's scan left can all be metres off; the next scans then fit none of them. The
+// robot is then looked for in the whole map with the scan that dropped them.
+TEST(Relocalizer, AScanThatFitsNoneOfThePlacesFollowedIsSearchedForInTheWholeMap) {
+  auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
+  Relocalizer relocalizer(std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 14)));
+  const std::vector<Seen> seen = second_run(world, 8);
+  const Eigen::Isometry3d& truth = seen[7].truth;
+  std::vector<Eigen::Isometry3d> wrong(2, truth);
+  wrong[0] = wrong[0] * Eigen::AngleAxisd(2.5, Eigen::Vector3d::UnitZ());
+  wrong[0].translation() += Eigen::Vector3d(8.0, 5.0, 0.0);
+  wrong[1] = wrong[1] * Eigen::AngleAxisd(-2.0, Eigen::Vector3d::UnitZ());
+  wrong[1].translation() += Eigen::Vector3d(-6.0, 2.0, 0.0);
+  const RelocalizationResult followed = relocalizer.follow(seen[7].points, wrong);
+  ASSERT_TRUE(followed.found) << followed.message;
+  EXPECT_LT((followed.pose.translation() - truth.translation()).norm(), 0.1);
+  EXPECT_LT(heading_error(followed.pose, truth), 0.035);
+  EXPECT_NE(followed.message.find("whole map"), std::string::npos) << followed.message;
+  EXPECT_GT(followed.candidates, wrong.size());
+}
+
 }  // namespace
 }  // namespace strata
