@@ -268,7 +268,8 @@ RelocalizationResult Relocalizer::follow(const PointCloud& scan,
     result.candidates += check.candidates;
     if (!agrees) {
       result.found = false;
-      result.places = check.places;
+      // The better place near it (found, or those that fit as well) is the one to follow on.
+      result.places = check.found ? std::vector<Eigen::Isometry3d>{check.pose} : check.places;
       result.message = "the place followed fits worse than another near it: " + check.message;
     }
   }
@@ -300,6 +301,7 @@ RelocalizationResult Relocalizer::decide(const PointCloud& scan, const PointClou
     return result;
   }
   const auto best = std::ranges::max_element(refined, {}, &Refined::structure);
+  result.refined = true;
   result.pose = best->pose;
   result.inlier_share = best->share;
   result.rmse = best->rmse;

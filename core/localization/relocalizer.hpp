@@ -86,6 +86,20 @@ struct RelocalizationResult {
   /// When places fit as well: each of them (the best first), for the next scans to decide between
   /// (`Relocalizer::follow`, with the odometry since); empty otherwise.
   std::vector<Eigen::Isometry3d> places;
+  /// Whether a candidate was refined: `pose` is then the best one, found or not.
+  bool refined = false;
+
+  /// Where the next scans are to look after a search around a hint that did not find the robot: the
+  /// places that fit as well, or the best refined candidate where none fitted well enough (the map lacks
+  /// walls the scan sees there, or the scan sees too little). `Relocalizer::follow` judges it with each
+  /// later scan, and searches the whole map when it fits none.
+  [[nodiscard]] std::vector<Eigen::Isometry3d> places_to_follow() const {
+    if (found)
+      return {};
+    if (places.empty() && refined)
+      return {pose};
+    return places;
+  }
 };
 
 /// Finding the robot in a saved map (issue 22): around an operator's hint, or anywhere. Candidate poses

@@ -222,9 +222,11 @@ std::optional<Eigen::Isometry3d> LocalizerWorker::search_around(const PoseEstima
       relocalizer_->around(points, estimate.x, estimate.y, estimate.yaw, estimate.z);
   std::string message = found.message;
   following_.reset();
-  if (!found.found && found.places.size() > 1 && odometry) {
-    following_ = Following{found.places, *odometry};
-    message += looked_for(found.places.size());
+  // Not found, its places (or its best candidate, where none fitted well enough) are judged by the
+  // robot's next scans as it drives on.
+  if (const std::vector<Eigen::Isometry3d> places = found.places_to_follow(); !places.empty() && odometry) {
+    following_ = Following{places, *odometry};
+    message += looked_for(places.size());
   }
   status_.relocalization = RegistrationStatus::Relocalization{stamp, found.found, message};
   spdlog::info("pose estimate ({:.2f}, {:.2f}, {:.0f} degrees): {} ({} candidates, {:.2f} s)", estimate.x,

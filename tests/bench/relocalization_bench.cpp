@@ -221,7 +221,9 @@ int main(int argc, char** argv) {
   // robot (no hint) that has no places to follow is looked for in the whole map again, at once after a
   // follow ended and every 5th scan after a search (as the server does: kLostSearchEvery).
   const auto follow = [&](std::size_t index, RelocalizationResult result, bool lost) {
-    std::vector<Eigen::Isometry3d> places = result.places;
+    // A hint's search that found nothing fitting follows its best candidate (as the server does); a lost
+    // robot's searches the whole map again instead.
+    std::vector<Eigen::Isometry3d> places = lost ? result.places : result.places_to_follow();
     std::size_t j = index;
     double driven = 0.0;
     std::size_t wait = kLostSearchEvery - 1;  // scans until the next whole-map search

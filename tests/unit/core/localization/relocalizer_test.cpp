@@ -220,5 +220,37 @@ TEST(Relocalizer, AScanThatFitsNoneOfThePlacesFollowedIsSearchedForInTheWholeMap
   EXPECT_GT(followed.candidates, wrong.size());
 }
 
+// A hint's search that fitted nothing well enough still says where its best candidate was, for the next
+// scans to judge; one that found the robot, or registered nothing, leaves nothing to follow.
+TEST(Relocalizer, ASearchThatFitsNothingLeavesItsBestPlaceToFollow) {
+  auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
+  Relocalizer relocalizer(std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 14)));
+  const std::vector<Seen> seen = second_run(world, 8);
+  const Eigen::Isometry3d& truth = seen[7].truth;
+  // The scan with two walls the map does not have (a parked truck, a new fence): the right place fits the
+  // rest, but too little of the scan's walls to be taken.
+  PointCloud changed = seen[7].points;
+  for (double a = -5.0; a <= 5.0; a += 0.05)
+    for (double z = 0.4; z <= 2.4; z += 0.05) {
+      changed.push_back(Eigen::Vector3d(3.5, a, z));
+      changed.push_back(Eigen::Vector3d(a, 3.5, z));
+    }
+  const RelocalizationResult refused =
+      relocalizer.around(changed, truth.translation().x(), truth.translation().y(), heading_of(truth));
+  ASSERT_FALSE(refused.found) << refused.message;
+  ASSERT_TRUE(refused.refined);
+  const std::vector<Eigen::Isometry3d> places = refused.places_to_follow();
+  ASSERT_FALSE(places.empty()) << refused.message;
+  EXPECT_LT((places.front().translation() - truth.translation()).norm(), 0.2) << refused.message;
+  EXPECT_EQ(places.front().matrix(),
+            (refused.places.empty() ? refused.pose : refused.places.front()).matrix());
+
+  const RelocalizationResult found =
+      relocalizer.around(seen[7].points, truth.translation().x(), truth.translation().y(), heading_of(truth));
+  ASSERT_TRUE(found.found) << found.message;
+  EXPECT_TRUE(found.places_to_follow().empty());
+  EXPECT_TRUE(relocalizer.around({}, 0.0, 0.0, 0.0).places_to_follow().empty());
+}
+
 }  // namespace
 }  // namespace strata
