@@ -209,7 +209,10 @@ int main(int argc, char** argv) {
     references_kept = kept;
   }
 
-  Relocalizer relocalizer(map);
+  RelocalizationOptions relocalization;
+  if (const char* refined = std::getenv("STRATA_BENCH_REFINED"))  // candidates refined by ICP per search
+    relocalization.refined = std::strtoul(refined, nullptr, 10);
+  Relocalizer relocalizer(map, relocalization);
   std::mt19937 random(7);
   std::uniform_int_distribution<std::size_t> pick(0, seen.size() - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
