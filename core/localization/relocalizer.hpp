@@ -70,6 +70,21 @@ struct RelocalizationOptions {
   double surface_reach = 0.2;
   double ambiguity_margin = 0.05;
   std::size_t min_structure_points = 30;
+  /// Following places that fit as well as the robot drives on (done by the caller: the server's
+  /// localizer, the relocalization bench): they are given up once it has driven `follow_metres`, the
+  /// length of the campus's featureless hallway (campus, a hint then the next scans: 10 m 66 %, 20 m 70 %,
+  /// 30 m 81 %, 50 m 86 % right, 3 % wrong throughout; docs/benchmarks.md, "Finding the robot"). A lost
+  /// robot with no places to follow is searched for in the whole map at its first lost scan and every
+  /// `lost_search_every` scans after (a search takes 0.1-1.4 s; a tilting scanner's 5 scans are 10 m).
+  double follow_metres = 50.0;
+  std::size_t lost_search_every = 5;
+  /// A place followed is taken only when a scan's fit leaves it within this of where the odometry
+  /// carried it (Relocalizer::follow).
+  double settled_metres = 0.1;
+  double settled_radians = 0.035;  // 2 degrees
+  /// A place about to be taken is refined again from starts this far to each side of it (metres, along
+  /// and across its heading), for a better basin near it (relocalizer.cpp, decide); 0: not.
+  double basin_step = 0.3;
 };
 
 /// What a search found, and why not when it did not.
@@ -110,6 +125,8 @@ class Relocalizer {
  public:
   explicit Relocalizer(std::shared_ptr<const LocalizationMap> map, RelocalizationOptions options = {});
 
+  [[nodiscard]] const RelocalizationOptions& options() const { return options_; }
+
   /// `scan` in the base frame (cleaned, as the localizer takes it); the hint's heading `yaw` and position
   /// in the map frame; `z` its height, or none: the height of the nearest keyframe (the level the robot
   /// that made the map drove there).
@@ -120,10 +137,11 @@ class Relocalizer {
   /// Deciding between places that fit a scan as well (RelocalizationResult::places) with a later scan:
   /// `places` are where each would put the robot now (moved by the odometry since). One scan of a hallway
   /// fits a metre along it as well; the scans the robot takes as it drives on see a door or an end. The
-  /// place left is taken only if a search around it (as `around`) agrees; otherwise that search's places
-  /// are the ones to follow on. A scan of bare ground only drops the places it does not fit. A scan that
-  /// fits none of them (all were wrong) is searched for in the whole map (as `anywhere`), and that
-  /// search's places are the ones to follow on.
+  /// place left is taken only if this scan's fit leaves it where the odometry carried it (within
+  /// settled_metres; else it is followed on from where this scan put it) and a search around it (as
+  /// `around`) agrees; otherwise that search's places are the ones to follow on. A scan of bare ground only
+  /// drops the places it does not fit. A scan that fits none of them (all were wrong) is searched for in the
+  /// whole map (as `anywhere`), and that search's places are the ones to follow on.
   [[nodiscard]] RelocalizationResult follow(const PointCloud& scan,
                                             const std::vector<Eigen::Isometry3d>& places);
 

@@ -15,16 +15,10 @@ namespace strata::pipeline {
 namespace {
 
 /// Following the places a search found fitting as well: a scan is looked at once the robot has moved this
-/// far or turned this much since the last one looked at (the same view again decides nothing), and the
-/// places are given up once it has driven this far: the length of the campus's featureless hallway, as the
-/// relocalization bench follows (campus, a hint then the next scans: 10 m 66 %, 20 m 70 %, 30 m 81 %, 50 m
-/// 86 % right, 3 % wrong throughout; docs/benchmarks.md, "Finding the robot").
+/// far or turned this much since the last one looked at (the same view again decides nothing). How far
+/// they are followed, and how often a lost robot is searched for: RelocalizationOptions.
 constexpr double kFollowStep = 0.5;
 constexpr double kFollowTurn = 0.35;
-constexpr double kFollowMetres = 50.0;
-/// A lost robot is looked for in the whole map at its first lost scan and every this many after (a search
-/// takes 0.1-0.5 s on the scan path; a tilting scanner's 5 scans are 10 m driven).
-constexpr std::size_t kLostSearchEvery = 5;
 
 std::string looked_for(std::size_t places) {
   if (places == 1)
@@ -252,7 +246,7 @@ void LocalizerWorker::follow_places(const PointCloud& points, const Pose2& odome
   if (found.found) {
     following_.reset();
     static_cast<void>(localizer_.place(found.pose, odometry, stamp));
-  } else if (!found.places.empty() && following.metres < kFollowMetres) {
+  } else if (!found.places.empty() && following.metres < relocalizer_->options().follow_metres) {
     following.places = found.places;
     following.odometry = odometry;
     message += looked_for(found.places.size());
@@ -341,13 +335,13 @@ void LocalizerWorker::process(ScanEvent event) {
     }
   }
   // Lost in a saved map: the robot is looked for everywhere the map's robot drove, at the first lost scan
-  // and every 5th after (a search takes 0.1-0.5 s on the scan path: docs/benchmarks.md, "Finding the
-  // robot"); found, the next scan starts there; places that fit as well are followed as the robot drives
-  // on, as an operator's estimate's are. Not while places are being followed: they are where to look, and
-  // the whole map would fit as many places again.
+  // and every few after (RelocalizationOptions::lost_search_every; a search takes 0.1-1.8 s on the scan path:
+  // docs/benchmarks.md, "Finding the robot"); found, the next scan starts there; places that fit as well are
+  // followed as the robot drives on, as an operator's estimate's are. Not while places are being followed:
+  // they are where to look, and the whole map would fit as many places again.
   Eigen::Isometry3d map_from_odom = update.map_from_odom;
   if (relocalizer_ && status_.localization.state == LocalizationState::kLost && !following_) {
-    if (lost_scans_++ % kLostSearchEvery == 0) {
+    if (lost_scans_++ % relocalizer_->options().lost_search_every == 0) {
       const RelocalizationResult found = relocalizer_->anywhere(preprocessed.points);
       std::string message = "lost: " + found.message;
       if (!found.found && found.places.size() > 1 && odometry) {

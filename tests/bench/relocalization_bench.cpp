@@ -41,12 +41,6 @@ struct Seen {
   Eigen::Isometry3d odometry = Eigen::Isometry3d::Identity();  ///< the base in the odometry frame
 };
 
-/// How far the robot may drive on while a search that found places fitting as well follows them through the
-/// run's next scans (as the server does: server/pipeline/localizer_worker.cpp).
-constexpr double kFollowMetres = 50.0;
-/// A lost robot's whole-map search, every this many scans (server/pipeline/localizer_worker.cpp).
-constexpr std::size_t kLostSearchEvery = 5;
-
 bool right(const RelocalizationResult& result, const Eigen::Isometry3d& truth) {
   const double heading =
       std::abs(std::remainder(heading_of(result.pose) - heading_of(truth), 2.0 * std::numbers::pi));
@@ -93,6 +87,7 @@ int main(int argc, char** argv) {
   const std::string scanner = argc > 4 ? argv[4] : "tilting";
   const bool lidar = scanner == "lidar";
   const auto world = std::make_shared<const sim::World>(sim::builtin_world(world_name));
+  RelocalizationOptions relocalization;  // followed and re-searched as the server does (follow_metres, ...)
   const auto run_config = [&](std::uint64_t seed) {
     sim::SimulatorConfig config;
     config.seed = seed;
@@ -173,13 +168,25 @@ int main(int argc, char** argv) {
   // scanner's few metres): ten times as many would not fit in memory.
   const std::size_t every = lidar ? 10 : 1;
   std::size_t revolutions = 0;
-  for (double t = 0.0; t < duration; t += 0.01) {
+  // The samples are scans of the run's first `duration` seconds; the run goes on until the robot has
+  // driven follow_metres more, so that the last of them can be followed as a robot that drives on is.
+  std::size_t sampled = 0;  // scans to sample from: seen[0, sampled)
+  double driven_after = 0.0;
+  std::optional<Eigen::Vector3d> last_position;
+  for (double t = 0.0; t < duration || driven_after < relocalization.follow_metres; t += 0.01) {
     other_run.step(0.01);
+    const Eigen::Vector3d position = other_run.sample().odometry.position;
+    if (t >= duration && last_position)
+      driven_after += (position - *last_position).head<2>().norm();
+    last_position = position;
     for (const ScanEvent& scan : other_run.take_scans()) {
       PointCloud points = scan_points(scan);
-      if (revolutions++ % every == 0)
+      if (revolutions++ % every == 0) {
         seen.push_back({std::move(points), in_map(scan.truth->to_isometry()),
                         in_hallway(scan.truth->position), scan.odometry.to_isometry()});
+        if (scan.stamp < duration)
+          sampled = seen.size();
+      }
     }
   }
 
@@ -209,12 +216,13 @@ int main(int argc, char** argv) {
     references_kept = kept;
   }
 
-  RelocalizationOptions relocalization;
   if (const char* refined = std::getenv("STRATA_BENCH_REFINED"))  // candidates refined by ICP per search
     relocalization.refined = std::strtoul(refined, nullptr, 10);
+  if (const char* step = std::getenv("STRATA_BENCH_BASIN_STEP"))  // a find's basin check, m (0: none)
+    relocalization.basin_step = std::atof(step);
   Relocalizer relocalizer(map, relocalization);
   std::mt19937 random(7);
-  std::uniform_int_distribution<std::size_t> pick(0, seen.size() - 1);
+  std::uniform_int_distribution<std::size_t> pick(0, sampled - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   Tally hinted, blind, hinted_outside, blind_outside, followed, followed_outside, blind_followed,
       blind_followed_outside;
@@ -222,15 +230,16 @@ int main(int argc, char** argv) {
   // A search that found places fitting as well follows them through the run's next scans, each moved by
   // the odometry since, until one place is left (as the server does while the robot drives on). A lost
   // robot (no hint) that has no places to follow is looked for in the whole map again, at once after a
-  // follow ended and every 5th scan after a search (as the server does: kLostSearchEvery).
+  // follow ended and every lost_search_every scans after a search (as the server does).
   const auto follow = [&](std::size_t index, RelocalizationResult result, bool lost) {
     // A hint's search that found nothing fitting follows its best candidate (as the server does); a lost
     // robot's searches the whole map again instead.
     std::vector<Eigen::Isometry3d> places = lost ? result.places : result.places_to_follow();
     std::size_t j = index;
     double driven = 0.0;
-    std::size_t wait = kLostSearchEvery - 1;  // scans until the next whole-map search
-    while (!result.found && (lost || !places.empty()) && j + 1 < seen.size() && driven < kFollowMetres) {
+    std::size_t wait = relocalization.lost_search_every - 1;  // scans until the next whole-map search
+    while (!result.found && (lost || !places.empty()) && j + 1 < seen.size() &&
+           driven < relocalization.follow_metres) {
       ++j;
       const Eigen::Isometry3d moved = seen[j - 1].odometry.inverse() * seen[j].odometry;
       driven += moved.translation().head<2>().norm();
@@ -244,7 +253,7 @@ int main(int argc, char** argv) {
         continue;
       } else {
         result = relocalizer.anywhere(seen[j].points);
-        wait = kLostSearchEvery - 1;
+        wait = relocalization.lost_search_every - 1;
       }
       places = result.places;
     }

@@ -164,7 +164,8 @@ TEST(Relocalizer, JudgesAPlaceByTheWallsTheMapHasThereAndNeedsThemClose) {
 }
 
 // Places a scan fitted as well, followed into the next scan (moved as the robot moved): the place that
-// scan fits is taken, the other dropped; with no place there is nothing to take.
+// scan fits is kept, the other dropped, and taken once a scan's fit leaves it where it was; with no place
+// there is nothing to take.
 TEST(Relocalizer, FollowingPlacesKeepsTheOneTheNextScanFits) {
   auto world = std::make_shared<const sim::World>(sim::builtin_world("yard"));
   Relocalizer relocalizer(std::make_shared<const LocalizationMap>(test::saved_map_of_run(world, 14)));
@@ -174,11 +175,18 @@ TEST(Relocalizer, FollowingPlacesKeepsTheOneTheNextScanFits) {
   near.translation() += Eigen::Vector3d(0.15, -0.1, 0.0);
   Eigen::Isometry3d elsewhere = truth;
   elsewhere.translation() += Eigen::Vector3d(3.0, 2.0, 0.0);
-  const RelocalizationResult followed = relocalizer.follow(seen[7].points, {elsewhere, near});
+  // The scan moves the near place 0.18 m onto the truth: not taken yet, followed on from there.
+  const RelocalizationResult moved = relocalizer.follow(seen[7].points, {elsewhere, near});
+  ASSERT_FALSE(moved.found) << moved.message;
+  EXPECT_NE(moved.message.find("moved"), std::string::npos) << moved.message;
+  ASSERT_EQ(moved.places.size(), 1U) << moved.message;
+  EXPECT_LT((moved.places.front().translation() - truth.translation()).norm(), 0.1);
+  // The next scan (here the same, the robot standing) leaves it there: taken.
+  const RelocalizationResult followed = relocalizer.follow(seen[7].points, moved.places);
   ASSERT_TRUE(followed.found) << followed.message;
   EXPECT_LT((followed.pose.translation() - truth.translation()).norm(), 0.1);
   EXPECT_TRUE(followed.places.empty());
-  EXPECT_GT(followed.candidates, 2U);  // the two, and a search around the one taken
+  EXPECT_GT(followed.candidates, 1U);  // the place, and a search around it
 
   const RelocalizationResult none = relocalizer.follow(seen[7].points, {});
   EXPECT_FALSE(none.found);
@@ -250,6 +258,45 @@ TEST(Relocalizer, ASearchThatFitsNothingLeavesItsBestPlaceToFollow) {
   ASSERT_TRUE(found.found) << found.message;
   EXPECT_TRUE(found.places_to_follow().empty());
   EXPECT_TRUE(relocalizer.around({}, 0.0, 0.0, 0.0).places_to_follow().empty());
+}
+
+// A place about to be taken is refined again from starts to each side of it. Here a long wall and the
+// ground hold a scan anywhere along the wall, and a post tells where: a start 1.75 m along the wall stays
+// there (the post's points beyond ICP's reach) and, fitting 86 % of its structure, would be taken. A
+// start 0.3 m nearer brings the post in reach, and the robot is found where it is.
+TEST(Relocalizer, APlaceAboutToBeTakenIsLookedForInTheBasinsBesideIt) {
+  LocalizationMap map;
+  const auto add = [&](double x, double y, double z) { map.points.emplace_back(x, y, z); };
+  for (double x = -12.0; x <= 12.0; x += 0.1)
+    for (double y = -6.0; y <= 6.0; y += 0.1)
+      add(x, y, 0.0);  // the ground
+  for (double x = -12.0; x <= 12.0; x += 0.1)
+    for (double z = 0.1; z <= 2.0; z += 0.1)
+      add(x, 3.0, z);  // the wall
+  for (double a = -0.3; a <= 0.3 + 1e-9; a += 0.1)
+    for (double z = 0.1; z <= 2.0; z += 0.1) {  // the post, 0.6 m square, 2 m ahead-right
+      add(2.0 + a, -2.3, z);
+      add(2.0 + a, -1.7, z);
+      add(1.7, -2.0 + a, z);
+      add(2.3, -2.0 + a, z);
+    }
+  map.keyframe_poses = {Eigen::Isometry3d::Identity()};
+  PointCloud scan;  // the robot at the origin, heading along x, sees all within 8 m
+  for (const Eigen::Vector3f& p : map.points)
+    if (p.head<2>().norm() <= 8.0F)
+      scan.push_back(p.cast<double>());
+  const auto shared = std::make_shared<const LocalizationMap>(map);
+  // One start only: at the hint, 1.2 m along the wall.
+  const RelocalizationOptions one_start{.hint_radius = 0.0, .hint_yaw = 0.0, .refined = 1};
+  RelocalizationOptions no_basins = one_start;
+  no_basins.basin_step = 0.0;
+  const RelocalizationResult stayed = Relocalizer(shared, no_basins).around(scan, 1.75, 0.0, 0.0, 0.0);
+  ASSERT_TRUE(stayed.found) << stayed.message;
+  EXPECT_NEAR(stayed.pose.translation().x(), 1.75, 0.1) << "the post pulled it after all";
+  const RelocalizationResult found = Relocalizer(shared, one_start).around(scan, 1.75, 0.0, 0.0, 0.0);
+  ASSERT_TRUE(found.found) << found.message;
+  EXPECT_LT(found.pose.translation().norm(), 0.05);
+  EXPECT_GT(found.structure_share, stayed.structure_share);
 }
 
 }  // namespace
