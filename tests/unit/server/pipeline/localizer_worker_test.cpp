@@ -225,5 +225,58 @@ TEST(LocalizerWorker, APoseEstimateThatFitsSeveralPlacesIsDecidedAsTheRobotDrive
       << "estimate " << estimate.position.transpose() << ", truth " << truth.position.transpose();
 }
 
+// A pose estimate searched with a scan that sees two walls the map lacks (a parked truck, a new fence) is
+// refused, none of its places fitting well enough; the best of them is where the robot is looked for as
+// it drives on, and the next scans, the walls gone, place it there.
+TEST(LocalizerWorker, APoseEstimateThatFitsNowhereWellEnoughIsLookedForAtItsBestPlace) {
+  RunInSavedMap in_map("yard", 14);
+  sim::Simulator& run = in_map.run;
+  RobotState& state = in_map.state;
+  LocalizerWorker& worker = in_map.worker;
+  std::size_t scans = 0;
+  bool estimated = false;
+  RelocalizationAnswers answers;
+  while (scans < 14 && !answers.found()) {
+    run.step(0.01);
+    state.publish(run.sample());
+    for (ScanEvent& scan : run.take_scans()) {
+      const Pose3 truth = *scan.truth;
+      const bool changed = ++scans == 6;
+      if (changed) {  // the walls, 3.5 m ahead and to the left of the base
+        const Eigen::Isometry3d base_to_sensor = scan.sensor_to_base.inverse();
+        for (double a = -5.0; a <= 5.0; a += 0.05)
+          for (double z = 0.4; z <= 2.4; z += 0.05) {
+            scan.points.push_back((base_to_sensor * Eigen::Vector3d(3.5, a, z)).cast<float>());
+            scan.points.push_back((base_to_sensor * Eigen::Vector3d(a, 3.5, z)).cast<float>());
+          }
+      }
+      worker.submit(std::move(scan));
+      ASSERT_TRUE(worker.flush());
+      answers.take(state);
+      if (changed) {
+        estimated = true;
+        ASSERT_TRUE(
+            worker.set_pose_estimate({.x = truth.position.x(), .y = truth.position.y(), .yaw = truth.yaw})
+                .ok);
+        for (int waited = 0; waited < 6000 && answers.messages.empty(); ++waited) {
+          std::this_thread::sleep_for(std::chrono::milliseconds(10));
+          answers.take(state);
+        }
+      }
+    }
+  }
+  worker.stop();
+  ASSERT_TRUE(estimated);
+  const std::vector<std::string>& said = answers.messages;
+  ASSERT_GE(said.size(), 2U) << (said.empty() ? "never searched" : said.front());
+  EXPECT_NE(said.front().find("no place fits"), std::string::npos) << said.front();
+  EXPECT_NE(said.front().find("looked for at this place"), std::string::npos) << said.front();
+  ASSERT_TRUE(answers.found()) << answers.latest->message;
+  const Pose3 estimate = state.snapshot()->estimate;
+  const Pose3 truth = *run.sample().truth;
+  EXPECT_LT((estimate.position.head<2>() - truth.position.head<2>()).norm(), 0.2)
+      << "estimate " << estimate.position.transpose() << ", truth " << truth.position.transpose();
+}
+
 }  // namespace
 }  // namespace strata::pipeline
