@@ -3,7 +3,9 @@
 // stop-and-go scanner or the spinning lidar; its keyframes as a saved map keeps them), then scans of
 // another run (seed 2) at random places of it are looked for: around a hint within 2 m and 30 degrees of
 // the truth, and with no hint at all. A find counts as right within 0.2 m and 2 degrees of the truth as
-// the map has it (below). Prints JSON.
+// the map has it (below). Prints JSON. STRATA_BENCH_VERBOSE=1 says how each sample went on stderr;
+// STRATA_BENCH_ONLY=N runs sample N alone (0-based, the same as in the full run) and says how each
+// followed scan went.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -221,6 +223,9 @@ int main(int argc, char** argv) {
   if (const char* step = std::getenv("STRATA_BENCH_BASIN_STEP"))  // a find's basin check, m (0: none)
     relocalization.basin_step = std::atof(step);
   Relocalizer relocalizer(map, relocalization);
+  std::optional<std::size_t> only;
+  if (const char* one = std::getenv("STRATA_BENCH_ONLY"))
+    only = std::strtoul(one, nullptr, 10);
   std::mt19937 random(7);
   std::uniform_int_distribution<std::size_t> pick(0, sampled - 1);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -256,6 +261,13 @@ int main(int argc, char** argv) {
         wait = relocalization.lost_search_every - 1;
       }
       places = result.places;
+      if (std::getenv("STRATA_BENCH_VERBOSE") != nullptr && only) {
+        std::fprintf(stderr, "  scan %zu (%.1f m driven): %s; places, m from the truth:", j - index, driven,
+                     result.message.c_str());
+        for (const Eigen::Isometry3d& place : places)
+          std::fprintf(stderr, " %.2f", (place.translation() - seen[j].truth.translation()).norm());
+        std::fprintf(stderr, "\n");
+      }
     }
     follow_scans.push_back(static_cast<double>(j - index));
     return std::pair{result, j};
@@ -268,6 +280,8 @@ int main(int argc, char** argv) {
     const double radius = 2.0 * std::sqrt(unit(random));
     const double angle = 2.0 * std::numbers::pi * unit(random);
     const double turn = (2.0 * unit(random) - 1.0) * std::numbers::pi / 6.0;
+    if (only && *only != n)  // STRATA_BENCH_ONLY: one sample, to look at it (its draws made all the same)
+      continue;
     const RelocalizationResult around =
         relocalizer.around(s.points, s.truth.translation().x() + radius * std::cos(angle),
                            s.truth.translation().y() + radius * std::sin(angle), heading_of(s.truth) + turn);
