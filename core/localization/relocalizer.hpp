@@ -75,7 +75,7 @@ struct RelocalizationOptions {
   /// length of the campus's featureless hallway (campus, a hint then the next scans: 10 m 66 %, 20 m 70 %,
   /// 30 m 81 %, 50 m 86 % right, 3 % wrong throughout; docs/benchmarks.md, "Finding the robot"). A lost
   /// robot with no places to follow is searched for in the whole map at its first lost scan and every
-  /// `lost_search_every` scans after (a search takes 0.1-1.9 s; a tilting scanner's 5 scans are 10 m).
+  /// `lost_search_every` scans after (a search takes 0.1-2.5 s; a tilting scanner's 5 scans are 10 m).
   double follow_metres = 50.0;
   std::size_t lost_search_every = 5;
   /// A place followed is taken only when a scan's fit leaves it within this of where the odometry

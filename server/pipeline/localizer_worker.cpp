@@ -335,7 +335,7 @@ void LocalizerWorker::process(ScanEvent event) {
     }
   }
   // Lost in a saved map: the robot is looked for everywhere the map's robot drove, at the first lost scan
-  // and every few after (RelocalizationOptions::lost_search_every; a search takes 0.1-1.8 s on the scan path:
+  // and every few after (RelocalizationOptions::lost_search_every; a search takes 0.1-2.5 s on the scan path:
   // docs/benchmarks.md, "Finding the robot"); found, the next scan starts there; places that fit as well are
   // followed as the robot drives on, as an operator's estimate's are. Not while places are being followed:
   // they are where to look, and the whole map would fit as many places again.
