@@ -286,7 +286,7 @@ TEST(Relocalizer, APlaceAboutToBeTakenIsLookedForInTheBasinsBesideIt) {
     if (p.head<2>().norm() <= 8.0F)
       scan.push_back(p.cast<double>());
   const auto shared = std::make_shared<const LocalizationMap>(map);
-  // One start only: at the hint, 1.2 m along the wall.
+  // One start only: at the hint, 1.75 m along the wall.
   const RelocalizationOptions one_start{.hint_radius = 0.0, .hint_yaw = 0.0, .refined = 1};
   RelocalizationOptions no_basins = one_start;
   no_basins.basin_step = 0.0;

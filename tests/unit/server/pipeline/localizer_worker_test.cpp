@@ -132,6 +132,14 @@ struct RunInSavedMap {
   LocalizerWorker worker;
 };
 
+/// The robot's estimate now within 0.2 m of where it truly is.
+void expect_estimate_on_truth(const RobotState& state, const sim::Simulator& run) {
+  const Pose3 estimate = state.snapshot()->estimate;
+  const Pose3 truth = *run.sample().truth;
+  EXPECT_LT((estimate.position.head<2>() - truth.position.head<2>()).norm(), 0.2)
+      << "estimate " << estimate.position.transpose() << ", truth " << truth.position.transpose();
+}
+
 // A stop-and-go scanner standing still takes no next scan: an operator's pose estimate is searched at once
 // with the latest scan. Here the robot drove on 8 m after it (its scans not handed over, its odometry
 // published as the driver does); the estimate, 0.6 m and 11 degrees from where it is now, is carried back
@@ -219,10 +227,7 @@ TEST(LocalizerWorker, APoseEstimateThatFitsSeveralPlacesIsDecidedAsTheRobotDrive
   EXPECT_NE(said.front().find("two places fit as well"), std::string::npos) << said.front();
   EXPECT_NE(said.front().find("looked for at these"), std::string::npos) << said.front();
   ASSERT_TRUE(answers.found()) << answers.latest->message;
-  const Pose3 estimate = state.snapshot()->estimate;
-  const Pose3 truth = *run.sample().truth;
-  EXPECT_LT((estimate.position.head<2>() - truth.position.head<2>()).norm(), 0.2)
-      << "estimate " << estimate.position.transpose() << ", truth " << truth.position.transpose();
+  expect_estimate_on_truth(state, run);
 }
 
 // A pose estimate searched with a scan that sees two walls the map lacks (a parked truck, a new fence) is
@@ -272,10 +277,7 @@ TEST(LocalizerWorker, APoseEstimateThatFitsNowhereWellEnoughIsLookedForAtItsBest
   EXPECT_NE(said.front().find("no place fits"), std::string::npos) << said.front();
   EXPECT_NE(said.front().find("looked for at this place"), std::string::npos) << said.front();
   ASSERT_TRUE(answers.found()) << answers.latest->message;
-  const Pose3 estimate = state.snapshot()->estimate;
-  const Pose3 truth = *run.sample().truth;
-  EXPECT_LT((estimate.position.head<2>() - truth.position.head<2>()).norm(), 0.2)
-      << "estimate " << estimate.position.transpose() << ", truth " << truth.position.transpose();
+  expect_estimate_on_truth(state, run);
 }
 
 }  // namespace
