@@ -38,7 +38,7 @@ PoseInformation chain_information(const GraphLocalizerOptions& options, double d
   // As sure as a scan match over that distance; where it took a direction from odometry (a corridor's
   // axis), as sure as odometry.
   const double sigma_t = options.chain_sigma_translation + options.chain_sigma_per_metre * distance;
-  const double sigma_r = options.chain_sigma_rotation + options.chain_sigma_per_metre * 0.1 * distance;
+  const double sigma_r = options.chain_sigma_rotation + options.chain_sigma_rotation_per_metre * distance;
   const double sigma_odometry = options.chain_sigma_translation + options.odometry_sigma * distance;
   Eigen::Matrix3d translation = Eigen::Matrix3d::Identity() / (sigma_t * sigma_t);
   for (const Eigen::Vector3d& d : from_odometry)
@@ -329,6 +329,18 @@ Eigen::Isometry3d GraphLocalizer::place(const Eigen::Isometry3d& pose, const std
   scan_matching_.correct(pose * scan_matching_.pose(at).inverse());
   placed_ = true;  // a jump the motion model must not take for a velocity
   return odometry ? scan_matching_.map_from_odom() : pose;
+}
+
+void GraphLocalizer::start_from_calibration(const Eigen::Vector3d& mounting, double heading_drift) {
+  const Eigen::Vector3d tilt(mounting.x(), mounting.y(), 0.0);
+  if (!tilt.allFinite() || !std::isfinite(heading_drift))
+    return;
+  std::lock_guard lock(mutex_);
+  graph_.set_mounting_error(tilt);
+  pending_mounting_ = tilt;
+  status_.gravity_mounting = tilt;
+  pending_heading_drift_ = heading_drift;
+  status_.heading_drift = heading_drift;
 }
 
 PoseGraphStatus GraphLocalizer::status() const {

@@ -3,6 +3,8 @@
 // numbers do not depend on the machine's speed. A benchmark: prints numbers, never fails on them.
 // Usage: strata_localization_bench [world] [simulated seconds] [tilting|lidar]
 // STRATA_BENCH_TRACE=1 prints every scan's error and verdict to stderr.
+// STRATA_BENCH_SEEDS=FIRST-LAST runs it once per simulator seed and then prints the errors over the seeds
+// (mean and worst): one seed's maximum moves by 0.1-0.3 m for small changes (docs/benchmarks.md).
 //
 // Map consistency ("revisit spread"): where two scans far apart along the way (>= 15 m driven) saw the
 // same place (within 5 m), how far apart the map puts the same true point from the two: the walls a map
@@ -14,10 +16,12 @@
 // heading (signed: a mean off zero is a bias the loops hand to the map) and the position.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <map>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -130,9 +134,71 @@ double icp_heading_error(const RegistrationResult& r, const Pose3& truth) {
   return std::atan2(turn(1, 0), turn(0, 0)) * 180.0 / M_PI;
 }
 
+/// STRATA_BENCH_SEEDS=FIRST-LAST: this bench again once per seed, each in a process of its own (the
+/// simulator and the localizer start afresh), its JSON line passed on; then one line of the errors over
+/// the seeds.
+int run_seeds(int argc, char** argv, const std::string& seeds) {
+  const std::size_t dash = seeds.find('-');
+  const int first = std::atoi(seeds.c_str());
+  const int last = dash == std::string::npos ? first : std::atoi(seeds.c_str() + dash + 1);
+  if (first < 0 || last < first) {
+    std::fprintf(stderr, "STRATA_BENCH_SEEDS=%s: expected FIRST-LAST, e.g. 1-10\n", seeds.c_str());
+    return 2;
+  }
+  std::string command = "'" + std::string(argv[0]) + "'";
+  for (int i = 1; i < argc; ++i)
+    command += " '" + std::string(argv[i]) + "'";
+  ::unsetenv("STRATA_BENCH_SEEDS");
+  // Each measure: its values over the seeds.
+  std::map<std::string, std::vector<double>> values;
+  for (int seed = first; seed <= last; ++seed) {
+    ::setenv("STRATA_BENCH_SEED", std::to_string(seed).c_str(), 1);
+    FILE* child = ::popen(command.c_str(), "r");
+    if (child == nullptr) {
+      std::perror("popen");
+      return 1;
+    }
+    std::string line;
+    for (int c = std::fgetc(child); c != EOF; c = std::fgetc(child)) {
+      if (c != '\n') {
+        line.push_back(static_cast<char>(c));
+        continue;
+      }
+      std::printf("%s\n", line.c_str());
+      std::fflush(stdout);
+      const nlohmann::json run = nlohmann::json::parse(line, nullptr, false);
+      if (!run.is_discarded() && run.value("bench", "") == "localization") {
+        values["final_error_m"].push_back(run["final_error_m"]["corrected"].get<double>());
+        values["max_error_m"].push_back(run["max_error_m"]["corrected"].get<double>());
+        values["max_height_error_m"].push_back(run["max_height_error_m"].get<double>());
+        values["rebuilt_spread_p95_m"].push_back(run["revisit_spread_m"]["rebuilt_map"]["p95"].get<double>());
+        values["registration_median_ms"].push_back(run["registration_ms"]["median"].get<double>());
+      }
+      line.clear();
+    }
+    if (::pclose(child) != 0)
+      std::fprintf(stderr, "seed %d: the run failed\n", seed);
+  }
+  nlohmann::json summary = {{"bench", "localization_seeds"},
+                            {"seeds", std::to_string(first) + "-" + std::to_string(last)}};
+  for (const auto& [name, list] : values) {
+    double sum = 0.0;
+    for (const double v : list)
+      sum += v;
+    const auto rounded = [](double v) { return std::round(v * 1000.0) / 1000.0; };
+    summary[name] = {{"mean", rounded(sum / static_cast<double>(list.size()))},
+                     {"worst", rounded(*std::max_element(list.begin(), list.end()))},
+                     {"runs", list.size()}};
+  }
+  std::printf("%s\n", summary.dump().c_str());
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (const char* seeds = std::getenv("STRATA_BENCH_SEEDS"))
+    return run_seeds(argc, argv, seeds);
   strata::app::keep_freed_memory();  // as the server does: the scan path's buffers stay mapped
   const std::string world_name = argc > 1 ? argv[1] : "campus";
   const double duration = argc > 2 ? std::atof(argv[2]) : 800.0;
@@ -179,6 +245,12 @@ int main(int argc, char** argv) {
   // STRATA_BENCH_HEIGHT_BEFORE_LOOPS=0: the scan path keeps its own height until the first loop (as before).
   if (const char* height = std::getenv("STRATA_BENCH_HEIGHT_BEFORE_LOOPS"))
     graph_options.height_before_loops = std::string(height) != "0";
+  if (const char* yaw = std::getenv("STRATA_BENCH_CHAIN_YAW"))  // the chain's heading sigma, rad
+    graph_options.chain_sigma_rotation = std::atof(yaw);
+  if (const char* yaw = std::getenv("STRATA_BENCH_CHAIN_YAW_PER_METRE"))  // rad per metre
+    graph_options.chain_sigma_rotation_per_metre = std::atof(yaw);
+  if (const char* height = std::getenv("STRATA_BENCH_LOOP_HEIGHT"))  // metres between a loop's two keyframes
+    graph_options.loops.max_height_difference = std::atof(height);
   if (const char* weak = std::getenv("STRATA_BENCH_LOOP_WEAK"))  // a loop edge's weak eigenvalue
     graph_options.loops.weak_direction = std::atof(weak);
   // STRATA_BENCH_LOOP_POLISH=0: the loops' point-to-point match as it stops, not finished point-to-plane.
@@ -225,6 +297,31 @@ int main(int argc, char** argv) {
   const Eigen::Isometry3d initial_correction =
       with_odometry ? map_from_odom : simulator.sample().truth->to_isometry();
   GraphLocalizer localizer(graph_options, initial_correction);
+  // STRATA_BENCH_START_MOUNTING_DEG=<roll>,<pitch> (or "sim": the simulated IMU's own) and
+  // STRATA_BENCH_START_DRIFT_DEG_PER_H=<rate> (or "sim": the gyro's bias, at the share of each scan's
+  // seconds spent driving, 0.55): the run starts from that calibration (GraphLocalizer::
+  // start_from_calibration), as a robot would from what an earlier run learnt.
+  const char* start_mounting = std::getenv("STRATA_BENCH_START_MOUNTING_DEG");
+  if ((start_mounting || std::getenv("STRATA_BENCH_START_DRIFT_DEG_PER_H")) && simulator.imu()) {
+    Eigen::Vector3d mounting = Eigen::Vector3d::Zero();
+    if (start_mounting && std::string(start_mounting) == "sim") {
+      mounting = simulator.imu()->mounting_error();
+    } else if (start_mounting) {
+      double roll = 0.0;
+      double pitch = 0.0;
+      if (std::sscanf(start_mounting, "%lf,%lf", &roll, &pitch) != 2) {
+        std::fprintf(stderr, "STRATA_BENCH_START_MOUNTING_DEG=%s: expected <roll>,<pitch> or sim\n",
+                     start_mounting);
+        return 2;
+      }
+      mounting = Eigen::Vector3d(roll, pitch, 0.0) * std::numbers::pi / 180.0;
+    }
+    double drift = 0.0;
+    if (const char* rate = std::getenv("STRATA_BENCH_START_DRIFT_DEG_PER_H"))
+      drift = std::string(rate) == "sim" ? -simulator.imu()->gyro_bias() * 0.55
+                                         : std::atof(rate) * std::numbers::pi / 180.0 / 3600.0;
+    localizer.start_from_calibration(mounting, drift);
+  }
   double loop_seconds = 0.0;
   // The pose the server streams between scans (RobotState): STRATA_BENCH_EXTRAPOLATE=0 measures the
   // odometry carried by the latest correction alone, without the base's gravity stream.
