@@ -40,7 +40,9 @@ void Simulator::step(double dt) {
     const double along_ground = 1.0 / std::cos(0.5 * (stance_.pose.pitch + placed.stance.pose.pitch));
     const WheelTravel rolled{next.wheels.left * along_ground, next.wheels.right * along_ground};
     stance_ = placed.stance;
-    // Standing, the base holds its heading (and recalibrates the gyro's bias): only a moving base turns.
+    // Standing, the base holds its heading (its controller takes no gyro turn while the wheels stand):
+    // only a moving base turns, drifting by the gyro's bias left from its calibration at start (the same
+    // all run: docs/benchmarks.md, "Ten seeds").
     std::optional<double> gyro_turn;
     if (imu_)
       gyro_turn = standing
