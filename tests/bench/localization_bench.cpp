@@ -302,7 +302,8 @@ int main(int argc, char** argv) {
   // seconds spent driving, 0.55): the run starts from that calibration (GraphLocalizer::
   // start_from_calibration), as a robot would from what an earlier run learnt.
   const char* start_mounting = std::getenv("STRATA_BENCH_START_MOUNTING_DEG");
-  if ((start_mounting || std::getenv("STRATA_BENCH_START_DRIFT_DEG_PER_H")) && simulator.imu()) {
+  const char* start_drift = std::getenv("STRATA_BENCH_START_DRIFT_DEG_PER_H");
+  if ((start_mounting || start_drift) && simulator.imu()) {
     Eigen::Vector3d mounting = Eigen::Vector3d::Zero();
     if (start_mounting && std::string(start_mounting) == "sim") {
       mounting = simulator.imu()->mounting_error();
@@ -317,9 +318,9 @@ int main(int argc, char** argv) {
       mounting = Eigen::Vector3d(roll, pitch, 0.0) * std::numbers::pi / 180.0;
     }
     double drift = 0.0;
-    if (const char* rate = std::getenv("STRATA_BENCH_START_DRIFT_DEG_PER_H"))
-      drift = std::string(rate) == "sim" ? -simulator.imu()->gyro_bias() * 0.55
-                                         : std::atof(rate) * std::numbers::pi / 180.0 / 3600.0;
+    if (start_drift)
+      drift = std::string(start_drift) == "sim" ? -simulator.imu()->gyro_bias() * 0.55
+                                                : std::atof(start_drift) * std::numbers::pi / 180.0 / 3600.0;
     localizer.start_from_calibration(mounting, drift);
   }
   double loop_seconds = 0.0;

@@ -138,10 +138,6 @@ TEST(GraphLocalizer, BeforeAnyLoopTheOdometrysHeadingDriftIsFittedToTheWallsHead
   EXPECT_NEAR(status.heading_drift, -kRate, 0.3 * kRate) << "turned back as fast as it drifts";
 }
 
-// An IMU pitched 0.3 degrees on its mount reads a climb down a level corridor; scan matching's tilt
-// follows the readings, and every metre driven adds 5 mm of height. No loop closes there, and the start's
-// tilt is known: the graph, optimized with each keyframe, tells the mounting error from the start's tilt,
-// and the scan path takes its height.
 /// The height error after 200 s along a level corridor, 50 m driven, whose gravity readings are pitched
 /// by an IMU mounted 0.005 rad off (no turn, so nothing tells the error before a loop), the run started
 /// from `calibration` where there is one.
@@ -176,6 +172,10 @@ double corridor_height_error(bool height_before_loops, std::optional<Eigen::Vect
   return std::abs(error);
 }
 
+// An IMU pitched 0.3 degrees on its mount reads a climb down a level corridor; scan matching's tilt
+// follows the readings, and every metre driven adds 5 mm of height. No loop closes there, and the start's
+// tilt is known: the graph, optimized with each keyframe, tells the mounting error from the start's tilt,
+// and the scan path takes its height.
 TEST(GraphLocalizer, BeforeAnyLoopTheHeightIsTheGraphs) {
   const double with = corridor_height_error(true);
   const double without = corridor_height_error(false);
