@@ -8,6 +8,7 @@
 
 #include "core/geometry/gravity.hpp"
 #include "core/geometry/pose.hpp"
+#include "core/geometry/standing_gyro.hpp"
 
 namespace strata {
 
@@ -28,6 +29,9 @@ struct ScanEvent {
   std::optional<Pose3> truth;  ///< the base's true pose at `stamp`, when simulated
   /// Which way was up while the scan was taken, from the base's IMU: none without one.
   std::optional<GravityReading> gravity;
+  /// What the base's gyro read while the base stood since the last scan (a stop-and-go scanner's stand
+  /// for this one): none without a gyro, or where the base did not stand.
+  std::optional<StandingGyro> standing_gyro;
   std::size_t rays = 0;    ///< beams fired, returns or not
   double max_range = 0.0;  ///< m; readings at this range mean "no return" (0: the sensor reports none)
   /// Wall-clock time (s since the Unix epoch) the pipeline received it: what scan-to-client latency is

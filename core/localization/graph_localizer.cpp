@@ -59,11 +59,22 @@ GraphLocalizer::GraphLocalizer(GraphLocalizerOptions options, const Eigen::Isome
       scan_matching_(options_.scan_matching, initial_map_from_odom),
       motion_(options_.motion),
       scan_motion_(options_.motion),
-      trail_(options_.keyframe_map_voxel) {}
+      trail_(options_.keyframe_map_voxel),
+      standing_drift_(options_.heading_drift) {}
 
 LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std::optional<Pose2>& odometry,
                                             double stamp, const Eigen::Vector3d& sensor_origin,
-                                            const std::optional<GravityReading>& gravity) {
+                                            const std::optional<GravityReading>& gravity,
+                                            const std::optional<StandingGyro>& standing_gyro) {
+  if (standing_gyro && odometry) {
+    standing_drift_.add(*standing_gyro);
+    if (const std::optional<double> measured = standing_drift_.drift()) {
+      heading_drift_ = *measured;
+      std::lock_guard lock(mutex_);
+      status_.heading_drift = *measured;
+      heading_drift_measured_ = true;
+    }
+  }
   bool map_moved = false;
   const bool pose_graph = options_.pose_graph && !scan_matching_.localizing();
   if (pose_graph) {
@@ -74,7 +85,8 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
       correction = std::exchange(pending_correction_, std::nullopt);
       if (correction)
         last_keyframe_frontend_ = *correction * last_keyframe_frontend_;
-      if (pending_heading_drift_)
+      // The graph's fit, where the gyro's standing reading does not tell the drift itself.
+      if (pending_heading_drift_ && !standing_drift_.drift())
         heading_drift_ = *std::exchange(pending_heading_drift_, std::nullopt);
       mounting = std::exchange(pending_mounting_, std::nullopt);
     }
@@ -88,12 +100,13 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
   LocalizationUpdate update;
   if (odometry) {
     // Seconds of motion since the last scan, over which the odometry's heading drifted: none where it
-    // stood still (a base standing holds its heading).
+    // stood still (a base standing holds its heading), and less the time it stood where the gyro says.
     double moving = 0.0;
     if (last_odometry_) {
       const Pose2 moved = odometry->relative_to(last_odometry_->odometry);
       if (std::hypot(moved.x, moved.y) > 1e-4 || std::abs(moved.theta) > 1e-5)
-        moving = std::max(0.0, stamp - last_odometry_->stamp);
+        moving =
+            std::max(0.0, stamp - last_odometry_->stamp - (standing_gyro ? standing_gyro->seconds : 0.0));
       odometry_heading_ += moved.theta;
     } else {
       odometry_heading_ = odometry->theta;
@@ -256,7 +269,8 @@ bool GraphLocalizer::close_loops() {
       return false;
     if (drift) {
       pending_heading_drift_ = *drift;
-      status_.heading_drift = *drift;
+      if (!heading_drift_measured_)
+        status_.heading_drift = *drift;
     }
     // Nothing but the height, and only while no keyframe came meanwhile: the newest frontend pose is then
     // the one the graph has last. It replaces a correction not yet taken, as a loop's does.
@@ -291,7 +305,8 @@ bool GraphLocalizer::close_loops() {
       graph_.add_edge(edge);
   if (drift) {
     pending_heading_drift_ = *drift;
-    status_.heading_drift = *drift;
+    if (!heading_drift_measured_)
+      status_.heading_drift = *drift;
   }
   graph_.set_mounting_error(graph.mounting_error());
   if (options_.optimizer.mounting_sigma > 0.0) {  // else it was held where it was, at nothing learnt

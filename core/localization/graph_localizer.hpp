@@ -89,11 +89,13 @@ class GraphLocalizer {
   /// update's map_from_odom is the pose: the correction of an odometry that stays at the origin);
   /// `sensor_origin` where the sensor was in the base frame (the rays of a map rebuild start there);
   /// `gravity` which way was up, from the base's IMU: it levels the scan path and, as an attitude prior
-  /// on the keyframe, the pose graph.
+  /// on the keyframe, the pose graph; `standing_gyro` what its gyro read while the base stood since the
+  /// last scan: the odometry's heading drift, measured (StandingGyroDrift).
   LocalizationUpdate add_scan(const PointCloud& points, const std::optional<Pose2>& odometry,
                               double stamp = 0.0,
                               const Eigen::Vector3d& sensor_origin = Eigen::Vector3d::Zero(),
-                              const std::optional<GravityReading>& gravity = std::nullopt);
+                              const std::optional<GravityReading>& gravity = std::nullopt,
+                              const std::optional<StandingGyro>& standing_gyro = std::nullopt);
 
   /// How the base moved while the scan at `stamp` was taken, per second in its own frame (what deskew()
   /// takes): the odometry since the last scan, or for a base without the constant velocity model's. None
@@ -151,9 +153,11 @@ class GraphLocalizer {
   /// scan rejected for a jump from its odometry (ScanToMapLocalizer::add_scan).
   ConstantVelocityPrediction scan_motion_;
   KeyframeTrail trail_;  // scan path only: the scans the next keyframe keeps for the map
-  /// Scan path only: the odometry's heading drift, rad/s of motion, taken out of its guesses; its turns
-  /// summed (unwrapped) and its seconds of motion since the start, for the keyframes' HeadingSample.
+  /// Scan path only: the odometry's heading drift, rad/s of motion, taken out of its guesses (the pose
+  /// graph's fit, or the gyro's standing reading where there is one); its turns summed (unwrapped) and its
+  /// seconds of motion since the start, for the keyframes' HeadingSample.
   double heading_drift_ = 0.0;
+  StandingGyroDrift standing_drift_;
   double odometry_heading_ = 0.0;
   double moving_seconds_ = 0.0;
 
@@ -179,6 +183,8 @@ class GraphLocalizer {
   std::optional<Eigen::Isometry3d> pending_correction_;
   /// The heading drift fitted after the last optimization, not yet taken by the scan path.
   std::optional<double> pending_heading_drift_;
+  /// The scan path takes the heading drift from the gyro's standing reading: the status reports that one.
+  bool heading_drift_measured_ = false;
   /// The gravity reading's mounting error estimated by the last optimization, not yet taken by the scan path.
   std::optional<Eigen::Vector3d> pending_mounting_;
   PoseGraphStatus status_;

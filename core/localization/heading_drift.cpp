@@ -1,6 +1,7 @@
 #include "core/localization/heading_drift.hpp"
 
 #include <cmath>
+#include <limits>
 
 #include "core/geometry/angles.hpp"
 
@@ -38,6 +39,37 @@ std::optional<double> fit_heading_drift(std::span<const HeadingSample> samples,
   if (!std::isfinite(rate) || std::abs(rate) > options.max_rate)
     return std::nullopt;
   return rate;
+}
+
+void StandingGyroDrift::add(const StandingGyro& reading) {
+  if (!std::isfinite(reading.rate) || !std::isfinite(reading.seconds) || !std::isfinite(reading.sigma) ||
+      reading.seconds <= 0.0 || reading.sigma <= 0.0)
+    return;
+  stands_.push_back(reading);
+  seconds_ += reading.seconds;
+  while (stands_.size() > 1 && seconds_ - stands_.front().seconds >= options_.standing_window) {
+    seconds_ -= stands_.front().seconds;
+    stands_.pop_front();
+  }
+}
+
+std::optional<double> StandingGyroDrift::drift() const {
+  if (!options_.enabled || stands_.empty() || !(sigma() <= options_.standing_max_sigma))
+    return std::nullopt;
+  double weights = 0.0, weighted = 0.0;
+  for (const StandingGyro& stand : stands_) {
+    const double weight = 1.0 / (stand.sigma * stand.sigma);
+    weights += weight;
+    weighted += weight * stand.rate;
+  }
+  return -weighted / weights;
+}
+
+double StandingGyroDrift::sigma() const {
+  double weights = 0.0;
+  for (const StandingGyro& stand : stands_)
+    weights += 1.0 / (stand.sigma * stand.sigma);
+  return weights > 0.0 ? 1.0 / std::sqrt(weights) : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace strata

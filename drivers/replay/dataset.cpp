@@ -134,6 +134,20 @@ GravityReading read_gravity(const CsvTable& table, std::size_t row, const std::s
   return gravity;
 }
 
+/// What the gyro read standing, in columns gyro_rate (rad/s), gyro_seconds and gyro_sigma (rad/s).
+StandingGyro read_standing_gyro(const CsvTable& table, std::size_t row, const std::string& name) {
+  const StandingGyro gyro{.rate = table.number(row, "gyro_rate"),
+                          .seconds = table.number(row, "gyro_seconds"),
+                          .sigma = table.number(row, "gyro_sigma")};
+  if (!std::isfinite(gyro.rate) || !std::isfinite(gyro.seconds) || !std::isfinite(gyro.sigma) ||
+      gyro.seconds <= 0.0 || gyro.sigma <= 0.0)
+    throw DatasetError(
+        fmt::format("{}: scan {}: the standing gyro reading ({} rad/s over {} s; sigma {}) "
+                    "needs a finite rate, positive seconds and a positive sigma",
+                    name, row, gyro.rate, gyro.seconds, gyro.sigma));
+  return gyro;
+}
+
 /// scans.csv (a recording, or a hand-made list of point files).
 std::vector<DatasetScan> read_scan_list(const fs::path& directory) {
   const CsvTable table(directory / kScansFile);
@@ -171,6 +185,8 @@ std::vector<DatasetScan> read_scan_list(const fs::path& directory) {
     }
     if (table.has("up_x") && !table.text(row, "up_x").empty())
       scan.gravity = read_gravity(table, row, name);
+    if (table.has("gyro_rate") && !table.text(row, "gyro_rate").empty())
+      scan.standing_gyro = read_standing_gyro(table, row, name);
     if (!scans.empty() && scan.stamp < scans.back().stamp)
       throw DatasetError(fmt::format("{}: scan {} is older than the one before it", name, row));
     scans.push_back(std::move(scan));

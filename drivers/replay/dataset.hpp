@@ -10,6 +10,7 @@
 
 #include "core/geometry/gravity.hpp"
 #include "core/geometry/pose.hpp"
+#include "core/geometry/standing_gyro.hpp"
 #include "drivers/scan_event.hpp"
 
 namespace strata::replay {
@@ -45,9 +46,10 @@ struct DatasetScan {
   bool mount_known = true;
   std::string sensor = "replay";
   double duration = 0.0;
-  std::size_t rays = 0;                   ///< 0: as many as points
-  double max_range = 0.0;                 ///< readings at this range mean "no return"; 0: none
-  std::optional<GravityReading> gravity;  ///< the base IMU's reading with the scan, where there is one
+  std::size_t rays = 0;                       ///< 0: as many as points
+  double max_range = 0.0;                     ///< readings at this range mean "no return"; 0: none
+  std::optional<GravityReading> gravity;      ///< the base IMU's reading with the scan, where there is one
+  std::optional<StandingGyro> standing_gyro;  ///< what its gyro read standing before the scan, where it did
   /// The point file's "time" field is seconds from `stamp` (Strata's recordings); other files' times have
   /// references of their own and are not used.
   bool times_from_stamp = false;

@@ -28,7 +28,7 @@ std::string scans_csv_header() {
     for (int col = 0; col < 4; ++col)
       header += fmt::format(",mount_{}{}", row, col);
   }
-  return header + ",up_x,up_y,up_z,up_sigma\n";
+  return header + ",up_x,up_y,up_z,up_sigma,gyro_rate,gyro_seconds,gyro_sigma\n";
 }
 
 std::string scans_csv_row(const ScanEvent& scan, const std::string& file) {
@@ -51,6 +51,13 @@ std::string scans_csv_row(const ScanEvent& scan, const std::string& file) {
                        number(scan.gravity->sigma));
   } else {
     row += ",,,,";
+  }
+  // What the gyro read standing before the scan: empty fields without a stand.
+  if (scan.standing_gyro) {
+    row += fmt::format(",{},{},{}", number(scan.standing_gyro->rate), number(scan.standing_gyro->seconds),
+                       number(scan.standing_gyro->sigma));
+  } else {
+    row += ",,,";
   }
   return row + "\n";
 }

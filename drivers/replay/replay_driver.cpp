@@ -145,6 +145,7 @@ void ReplayDriver::run(Outputs outputs) {
         if (mount_)
           mount_->apply(*scan);
         scan->gravity = source.gravity;
+        scan->standing_gyro = source.standing_gyro;
         scan->odometry = event.sample.odometry;
         scan->has_odometry = has_odometry_;
         scan->truth = source.reference;

@@ -16,7 +16,8 @@ double draw(std::mt19937_64& rng, double stddev) {
 SimulatedImu::SimulatedImu(ImuNoise noise, std::uint64_t seed)
     : noise_(noise),
       rng_(seed ^ 0x1f3d5b79a4c6e821ULL),  // not the wheels' sequence
-      stream_rng_(seed ^ 0x6a09e667f3bcc908ULL) {
+      stream_rng_(seed ^ 0x6a09e667f3bcc908ULL),
+      standing_rng_(seed ^ 0xbb67ae8584caa73bULL) {
   gyro_bias_ = draw(rng_, noise_.gyro_bias_stddev);
   tilt_bias_ = {draw(rng_, noise_.tilt_bias_stddev), draw(rng_, noise_.tilt_bias_stddev)};
 }
@@ -26,6 +27,12 @@ double SimulatedImu::measure_turn(double true_turn, double dt) {
     return true_turn;
   // Bias integrates linearly, white rate noise as a random walk in the angle.
   return true_turn + gyro_bias_ * dt + draw(rng_, noise_.gyro_noise_density * std::sqrt(dt));
+}
+
+double SimulatedImu::measure_standing_turn(double dt) {
+  if (dt <= 0.0)
+    return 0.0;
+  return gyro_bias_ * dt + draw(standing_rng_, noise_.gyro_noise_density * std::sqrt(dt));
 }
 
 GravityReading SimulatedImu::measure_gravity(const Pose3& truth, bool standing) {

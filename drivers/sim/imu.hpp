@@ -32,6 +32,11 @@ class SimulatedImu {
 
   /// The gyro's measure of a turn about the base's vertical axis that took `dt` seconds.
   [[nodiscard]] double measure_turn(double true_turn, double dt);
+  /// The gyro's measure of the turn while the base stood `dt` seconds: its bias and noise. From a
+  /// sequence of its own, so reading it leaves the turns and the gravity readings as they were.
+  [[nodiscard]] double measure_standing_turn(double dt);
+  /// The gyro's noise density, rad/sqrt(s): what a driver knows from the datasheet.
+  [[nodiscard]] double gyro_noise_density() const { return noise_.gyro_noise_density; }
   /// Which way is up in the base frame of `truth`, as the accelerometer reads it with a scan.
   [[nodiscard]] GravityReading measure_gravity(const Pose3& truth, bool standing);
   /// The same accelerometer as the base controller streams it with every sample (same bias). Its noise
@@ -50,6 +55,7 @@ class SimulatedImu {
   ImuNoise noise_;
   std::mt19937_64 rng_;
   std::mt19937_64 stream_rng_;
+  std::mt19937_64 standing_rng_;
   double gyro_bias_ = 0.0;
   Eigen::Vector2d tilt_bias_ = Eigen::Vector2d::Zero();  ///< about the base's x and y axes, rad
 };

@@ -50,6 +50,10 @@ void Simulator::step(double dt) {
                       : imu_->measure_turn(
                             (next.wheels.right - next.wheels.left) / config_.limits.wheel_separation, dt);
     odometry_.integrate(rolled, gyro_turn);
+    if (imu_ && standing) {
+      standing_turn_ += imu_->measure_standing_turn(dt);
+      standing_seconds_ += dt;
+    }
     since_last_scan_ += std::abs(next.velocity.v) * dt;
     blocked_by_.clear();
   } else {
@@ -89,6 +93,11 @@ void Simulator::finish_scan(ScanEvent scan) {
   if (imu_) {
     const bool standing = base_.velocity().v == 0.0 && base_.velocity().w == 0.0;
     scan.gravity = imu_->measure_gravity(stance_.pose, standing);
+    if (standing_seconds_ > 0.0)
+      scan.standing_gyro = StandingGyro{.rate = standing_turn_ / standing_seconds_,
+                                        .seconds = standing_seconds_,
+                                        .sigma = imu_->gyro_noise_density() / std::sqrt(standing_seconds_)};
+    standing_turn_ = standing_seconds_ = 0.0;
   }
   finished_scans_.push_back(std::move(scan));
 }

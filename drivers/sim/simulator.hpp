@@ -83,6 +83,9 @@ class Simulator {
   WheelOdometry odometry_;
   std::optional<SimulatedImu> imu_;
   std::optional<GravityReading> streamed_gravity_;  ///< the IMU's reading at the last step
+  /// What the gyro turned while the base stood since the last scan, and for how long (StandingGyro).
+  double standing_turn_ = 0.0;
+  double standing_seconds_ = 0.0;
   RouteDriver driver_;
   bool commanded_ = false;
   VelocityCommand command_;

@@ -303,8 +303,9 @@ void LocalizerWorker::process(ScanEvent event) {
     static_cast<void>(search_around(*estimate, preprocessed.points, odometry, stamp));
   else if (following_ && relocalizer_ && odometry)
     follow_places(preprocessed.points, *odometry, stamp);
-  const LocalizationUpdate update = localizer_.add_scan(preprocessed.points, odometry, stamp,
-                                                        scan.sensor_to_base.translation(), scan.gravity);
+  const LocalizationUpdate update =
+      localizer_.add_scan(preprocessed.points, odometry, stamp, scan.sensor_to_base.translation(),
+                          scan.gravity, scan.standing_gyro);
   ++status_.scans;
   classify(scan, update);
   if (update.registration) {

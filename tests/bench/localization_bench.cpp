@@ -231,6 +231,10 @@ int main(int argc, char** argv) {
   // STRATA_BENCH_GRAVITY=0: the gyro still turns the odometry, but the localizer gets no gravity.
   const bool gravity = std::getenv("STRATA_BENCH_GRAVITY") == nullptr ||
                        std::string(std::getenv("STRATA_BENCH_GRAVITY")) != "0";
+  // STRATA_BENCH_STANDING_GYRO=0: the localizer gets no gyro reading of the stands (StandingGyro), and
+  // fits the heading drift to the pose graph alone.
+  const bool standing_gyro = std::getenv("STRATA_BENCH_STANDING_GYRO") == nullptr ||
+                             std::string(std::getenv("STRATA_BENCH_STANDING_GYRO")) != "0";
   sim::Simulator simulator(world, config);
   const Eigen::Isometry3d map_from_odom =
       simulator.sample().truth->to_isometry() * simulator.sample().odometry.to_isometry().inverse();
@@ -249,6 +253,9 @@ int main(int argc, char** argv) {
     graph_options.chain_sigma_rotation = std::atof(yaw);
   if (const char* yaw = std::getenv("STRATA_BENCH_CHAIN_YAW_PER_METRE"))  // rad per metre
     graph_options.chain_sigma_rotation_per_metre = std::atof(yaw);
+  // How sure the gyro's standing reading must be to replace the pose graph's fit of the drift, rad/s.
+  if (const char* sigma = std::getenv("STRATA_BENCH_STANDING_SIGMA"))
+    graph_options.heading_drift.standing_max_sigma = std::atof(sigma);
   if (const char* height = std::getenv("STRATA_BENCH_LOOP_HEIGHT"))  // metres between a loop's two keyframes
     graph_options.loops.max_height_difference = std::atof(height);
   if (const char* weak = std::getenv("STRATA_BENCH_LOOP_WEAK"))  // a loop edge's weak eigenvalue
@@ -369,9 +376,9 @@ int main(int argc, char** argv) {
       const std::optional<Pose2> measured = with_odometry ? std::optional<Pose2>(odometry) : std::nullopt;
       if (deskewing)
         localizer.deskew(points, point_times, measured, scan.stamp);
-      const LocalizationUpdate update =
-          localizer.add_scan(points, measured, scan.stamp, scan.sensor_to_base.translation(),
-                             gravity ? scan.gravity : std::nullopt);
+      const LocalizationUpdate update = localizer.add_scan(
+          points, measured, scan.stamp, scan.sensor_to_base.translation(),
+          gravity ? scan.gravity : std::nullopt, standing_gyro ? scan.standing_gyro : std::nullopt);
       streamed.set_mounting_error(localizer.gravity_mounting());
       streamed.set_correction(update.map_from_odom, scan.stamp);
       truth_at[scan.stamp] = scan.truth->to_isometry();

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <vector>
@@ -55,6 +56,57 @@ TEST(HeadingDrift, FitsNothingOverTooLittleMotionOrToAnImplausibleSlope) {
       << "a degree every 3 s is no odometry's drift (a map turning under the robot)";
   EXPECT_FALSE(fit_heading_drift(drifting_run(800.0, 6e-5, 0.0), {.enabled = false}).has_value());
   EXPECT_FALSE(fit_heading_drift({}).has_value());
+}
+
+/// Stands of `seconds` each whose gyro reads `bias` rad/s, with a consumer gyro's noise (1.7e-4 rad/sqrt(s)).
+std::vector<StandingGyro> stands(int count, double bias, double seconds = 4.8, unsigned seed = 3) {
+  constexpr double kDensity = 1.7e-4;
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, kDensity / std::sqrt(seconds));
+  std::vector<StandingGyro> out;
+  for (int i = 0; i < count; ++i)
+    out.push_back({.rate = bias + noise(rng), .seconds = seconds, .sigma = kDensity / std::sqrt(seconds)});
+  return out;
+}
+
+TEST(StandingGyroDrift, IsTheBiasTheGyroReadsStandingOnceItIsSure) {
+  StandingGyroDrift drift;  // sure to 1.5e-5 rad/s: some 27 stands of 4.8 s
+  const std::vector<StandingGyro> readings = stands(100, 6e-5);
+  for (std::size_t i = 0; i < 20; ++i)
+    drift.add(readings[i]);
+  EXPECT_FALSE(drift.drift().has_value()) << "20 stands tell the bias to 1.7e-5 rad/s, not yet sure";
+  for (std::size_t i = 20; i < readings.size(); ++i)
+    drift.add(readings[i]);
+  ASSERT_TRUE(drift.drift().has_value());
+  EXPECT_NEAR(drift.sigma(), 1.7e-4 / std::sqrt(480.0), 1e-9);
+  EXPECT_NEAR(*drift.drift(), -6e-5, 3.0 * drift.sigma()) << "radians to add per second: the bias taken out";
+  // A long stand counts for more than a short one: weighed by their sigmas.
+  StandingGyroDrift weighed({.standing_max_sigma = 1.0});
+  weighed.add({.rate = 1e-4, .seconds = 1.0, .sigma = 2e-4});
+  weighed.add({.rate = 4e-4, .seconds = 16.0, .sigma = 5e-5});
+  ASSERT_TRUE(weighed.drift().has_value());
+  EXPECT_NEAR(*weighed.drift(), -(1e-4 * 1.0 + 4e-4 * 16.0) / 17.0, 1e-12);
+}
+
+TEST(StandingGyroDrift, FollowsTheLastWindowOfStandingAndTakesNoBadReading) {
+  // The bias changed (the gyro warmed up): the last hour of standing tells it, not the first.
+  StandingGyroDrift drift;
+  for (const StandingGyro& stand : stands(800, 6e-5))
+    drift.add(stand);
+  for (const StandingGyro& stand : stands(800, -2e-5, 4.8, 4))
+    drift.add(stand);
+  ASSERT_TRUE(drift.drift().has_value());
+  EXPECT_NEAR(*drift.drift(), 2e-5, 3.0 * drift.sigma());
+  // Not finite, no time, no sigma: nothing changes.
+  const double before = *drift.drift();
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  drift.add({.rate = nan, .seconds = 4.8, .sigma = 1e-5});
+  drift.add({.rate = 1.0, .seconds = 0.0, .sigma = 1e-5});
+  drift.add({.rate = 1.0, .seconds = 4.8, .sigma = 0.0});
+  drift.add({.rate = 1.0, .seconds = std::numeric_limits<double>::infinity(), .sigma = 1e-5});
+  EXPECT_EQ(*drift.drift(), before);
+  EXPECT_FALSE(StandingGyroDrift({.enabled = false}).drift().has_value());
+  EXPECT_FALSE(StandingGyroDrift().drift().has_value()) << "no stand yet";
 }
 
 }  // namespace

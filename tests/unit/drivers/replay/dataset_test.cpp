@@ -163,6 +163,11 @@ TEST_F(Datasets, ScanListErrorsNameTheLine) {
   EXPECT_NE(open_error().find("gravity reading (0, 0, 0; sigma 0.01) is not a direction"), std::string::npos);
   write("scans.csv", "file,stamp,up_x,up_y,up_z,up_sigma\na.pcd,0,0,0,1,-1\n");
   EXPECT_NE(open_error().find("with a positive sigma"), std::string::npos);
+  write("scans.csv", "file,stamp,gyro_rate,gyro_seconds,gyro_sigma\na.pcd,0,1e-4,0,1e-5\n");
+  EXPECT_NE(open_error().find("scan 0: the standing gyro reading (0.0001 rad/s over 0 s; sigma 1e-05) needs"),
+            std::string::npos);
+  write("scans.csv", "file,stamp,gyro_rate,gyro_seconds,gyro_sigma\na.pcd,0,nan,4.8,1e-5\n");
+  EXPECT_NE(open_error().find("line 2: gyro_rate 'nan' is not a number"), std::string::npos);
 }
 
 TEST_F(Datasets, ScanListWithGravityReadings) {
@@ -174,6 +179,18 @@ TEST_F(Datasets, ScanListWithGravityReadings) {
   EXPECT_EQ(dataset.scans[0].gravity->up_in_base, Eigen::Vector3d::UnitZ()) << "made a unit vector";
   EXPECT_EQ(dataset.scans[0].gravity->sigma, 0.01);
   EXPECT_FALSE(dataset.scans[1].gravity.has_value());
+}
+
+TEST_F(Datasets, ScanListWithStandingGyroReadings) {
+  write("a.pcd", io::encode_binary_pcd(kPoints));
+  write("b.pcd", io::encode_binary_pcd(kPoints));
+  write("scans.csv", "file,stamp,gyro_rate,gyro_seconds,gyro_sigma\na.pcd,0,-5e-5,4.8,7.8e-5\nb.pcd,1,,,\n");
+  const Dataset dataset = open_dataset(dir_);
+  ASSERT_TRUE(dataset.scans[0].standing_gyro.has_value());
+  EXPECT_EQ(dataset.scans[0].standing_gyro->rate, -5e-5);
+  EXPECT_EQ(dataset.scans[0].standing_gyro->seconds, 4.8);
+  EXPECT_EQ(dataset.scans[0].standing_gyro->sigma, 7.8e-5);
+  EXPECT_FALSE(dataset.scans[1].standing_gyro.has_value()) << "empty fields: no stand";
 }
 
 TEST_F(Datasets, ADirectoryWithoutADatasetIsAClearError) {

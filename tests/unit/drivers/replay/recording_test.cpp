@@ -59,6 +59,8 @@ class Recording : public testing::Test {
     if (stamp > 0.05)  // the later scan with an IMU reading, the earlier without
       s.gravity =
           GravityReading{.up_in_base = Eigen::Vector3d(0.01, -1.0 / 3.0, 1.0).normalized(), .sigma = 0.003};
+    if (stamp > 0.05)
+      s.standing_gyro = StandingGyro{.rate = 1.0 / 7.0 * 1e-4, .seconds = 4.8, .sigma = 1.7e-4 / 3.0};
     return s;
   }
   /// Records 10 samples and 2 scans (at samples 3 and 7).
@@ -127,6 +129,11 @@ TEST_F(Recording, ReadsBackExactly) {
   EXPECT_EQ(got.gravity->up_in_base, expected.gravity->up_in_base);
   EXPECT_EQ(got.gravity->sigma, expected.gravity->sigma);
   EXPECT_FALSE(dataset.scans[0].gravity.has_value()) << "a scan without a reading reads back without one";
+  ASSERT_TRUE(got.standing_gyro.has_value());
+  EXPECT_EQ(got.standing_gyro->rate, expected.standing_gyro->rate);
+  EXPECT_EQ(got.standing_gyro->seconds, expected.standing_gyro->seconds);
+  EXPECT_EQ(got.standing_gyro->sigma, expected.standing_gyro->sigma);
+  EXPECT_FALSE(dataset.scans[0].standing_gyro.has_value());
 
   std::ifstream in(dir_ / "recording.json");
   const auto metadata = nlohmann::json::parse(in);

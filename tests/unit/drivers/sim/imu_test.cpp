@@ -32,6 +32,20 @@ TEST(SimulatedImu, TheGyroDriftsFarLessThanItTurns) {
   EXPECT_LT(std::abs(heading), 0.15);
 }
 
+TEST(SimulatedImu, StandingItsGyroReadsItsBiasAndLeavesTheTurnsAsTheyWere) {
+  SimulatedImu standing({.gyro_bias_stddev = 1e-4}, 9);
+  SimulatedImu driving({.gyro_bias_stddev = 1e-4}, 9);
+  ASSERT_GT(std::abs(standing.gyro_bias()), 2e-5) << "seed 9 draws a bias to find";
+  double turned = 0.0;
+  constexpr double kSeconds = 1000.0;
+  for (int i = 0; i < 50000; ++i)
+    turned += standing.measure_standing_turn(kSeconds / 50000);
+  // The mean rate is the bias, but for the noise over 1000 s: 1.7e-4 / sqrt(1000) rad/s.
+  EXPECT_NEAR(turned / kSeconds, standing.gyro_bias(), 3.0 * 1.7e-4 / std::sqrt(kSeconds));
+  EXPECT_EQ(standing.measure_turn(0.1, 0.02), driving.measure_turn(0.1, 0.02))
+      << "a sequence of its own: the odometry's turns are the same read or not";
+}
+
 TEST(SimulatedImu, GravityIsReadWithinItsStatedSigma) {
   SimulatedImu imu({}, 3);
   const Pose3 truth{{0.0, 0.0, 0.0}, 0.2, 0.1, -2.0};

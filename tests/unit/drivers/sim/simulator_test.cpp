@@ -118,6 +118,11 @@ TEST(Simulator, StopAndGoStandsStillWhileScanning) {
     EXPECT_EQ(scan.sensor, "tilting-laser");
     EXPECT_GT(scan.points.size(), scan.rays / 2);
     ASSERT_TRUE(scan.truth);
+    // What the gyro read while the base stood for the scan: at least the scan's time, its bias.
+    ASSERT_TRUE(scan.standing_gyro);
+    EXPECT_GE(scan.standing_gyro->seconds, scan.duration - 0.02);
+    EXPECT_NEAR(scan.standing_gyro->sigma, 1.7e-4 / std::sqrt(scan.standing_gyro->seconds), 1e-12);
+    EXPECT_NEAR(scan.standing_gyro->rate, sim.imu()->gyro_bias(), 5.0 * scan.standing_gyro->sigma);
   }
   // The robot moved about the scan spacing between scans.
   const double moved = (scans[2].truth->position - scans[1].truth->position).norm();
@@ -168,6 +173,7 @@ TEST(Simulator, LidarScansWhileDriving) {
   EXPECT_EQ(scans.size(), 30u);  // 10 Hz for 3 s, the first revolution starting at once
   EXPECT_GT(sim.sample().velocity.v, 0.1);
   EXPECT_EQ(scans.back().sensor, "vlp16");
+  EXPECT_FALSE(scans.back().standing_gyro) << "a driving base has no stand to read its gyro's bias in";
 }
 
 }  // namespace
