@@ -21,9 +21,9 @@ struct HeadingDriftOptions {
   double max_rate = 1e-3;
   /// What the gyro read standing still (StandingGyro) is its bias, measured directly: where a base reports
   /// it, it replaces the fit once the mean over the stands is this sure, rad/s (3 degrees an hour: a
-  /// consumer gyro's noise over some 60 stop-and-go scans). Before the first loop the fit reads half the
-  /// drift or less (walls hold the heading only in stretches), and a drift known before the first loop
-  /// took the campus's maximum error from 0.40 to 0.28 m over ten seeds (docs/benchmarks.md, "Gyro at
+  /// consumer gyro's noise over some 27 of the tilting scanner's 4.8 s stands). Before the first loop the
+  /// fit reads half the drift or less (walls hold the heading only in stretches); the gyro read standing
+  /// took the campus's maximum error from 0.40 to 0.30 m over ten seeds (docs/benchmarks.md, "Gyro at
   /// rest").
   double standing_max_sigma = 1.5e-5;
   /// The stands the bias is averaged over, seconds of standing: the last hour's, to follow a bias that
