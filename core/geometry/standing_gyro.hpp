@@ -1,5 +1,7 @@
 #pragma once
 
+#include <cmath>
+
 namespace strata {
 
 /// What the base's gyro read about its vertical axis while the base stood still: its bias, which is what
@@ -10,6 +12,12 @@ struct StandingGyro {
   double seconds = 0.0;  ///< how long the base stood
   /// The mean's standard deviation, rad/s: the gyro's noise density over the square root of `seconds`.
   double sigma = 0.0;
+
+  /// A finite rate over some time, with a sigma to weigh it by.
+  [[nodiscard]] bool usable() const {
+    return std::isfinite(rate) && std::isfinite(seconds) && std::isfinite(sigma) && seconds > 0.0 &&
+           sigma > 0.0;
+  }
 };
 
 }  // namespace strata

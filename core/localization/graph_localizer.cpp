@@ -66,14 +66,14 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
                                             double stamp, const Eigen::Vector3d& sensor_origin,
                                             const std::optional<GravityReading>& gravity,
                                             const std::optional<StandingGyro>& standing_gyro) {
-  if (standing_gyro && odometry) {
+  if (standing_gyro && odometry)
     standing_drift_.add(*standing_gyro);
-    if (const std::optional<double> measured = standing_drift_.drift()) {
-      heading_drift_ = *measured;
-      std::lock_guard lock(mutex_);
-      status_.heading_drift = *measured;
-      heading_drift_measured_ = true;
-    }
+  const std::optional<double> measured_drift = standing_drift_.drift();
+  if (measured_drift) {
+    heading_drift_ = *measured_drift;
+    std::lock_guard lock(mutex_);
+    status_.heading_drift = *measured_drift;
+    heading_drift_measured_ = true;
   }
   bool map_moved = false;
   const bool pose_graph = options_.pose_graph && !scan_matching_.localizing();
@@ -86,7 +86,7 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
       if (correction)
         last_keyframe_frontend_ = *correction * last_keyframe_frontend_;
       // The graph's fit, where the gyro's standing reading does not tell the drift itself.
-      if (pending_heading_drift_ && !standing_drift_.drift())
+      if (pending_heading_drift_ && !measured_drift)
         heading_drift_ = *std::exchange(pending_heading_drift_, std::nullopt);
       mounting = std::exchange(pending_mounting_, std::nullopt);
     }

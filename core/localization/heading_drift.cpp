@@ -42,8 +42,7 @@ std::optional<double> fit_heading_drift(std::span<const HeadingSample> samples,
 }
 
 void StandingGyroDrift::add(const StandingGyro& reading) {
-  if (!std::isfinite(reading.rate) || !std::isfinite(reading.seconds) || !std::isfinite(reading.sigma) ||
-      reading.seconds <= 0.0 || reading.sigma <= 0.0)
+  if (!reading.usable())
     return;
   stands_.push_back(reading);
   seconds_ += reading.seconds;
@@ -51,25 +50,25 @@ void StandingGyroDrift::add(const StandingGyro& reading) {
     seconds_ -= stands_.front().seconds;
     stands_.pop_front();
   }
+  // Summed afresh, once per stand (a few hundred in the window), rather than kept as running sums that
+  // would carry the rounding of every stand that left.
+  weights_ = 0.0;
+  weighted_rates_ = 0.0;
+  for (const StandingGyro& stand : stands_) {
+    const double weight = 1.0 / (stand.sigma * stand.sigma);
+    weights_ += weight;
+    weighted_rates_ += weight * stand.rate;
+  }
 }
 
 std::optional<double> StandingGyroDrift::drift() const {
-  if (!options_.enabled || stands_.empty() || !(sigma() <= options_.standing_max_sigma))
+  if (!options_.enabled || !(sigma() <= options_.standing_max_sigma))
     return std::nullopt;
-  double weights = 0.0, weighted = 0.0;
-  for (const StandingGyro& stand : stands_) {
-    const double weight = 1.0 / (stand.sigma * stand.sigma);
-    weights += weight;
-    weighted += weight * stand.rate;
-  }
-  return -weighted / weights;
+  return -weighted_rates_ / weights_;
 }
 
 double StandingGyroDrift::sigma() const {
-  double weights = 0.0;
-  for (const StandingGyro& stand : stands_)
-    weights += 1.0 / (stand.sigma * stand.sigma);
-  return weights > 0.0 ? 1.0 / std::sqrt(weights) : std::numeric_limits<double>::infinity();
+  return weights_ > 0.0 ? 1.0 / std::sqrt(weights_) : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace strata

@@ -66,6 +66,8 @@ class StandingGyroDrift {
   HeadingDriftOptions options_;
   std::deque<StandingGyro> stands_;
   double seconds_ = 0.0;
+  double weights_ = 0.0;         ///< the stands' 1 / sigma^2, summed
+  double weighted_rates_ = 0.0;  ///< their rates weighed so, summed
 };
 
 }  // namespace strata

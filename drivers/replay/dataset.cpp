@@ -139,8 +139,7 @@ StandingGyro read_standing_gyro(const CsvTable& table, std::size_t row, const st
   const StandingGyro gyro{.rate = table.number(row, "gyro_rate"),
                           .seconds = table.number(row, "gyro_seconds"),
                           .sigma = table.number(row, "gyro_sigma")};
-  if (!std::isfinite(gyro.rate) || !std::isfinite(gyro.seconds) || !std::isfinite(gyro.sigma) ||
-      gyro.seconds <= 0.0 || gyro.sigma <= 0.0)
+  if (!gyro.usable())
     throw DatasetError(
         fmt::format("{}: scan {}: the standing gyro reading ({} rad/s over {} s; sigma {}) "
                     "needs a finite rate, positive seconds and a positive sigma",

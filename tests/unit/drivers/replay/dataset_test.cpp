@@ -170,26 +170,21 @@ TEST_F(Datasets, ScanListErrorsNameTheLine) {
   EXPECT_NE(open_error().find("line 2: gyro_rate 'nan' is not a number"), std::string::npos);
 }
 
-TEST_F(Datasets, ScanListWithGravityReadings) {
+TEST_F(Datasets, ScanListWithImuReadings) {
   write("a.pcd", io::encode_binary_pcd(kPoints));
   write("b.pcd", io::encode_binary_pcd(kPoints));
-  write("scans.csv", "file,stamp,up_x,up_y,up_z,up_sigma\na.pcd,0,0,0,2,0.01\nb.pcd,1,,,,\n");
+  write("scans.csv",
+        "file,stamp,up_x,up_y,up_z,up_sigma,gyro_rate,gyro_seconds,gyro_sigma\n"
+        "a.pcd,0,0,0,2,0.01,-5e-5,4.8,7.8e-5\nb.pcd,1,,,,,,,\n");
   const Dataset dataset = open_dataset(dir_);
   ASSERT_TRUE(dataset.scans[0].gravity.has_value());
   EXPECT_EQ(dataset.scans[0].gravity->up_in_base, Eigen::Vector3d::UnitZ()) << "made a unit vector";
   EXPECT_EQ(dataset.scans[0].gravity->sigma, 0.01);
-  EXPECT_FALSE(dataset.scans[1].gravity.has_value());
-}
-
-TEST_F(Datasets, ScanListWithStandingGyroReadings) {
-  write("a.pcd", io::encode_binary_pcd(kPoints));
-  write("b.pcd", io::encode_binary_pcd(kPoints));
-  write("scans.csv", "file,stamp,gyro_rate,gyro_seconds,gyro_sigma\na.pcd,0,-5e-5,4.8,7.8e-5\nb.pcd,1,,,\n");
-  const Dataset dataset = open_dataset(dir_);
   ASSERT_TRUE(dataset.scans[0].standing_gyro.has_value());
   EXPECT_EQ(dataset.scans[0].standing_gyro->rate, -5e-5);
   EXPECT_EQ(dataset.scans[0].standing_gyro->seconds, 4.8);
   EXPECT_EQ(dataset.scans[0].standing_gyro->sigma, 7.8e-5);
+  EXPECT_FALSE(dataset.scans[1].gravity.has_value()) << "empty fields: no reading";
   EXPECT_FALSE(dataset.scans[1].standing_gyro.has_value()) << "empty fields: no stand";
 }
 
