@@ -45,6 +45,9 @@ class RobotDriver {
   [[nodiscard]] virtual std::string description() const = 0;
   /// Where the odometry frame starts in the map frame (what an operator's initial pose gives).
   [[nodiscard]] virtual Eigen::Isometry3d initial_map_from_odom() const = 0;
+  /// Which IMU the base's gravity readings come from, as a name that stays the same from run to run of
+  /// the same robot (what its calibration is kept under); none for a source without one.
+  [[nodiscard]] virtual std::optional<std::string> imu_name() const { return std::nullopt; }
   /// The simulated world, for the web app and REST; null for anything but the simulator.
   [[nodiscard]] virtual const sim::World* world() const { return nullptr; }
   /// Whether set_command_source() drives anything (false: goals and teleop have no effect on the robot).

@@ -108,6 +108,16 @@ std::string ReplayDriver::description() const {
                      odometry_from_, clock_.description());
 }
 
+std::optional<std::string> ReplayDriver::imu_name() const {
+  const bool has_imu =
+      std::ranges::any_of(dataset_.scans, [](const DatasetScan& scan) { return scan.gravity.has_value(); });
+  if (!has_imu)
+    return std::nullopt;
+  std::error_code error;
+  const std::filesystem::path directory = std::filesystem::weakly_canonical(dataset_.directory, error);
+  return "the IMU of the dataset " + (error ? dataset_.directory : directory).string();
+}
+
 void ReplayDriver::start(Outputs outputs) {
   if (thread_.joinable())
     return;

@@ -50,6 +50,8 @@ class ReplayDriver final : public RobotDriver {
   [[nodiscard]] std::string kind() const override { return "replay"; }
   [[nodiscard]] std::string description() const override;
   [[nodiscard]] Eigen::Isometry3d initial_map_from_odom() const override { return initial_map_from_odom_; }
+  /// A dataset with gravity readings: its IMU, named by the dataset's directory.
+  [[nodiscard]] std::optional<std::string> imu_name() const override;
   void start(Outputs outputs) override;
   void stop() override;
   [[nodiscard]] bool finished() const override { return finished_; }

@@ -1,5 +1,6 @@
 #include "drivers/sim/simulator_driver.hpp"
 
+#include <string>
 #include <utility>
 
 namespace strata::sim {
@@ -9,6 +10,8 @@ SimulatorDriver::SimulatorDriver(Simulator simulator, SimulatedRobotConfig confi
   // The simulator holds its world by shared_ptr: the World stays where it is when the simulator moves
   // into the robot at start(), and lives as long as this driver.
   world_ = &simulator_->world();
+  if (simulator_->config().imu)
+    imu_name_ = "simulated IMU, seed " + std::to_string(simulator_->config().seed);
   const RobotSample start = simulator_->sample();
   initial_map_from_odom_ = start.truth->to_isometry() * start.odometry.to_isometry().inverse();
 }

@@ -22,6 +22,8 @@ class SimulatorDriver final : public RobotDriver {
   [[nodiscard]] std::string description() const override { return description_; }
   /// The robot is told where it starts (as an operator sets an initial pose): the map frame is the world's.
   [[nodiscard]] Eigen::Isometry3d initial_map_from_odom() const override { return initial_map_from_odom_; }
+  /// The simulated IMU draws its errors from the seed: one seed, one robot.
+  [[nodiscard]] std::optional<std::string> imu_name() const override { return imu_name_; }
   [[nodiscard]] const World* world() const override { return world_; }
   [[nodiscard]] bool accepts_commands() const override { return true; }
   void set_command_source(CommandSource source) override { command_source_ = std::move(source); }
@@ -33,6 +35,7 @@ class SimulatorDriver final : public RobotDriver {
   std::optional<Simulator> simulator_;  // until start() hands it to the robot
   SimulatedRobotConfig config_;
   std::string description_;
+  std::optional<std::string> imu_name_;
   Eigen::Isometry3d initial_map_from_odom_;
   CommandSource command_source_;
   std::unique_ptr<SimulatedRobot> robot_;

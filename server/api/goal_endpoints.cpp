@@ -1,10 +1,12 @@
-// REST: the goal (GET, POST to set, DELETE to cancel), the planned path, and the operator's pose estimate.
+// REST: the goal (GET, POST to set, DELETE to cancel), the planned path, the operator's pose estimate, and
+// the IMU calibration kept between runs (GET, DELETE to forget it).
 #include <nlohmann/json.hpp>
 #include <variant>
 
 #include "server/api/http_router.hpp"
 #include "server/api/responses.hpp"
 #include "server/protocol/client_messages.hpp"
+#include "server/protocol/messages.hpp"
 
 namespace strata::api {
 
@@ -87,6 +89,31 @@ protocol::HttpResponse HttpRouter::pose_estimate(const protocol::HttpRequest& re
   if (!result.ok)
     return command_error(request, result.code, result.message);
   return json_response(request, http::status::accepted, nlohmann::json{{"message", result.message}}.dump());
+}
+
+protocol::HttpResponse HttpRouter::imu_calibration(const protocol::HttpRequest& request) const {
+  const bool clear = request.method() == http::verb::delete_;
+  if (!is_read(request) && !clear)
+    return method_not_allowed(request, "GET, HEAD, DELETE");
+  if (clear) {
+    if (auto refusal = require_operator(request))
+      return std::move(*refusal);
+  }
+  CalibrationCommands* calibration = services_.calibration;
+  if (calibration == nullptr) {
+    return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
+                          "no IMU calibration is kept on this server");
+  }
+  nlohmann::json answer;
+  if (clear) {
+    const CommandResult result = calibration->clear_imu_calibration();
+    if (!result.ok)
+      return command_error(request, result.code, result.message);
+    answer["message"] = result.message;
+  }
+  answer.update(protocol::imu_calibration_fields(calibration->imu_calibration()));
+  return json_response(request, http::status::ok,
+                       answer.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace));
 }
 
 }  // namespace strata::api

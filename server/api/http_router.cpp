@@ -76,6 +76,8 @@ std::optional<protocol::HttpResponse> HttpRouter::route_api(const protocol::Http
   }
   if (path == "/api/v1/pose/estimate")
     return pose_estimate(request);
+  if (path == "/api/v1/imu-calibration")
+    return imu_calibration(request);
   if (path == "/api/v1/status")
     return read_only([&] { return json_response(request, http::status::ok, status_.fields().dump()); });
   if (path == "/api/v1/sim/world" && !sim_world_.empty())

@@ -35,6 +35,7 @@ class HttpRouter {
   [[nodiscard]] protocol::HttpResponse goal(const protocol::HttpRequest& request) const;
   [[nodiscard]] protocol::HttpResponse path(const protocol::HttpRequest& request) const;
   [[nodiscard]] protocol::HttpResponse pose_estimate(const protocol::HttpRequest& request) const;
+  [[nodiscard]] protocol::HttpResponse imu_calibration(const protocol::HttpRequest& request) const;
   // api/map_endpoints.cpp
   [[nodiscard]] protocol::HttpResponse map_download(const protocol::HttpRequest& request,
                                                     std::string_view query) const;

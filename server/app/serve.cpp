@@ -45,6 +45,16 @@ std::filesystem::path default_maps_dir() {
   return "maps";
 }
 
+std::filesystem::path default_imu_calibration_file() {
+  const char* state_home = std::getenv("XDG_STATE_HOME");
+  if (state_home != nullptr && *state_home == '/')
+    return std::filesystem::path(state_home) / "strata" / "imu-calibration.json";
+  const char* home = std::getenv("HOME");
+  if (home != nullptr && *home != '\0')
+    return std::filesystem::path(home) / ".local" / "state" / "strata" / "imu-calibration.json";
+  return "imu-calibration.json";
+}
+
 sim::WorldDescription load_world(const std::string& name_or_path) {
   if (std::filesystem::exists(name_or_path))
     return sim::load_world_file(name_or_path);
@@ -86,6 +96,9 @@ pipeline::PipelineOptions pipeline_options(const ServeOptions& options) {
   pipeline.max_scans = options.max_scans;
   pipeline.initial_map = options.map;
   pipeline.initial_map_mode = options.map_mode;
+  if (options.keep_imu_calibration)
+    pipeline.imu_calibration_file =
+        options.imu_calibration.empty() ? default_imu_calibration_file() : options.imu_calibration;
   return pipeline;
 }
 

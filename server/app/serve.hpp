@@ -83,8 +83,11 @@ struct ServeOptions {
   std::filesystem::path maps_dir;  ///< saved maps; empty: default_maps_dir()
   std::string map;                 ///< a saved map in maps_dir to start with; empty: none
   MapMode map_mode = MapMode::kMapping;
-  std::filesystem::path record;  ///< write the scans and odometry here (replay layout); empty: none
-  std::size_t max_scans = 0;     ///< hand at most this many scans to the pipeline; 0: all
+  /// Where the IMU calibration is kept between runs; empty: default_imu_calibration_file().
+  std::filesystem::path imu_calibration;
+  bool keep_imu_calibration = true;  ///< false: none is loaded or kept (--no-imu-calibration)
+  std::filesystem::path record;      ///< write the scans and odometry here (replay layout); empty: none
+  std::size_t max_scans = 0;         ///< hand at most this many scans to the pipeline; 0: all
   /// Wall-clock seconds a due scan may be late before the status says the sensor stalled; 0: 10 s, longer
   /// when --time-scale slows the simulator down.
   double sensor_timeout = 0.0;
@@ -100,6 +103,11 @@ int serve(const ServeOptions& options);
 /// Where saved maps live when no --maps-dir is given: $XDG_DATA_HOME/strata/maps, else
 /// ~/.local/share/strata/maps (the XDG default), else ./maps when there is no HOME either.
 [[nodiscard]] std::filesystem::path default_maps_dir();
+
+/// Where the IMU calibration is kept when no --imu-calibration is given:
+/// $XDG_STATE_HOME/strata/imu-calibration.json, else ~/.local/state/strata/imu-calibration.json (the XDG
+/// default: state that outlives a run but is no document), else ./imu-calibration.json.
+[[nodiscard]] std::filesystem::path default_imu_calibration_file();
 
 /// Where the web bundle is when none is given: `web/` next to the executable (a build tree), or
 /// `../share/strata/web` from it (an installed package).

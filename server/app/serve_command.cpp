@@ -74,6 +74,11 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
   command->add_option("--maps-dir", options.maps_dir,
                       "Directory of saved maps, created if missing (default: $XDG_DATA_HOME/strata/maps, "
                       "i.e. ~/.local/share/strata/maps)");
+  command->add_option("--imu-calibration", options.imu_calibration,
+                      "File the base IMU's calibration is kept in between runs (default: "
+                      "$XDG_STATE_HOME/strata/imu-calibration.json, i.e. ~/.local/state/strata/...)");
+  command->add_flag("!--no-imu-calibration", options.keep_imu_calibration,
+                    "Neither start from a kept IMU calibration nor keep this run's");
   command->add_option(
       "--map", options.map,
       "A saved map (its name in --maps-dir) to start with, for --mode: mapping goes on in it, "

@@ -9,6 +9,7 @@
 
 #include "server/control/error_code.hpp"
 #include "server/state/goal_state.hpp"
+#include "server/state/robot_state.hpp"
 
 namespace strata {
 
@@ -79,6 +80,18 @@ class LocalizationCommands {
   /// found, placed there; the status's `relocalization` says how it went. kBadParams when it localizes in
   /// no saved map (mapping: the map is where the robot's scans put it) or the estimate is not finite.
   virtual CommandResult set_pose_estimate(const PoseEstimate& estimate) = 0;
+};
+
+/// The IMU calibration the server keeps between runs of the robot (pipeline::ImuCalibrationStore). Any
+/// thread.
+class CalibrationCommands {
+ public:
+  virtual ~CalibrationCommands() = default;
+  [[nodiscard]] virtual ImuCalibrationStatus imu_calibration() const = 0;
+  /// Forgets the kept calibration (the IMU was mounted again): the next run starts from none. This run
+  /// goes on from what it started with, and keeps its own estimate again at its next loop closure.
+  /// kUnavailable when nothing is kept (off), kIoError when the file cannot be removed.
+  virtual CommandResult clear_imu_calibration() = 0;
 };
 
 /// What a loaded map is for (docs/architecture.md 4.1, "Localizing in a saved map").

@@ -20,6 +20,7 @@ struct ServerServices {
   MotionCommands* motion = nullptr;
   MapCommands* maps = nullptr;
   LocalizationCommands* localization = nullptr;
+  CalibrationCommands* calibration = nullptr;
   const sim::World* sim_world = nullptr;  ///< the simulated world, or null for a real robot
   /// As the server runs with them: the operator token made if none was given (empty here: nobody is an
   /// operator), the web root found, the allowed hosts with the machine's own names added.

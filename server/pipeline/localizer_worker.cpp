@@ -59,6 +59,15 @@ void LocalizerWorker::stop() {
     loop_thread_.join();  // an optimization under way finishes first (a second or less)
 }
 
+void LocalizerWorker::keep_imu_calibration(ImuCalibrationStore& store) {
+  calibration_ = &store;
+  if (const std::optional<ImuCalibration> kept = store.load())
+    localizer_.start_from_calibration(Eigen::Vector3d(kept->mounting.x(), kept->mounting.y(), 0.0));
+  status_.imu_calibration = store.imu_calibration();
+  status_.graph = localizer_.status();  // the mounting error it starts from, before the first scan
+  state_.set_registration(status_);
+}
+
 void LocalizerWorker::close_loops() {
   while (true) {
     {
@@ -78,6 +87,8 @@ void LocalizerWorker::close_loops() {
             graph.last_loop_stamp, graph.last_correction, graph.loops, graph.keyframes,
             graph.last_optimization_seconds, graph.heading_drift_deg_per_h(),
             graph.gravity_mounting_deg().x(), graph.gravity_mounting_deg().y());
+        if (calibration_ != nullptr)
+          calibration_->update(graph);
         if (keyframes_sink_)
           keyframes_sink_(localizer_.keyframes());
       }
@@ -374,6 +385,8 @@ void LocalizerWorker::process(ScanEvent event) {
   state_.set_gravity_mounting(localizer_.gravity_mounting());
   state_.set_correction(map_from_odom, true, stamp);
   status_.graph = localizer_.status();
+  if (calibration_ != nullptr)
+    status_.imu_calibration = calibration_->imu_calibration();
   state_.set_registration(status_);
   {
     std::lock_guard lock(mutex_);

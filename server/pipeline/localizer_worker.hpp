@@ -14,6 +14,7 @@
 #include "core/localization/relocalizer.hpp"
 #include "drivers/scan_event.hpp"
 #include "server/control/robot_commands.hpp"
+#include "server/pipeline/imu_calibration_store.hpp"
 #include "server/pipeline/scan_preprocessing.hpp"
 #include "server/state/robot_state.hpp"
 
@@ -46,6 +47,10 @@ class LocalizerWorker final : public LocalizationCommands {
   /// them): all keyframes at their new poses, on the pose graph's thread. Before start().
   using KeyframesMovedSink = std::function<void(const std::vector<KeyframePose>& keyframes)>;
   void set_keyframes_moved_sink(KeyframesMovedSink sink) { keyframes_sink_ = std::move(sink); }
+
+  /// Starts from the IMU calibration `store` keeps, if any, and keeps the pose graph's estimate there
+  /// after each loop closure. `store` outlives the worker. Before start().
+  void keep_imu_calibration(ImuCalibrationStore& store);
 
   void start();
   void stop();
@@ -88,6 +93,7 @@ class LocalizerWorker final : public LocalizationCommands {
   RobotState& state_;
   RegisteredScanSink sink_;
   KeyframesMovedSink keyframes_sink_;
+  ImuCalibrationStore* calibration_ = nullptr;
   GraphLocalizer localizer_;
   RegistrationStatus status_;
   LocalizationHealthClassifier health_;  // scan path only

@@ -28,6 +28,14 @@ MappingOptions mapping_for(const RobotParameters& robot) {
   return mapping;
 }
 
+/// The store for the driver's IMU in `file`; one that keeps nothing for a driver without an IMU.
+ImuCalibrationStore calibration_store(const std::filesystem::path& file, const RobotDriver& driver) {
+  const std::optional<std::string> imu = driver.imu_name();
+  if (file.empty() || !imu)
+    return ImuCalibrationStore();
+  return ImuCalibrationStore(file, *imu);
+}
+
 }  // namespace
 
 RobotPipeline::RobotPipeline(std::unique_ptr<RobotDriver> driver, std::unique_ptr<replay::Recorder> recorder,
@@ -36,12 +44,14 @@ RobotPipeline::RobotPipeline(std::unique_ptr<RobotDriver> driver, std::unique_pt
       recorder_(std::move(recorder)),
       navigator_(navigation_for(options.robot)),
       mapping_(map_state_, options.maps_dir, mapping_for(options.robot)),
+      calibration_(calibration_store(options.imu_calibration_file, *driver_)),
       localizer_(robot_state_, GraphLocalizerOptions{}, driver_->initial_map_from_odom()),
       max_scans_(options.max_scans),
       initial_map_(options.initial_map),
       initial_map_mode_(options.initial_map_mode) {
   robot_state_.set_driver(DriverStatus{driver_->kind(), false});
   robot_state_.set_sensor_timeout(options.sensor_timeout);
+  localizer_.keep_imu_calibration(calibration_);
   take_scans_from_the_driver();
   map_the_registered_scans();
   plan_on_the_live_map();
@@ -141,6 +151,7 @@ ServerServices RobotPipeline::services() {
   services.motion = &navigator_;
   services.maps = &mapping_;
   services.localization = &localizer_;
+  services.calibration = &calibration_;
   services.sim_world = driver_->world();  // null for a replay or a lidar: no simulated world to draw
   return services;
 }

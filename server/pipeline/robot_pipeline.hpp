@@ -9,6 +9,7 @@
 #include "drivers/replay/recorder.hpp"
 #include "drivers/robot_driver.hpp"
 #include "server/control/server_services.hpp"
+#include "server/pipeline/imu_calibration_store.hpp"
 #include "server/pipeline/localizer_worker.hpp"
 #include "server/pipeline/mapping_worker.hpp"
 #include "server/pipeline/navigator.hpp"
@@ -35,6 +36,8 @@ struct PipelineOptions {
   /// A saved map (a name in maps_dir) to load at start, and what for; empty: start with no map.
   std::string initial_map;
   MapMode initial_map_mode = MapMode::kMapping;
+  /// Where the IMU calibration is kept between runs (ImuCalibrationStore); empty: nowhere.
+  std::filesystem::path imu_calibration_file;
 };
 
 /// One running robot: the driver and everything a scan passes through on its way into the map, and the
@@ -79,6 +82,7 @@ class RobotPipeline {
   Navigator navigator_;
   MapState map_state_;
   MappingWorker mapping_;
+  ImuCalibrationStore calibration_;  // before the localizer, which saves into it
   LocalizerWorker localizer_;
   RobotDriver::Outputs outputs_;  // handed to the driver at start()
   std::size_t max_scans_ = 0;

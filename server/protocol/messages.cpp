@@ -42,6 +42,19 @@ std::string pose_message(const RobotSnapshot& robot) {
   return message.dump();
 }
 
+nlohmann::json imu_calibration_fields(const ImuCalibrationStatus& calibration) {
+  nlohmann::json fields{{"kept", to_string(calibration.kept)},
+                        {"imu", calibration.imu.empty() ? nlohmann::json() : nlohmann::json(calibration.imu)},
+                        {"roll_deg", nullptr},
+                        {"pitch_deg", nullptr},
+                        {"loops", calibration.loops}};
+  if (calibration.mounting_deg) {
+    fields["roll_deg"] = calibration.mounting_deg->x();
+    fields["pitch_deg"] = calibration.mounting_deg->y();
+  }
+  return fields;
+}
+
 nlohmann::json status_fields(const RegistrationStatus& registration, const StatusExtras& extras) {
   nlohmann::json reg{{"scans", registration.scans},       {"accepted", registration.accepted},
                      {"rejected", registration.rejected}, {"partial", registration.partial},
@@ -62,7 +75,8 @@ nlohmann::json status_fields(const RegistrationStatus& registration, const Statu
                             {"last_correction_m", graph.last_correction},
                             {"heading_drift_deg_per_h", graph.heading_drift_deg_per_h()},
                             {"gravity_mounting_roll_deg", graph.gravity_mounting_deg().x()},
-                            {"gravity_mounting_pitch_deg", graph.gravity_mounting_deg().y()}};
+                            {"gravity_mounting_pitch_deg", graph.gravity_mounting_deg().y()},
+                            {"imu_calibration", imu_calibration_fields(registration.imu_calibration)}};
   if (graph.last_loop_stamp >= 0.0)
     pose_graph["last_loop_stamp"] = graph.last_loop_stamp;
   nlohmann::json map{{"version", 0}, {"tiles", 0},    {"cells", 0},       {"patches", 0},

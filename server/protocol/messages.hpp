@@ -34,6 +34,9 @@ struct StatusExtras {
 /// {"op":"status", ...}: the status stream (1 Hz).
 [[nodiscard]] std::string status_message(const RegistrationStatus& registration, const StatusExtras& extras);
 /// The body of GET /api/v1/goal and the `goal` message's fields.
+/// The IMU calibration kept between runs: the status's pose_graph.imu_calibration and
+/// GET /api/v1/imu-calibration.
+[[nodiscard]] nlohmann::json imu_calibration_fields(const ImuCalibrationStatus& calibration);
 [[nodiscard]] nlohmann::json goal_fields(const GoalStatus& goal);
 [[nodiscard]] std::string goal_message(const GoalStatus& goal);
 /// The body of GET /api/v1/path and the `path` message's fields; `path` may be null (no path).

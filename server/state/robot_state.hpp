@@ -15,6 +15,35 @@
 
 namespace strata {
 
+/// The IMU calibration the server keeps between runs of the same robot (pipeline::ImuCalibrationStore;
+/// docs/architecture.md 4.1, "IMU calibration kept between runs").
+struct ImuCalibrationStatus {
+  enum class Kept {
+    kOff,     ///< nothing is kept: the base has no IMU, or --no-imu-calibration
+    kNone,    ///< nothing kept for this IMU yet
+    kLoaded,  ///< this run started from what an earlier run kept
+    kSaved,   ///< this run's own estimate, confirmed by loop closures, is kept for the next
+  };
+  Kept kept = Kept::kOff;
+  std::string imu;  ///< which IMU (RobotDriver::imu_name); empty when off
+  /// The kept mounting error's roll and pitch, degrees; with kLoaded and kSaved.
+  std::optional<Eigen::Vector2d> mounting_deg;
+  std::size_t loops = 0;  ///< loop closures the kept estimate was confirmed by
+};
+[[nodiscard]] inline const char* to_string(ImuCalibrationStatus::Kept kept) {
+  switch (kept) {
+    case ImuCalibrationStatus::Kept::kNone:
+      return "none";
+    case ImuCalibrationStatus::Kept::kLoaded:
+      return "loaded";
+    case ImuCalibrationStatus::Kept::kSaved:
+      return "saved";
+    case ImuCalibrationStatus::Kept::kOff:
+      break;
+  }
+  return "off";
+}
+
 /// How scan registration has been going: what the status stream reports.
 struct RegistrationStatus {
   std::size_t scans = 0;     ///< scans the localizer processed
@@ -39,6 +68,7 @@ struct RegistrationStatus {
   };
   std::optional<Last> last;
   PoseGraphStatus graph;  ///< keyframes and loop closures (docs/architecture.md 4.1)
+  ImuCalibrationStatus imu_calibration;
   /// The last search for the robot in a saved map (an operator's pose estimate).
   struct Relocalization {
     double stamp = 0.0;  ///< of the scan it searched with

@@ -4,7 +4,8 @@
 // Usage: strata_localization_bench [world] [simulated seconds] [tilting|lidar]
 // STRATA_BENCH_TRACE=1 prints every scan's error and verdict to stderr.
 // STRATA_BENCH_SEEDS=FIRST-LAST runs it once per simulator seed and then prints the errors over the seeds
-// (mean and worst): one seed's maximum moves by 0.1-0.3 m for small changes (docs/benchmarks.md).
+// (mean and worst): one seed's maximum moves by 0.1-0.3 m for small changes (docs/benchmarks.md); with
+// STRATA_BENCH_SECOND_RUN=1 each seed runs twice, the second from the IMU calibration the first kept.
 //
 // Map consistency ("revisit spread"): where two scans far apart along the way (>= 15 m driven) saw the
 // same place (within 5 m), how far apart the map puts the same true point from the two: the walls a map
@@ -151,13 +152,14 @@ int run_seeds(int argc, char** argv, const std::string& seeds) {
   ::unsetenv("STRATA_BENCH_SEEDS");
   // Each measure: its values over the seeds.
   std::map<std::string, std::vector<double>> values;
-  for (int seed = first; seed <= last; ++seed) {
-    ::setenv("STRATA_BENCH_SEED", std::to_string(seed).c_str(), 1);
+  // One run of the bench as a child process: its lines passed on, its result returned.
+  const auto run_child = [&](int seed) -> nlohmann::json {
     FILE* child = ::popen(command.c_str(), "r");
     if (child == nullptr) {
       std::perror("popen");
-      return 1;
+      return {};
     }
+    nlohmann::json result;
     std::string line;
     for (int c = std::fgetc(child); c != EOF; c = std::fgetc(child)) {
       if (c != '\n') {
@@ -167,20 +169,42 @@ int run_seeds(int argc, char** argv, const std::string& seeds) {
       std::printf("%s\n", line.c_str());
       std::fflush(stdout);
       const nlohmann::json run = nlohmann::json::parse(line, nullptr, false);
-      if (!run.is_discarded() && run.value("bench", "") == "localization") {
-        values["final_error_m"].push_back(run["final_error_m"]["corrected"].get<double>());
-        values["max_error_m"].push_back(run["max_error_m"]["corrected"].get<double>());
-        values["max_height_error_m"].push_back(run["max_height_error_m"].get<double>());
-        values["rebuilt_spread_p95_m"].push_back(run["revisit_spread_m"]["rebuilt_map"]["p95"].get<double>());
-        values["registration_median_ms"].push_back(run["registration_ms"]["median"].get<double>());
-      }
+      if (!run.is_discarded() && run.value("bench", "") == "localization")
+        result = run;
       line.clear();
     }
     if (::pclose(child) != 0)
       std::fprintf(stderr, "seed %d: the run failed\n", seed);
+    return result;
+  };
+  // STRATA_BENCH_SECOND_RUN=1: each seed run twice, the second starting from the IMU mounting error the
+  // first ended with (what the server keeps between runs, pipeline::ImuCalibrationStore); the errors are
+  // the second run's.
+  const char* second_run = std::getenv("STRATA_BENCH_SECOND_RUN");
+  const bool twice = second_run != nullptr && std::string(second_run) == "1";
+  ::unsetenv("STRATA_BENCH_SECOND_RUN");
+  for (int seed = first; seed <= last; ++seed) {
+    ::setenv("STRATA_BENCH_SEED", std::to_string(seed).c_str(), 1);
+    ::unsetenv("STRATA_BENCH_START_MOUNTING_DEG");
+    nlohmann::json run = run_child(seed);
+    if (twice && run.contains("pose_graph")) {
+      const nlohmann::json& kept = run["pose_graph"]["gravity_mounting_deg"];
+      const std::string mounting =
+          std::to_string(kept[0].get<double>()) + "," + std::to_string(kept[1].get<double>());
+      ::setenv("STRATA_BENCH_START_MOUNTING_DEG", mounting.c_str(), 1);
+      run = run_child(seed);
+    }
+    if (run.is_null())
+      continue;
+    values["final_error_m"].push_back(run["final_error_m"]["corrected"].get<double>());
+    values["max_error_m"].push_back(run["max_error_m"]["corrected"].get<double>());
+    values["max_height_error_m"].push_back(run["max_height_error_m"].get<double>());
+    values["rebuilt_spread_p95_m"].push_back(run["revisit_spread_m"]["rebuilt_map"]["p95"].get<double>());
+    values["registration_median_ms"].push_back(run["registration_ms"]["median"].get<double>());
   }
   nlohmann::json summary = {{"bench", "localization_seeds"},
-                            {"seeds", std::to_string(first) + "-" + std::to_string(last)}};
+                            {"seeds", std::to_string(first) + "-" + std::to_string(last)},
+                            {"second_run", twice}};
   for (const auto& [name, list] : values) {
     double sum = 0.0;
     for (const double v : list)

@@ -9,9 +9,12 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include "integration/clients.hpp"
+#include "integration/protocol_schemas.hpp"
 #include "integration/server_process.hpp"
 
 namespace strata::testing {
@@ -167,6 +170,69 @@ TEST(Localization, ARestartLocalizesInTheSavedMapAndGoalsWorkAtOnce) {
   }
   EXPECT_EQ(phase, "reached") << get_json(localizing.port(), "/api/v1/goal").dump();
   std::filesystem::remove_all(maps);
+}
+
+// The IMU calibration is kept between runs (issue #20): a robot's scan path learns its IMU's mounting error
+// only as it turns, and tilts its way by it until then. The first run keeps the pose graph's estimate once
+// a loop closure confirms it; the next run of the same robot (seed) starts from it, another robot's does
+// not; an operator can make the robot forget it.
+TEST(Localization, TheImuCalibrationIsKeptForTheNextRunOfTheSameRobot) {
+  const std::filesystem::path file = private_temp_path("strata-imu-calibration", ".json");
+  std::filesystem::remove(file);
+  const std::vector<std::string> args{"--world",      "yard",     "--scanner",         "tilting",
+                                      "--time-scale", kTimeScale, "--imu-calibration", file.string()};
+  ProtocolSchemas schemas;
+  nlohmann::json kept;
+  {
+    ServerProcess first(args);
+    const nlohmann::json at_start = get_json(first.port(), "/api/v1/imu-calibration");
+    EXPECT_EQ(at_start["kept"], "none") << at_start.dump();
+    EXPECT_EQ(at_start["imu"], "simulated IMU, seed 1") << at_start.dump();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(5);
+    while (kept.is_null() || kept["kept"] != "saved") {
+      ASSERT_LT(std::chrono::steady_clock::now(), deadline) << "no loop closure kept the calibration";
+      std::this_thread::sleep_for(std::chrono::milliseconds(300));
+      kept = get_json(first.port(), "/api/v1/status")["pose_graph"]["imu_calibration"];
+    }
+    EXPECT_GE(kept["loops"].get<int>(), 1) << kept.dump();
+    EXPECT_TRUE(std::filesystem::exists(file));
+    const nlohmann::json answer = get_json(first.port(), "/api/v1/imu-calibration");
+    EXPECT_EQ(schemas.violations("rest", "imu_calibration", answer), "") << answer.dump();
+    kept = answer;  // the newest: another loop may have come between the two requests
+  }
+  // Another robot (another seed: another IMU) does not start from it.
+  {
+    std::vector<std::string> other = args;
+    other.insert(other.end(), {"--seed", "2"});
+    ServerProcess second(other);
+    const nlohmann::json status = get_json(second.port(), "/api/v1/status");
+    EXPECT_EQ(status["pose_graph"]["imu_calibration"]["kept"], "none") << status.dump();
+    EXPECT_EQ(status["pose_graph"]["gravity_mounting_roll_deg"].get<double>(), 0.0) << status.dump();
+  }
+  // The same robot starts from it: the scan path levels with it before any loop closure.
+  ServerProcess again(args);
+  const nlohmann::json status = get_json(again.port(), "/api/v1/status");
+  EXPECT_EQ(schemas.violations("rest", "status", status), "") << status.dump();
+  const nlohmann::json& graph = status["pose_graph"];
+  EXPECT_EQ(graph["loops"].get<int>(), 0) << status.dump();
+  EXPECT_EQ(graph["imu_calibration"]["kept"], "loaded") << status.dump();
+  EXPECT_NEAR(graph["imu_calibration"]["roll_deg"].get<double>(), kept["roll_deg"].get<double>(), 1e-9);
+  EXPECT_NEAR(graph["imu_calibration"]["pitch_deg"].get<double>(), kept["pitch_deg"].get<double>(), 1e-9);
+  EXPECT_NEAR(graph["gravity_mounting_roll_deg"].get<double>(), kept["roll_deg"].get<double>(), 1e-9);
+  EXPECT_NEAR(graph["gravity_mounting_pitch_deg"].get<double>(), kept["pitch_deg"].get<double>(), 1e-9);
+
+  // Forgetting it is the operator's.
+  const auto refused = http_request(again.port(), http::verb::delete_, "/api/v1/imu-calibration", "");
+  EXPECT_EQ(refused.result_int(), 401) << refused.body();
+  EXPECT_TRUE(std::filesystem::exists(file));
+  const auto cleared =
+      http_request(again.port(), http::verb::delete_, "/api/v1/imu-calibration", "", kTestOperatorToken);
+  ASSERT_EQ(cleared.result_int(), 200) << cleared.body();
+  const nlohmann::json forgotten = nlohmann::json::parse(cleared.body());
+  EXPECT_EQ(schemas.violations("rest", "imu_calibration", forgotten), "") << forgotten.dump();
+  EXPECT_EQ(forgotten["kept"], "none") << forgotten.dump();
+  EXPECT_FALSE(std::filesystem::exists(file));
+  std::filesystem::remove(file);
 }
 
 }  // namespace

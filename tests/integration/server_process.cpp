@@ -11,6 +11,7 @@
 #include <fstream>
 #include <regex>
 #include <stdexcept>
+#include <string_view>
 #include <thread>
 #include <utility>
 
@@ -18,6 +19,28 @@ namespace strata::testing {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+/// The servers' XDG_STATE_HOME (where the IMU calibration is kept between runs): one per test process, so
+/// that what one test's robot learnt is not where another test's starts from. Removed at exit.
+struct PrivateStateHome {
+  std::filesystem::path path = private_temp_path("strata-state", "");
+  ~PrivateStateHome() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path, ignored);
+  }
+};
+
+/// The environment with XDG_STATE_HOME replaced: built before fork(), as the child may only exec.
+std::vector<std::string> child_environment() {
+  static const PrivateStateHome state_home;
+  std::vector<std::string> environment;
+  for (char** entry = environ; *entry != nullptr; ++entry) {
+    if (!std::string_view(*entry).starts_with("XDG_STATE_HOME="))
+      environment.emplace_back(*entry);
+  }
+  environment.push_back("XDG_STATE_HOME=" + state_home.path.string());
+  return environment;
+}
 
 pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd,
             const ProcessLimits& limits = {}) {
@@ -27,6 +50,11 @@ pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd,
   for (auto& arg : argv_storage)
     argv.push_back(arg.data());
   argv.push_back(nullptr);
+  std::vector<std::string> environment = child_environment();
+  std::vector<char*> envp;
+  for (auto& entry : environment)
+    envp.push_back(entry.data());
+  envp.push_back(nullptr);
   const pid_t pid = fork();
   if (pid < 0)
     throw std::runtime_error(std::string("fork: ") + std::strerror(errno));
@@ -42,7 +70,7 @@ pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd,
       const rlimit limit{limits.open_files, limits.open_files};
       setrlimit(RLIMIT_NOFILE, &limit);
     }
-    execv(argv[0], argv.data());
+    execve(argv[0], argv.data(), envp.data());
     _exit(127);
   }
   return pid;
