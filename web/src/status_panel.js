@@ -45,6 +45,20 @@ export class StatusPanel {
           ? 'none yet'
           : `at ${graph.last_loop_stamp.toFixed(0)} s, moved ${graph.last_correction_m.toFixed(2)} m`;
       field('loc-loops').textContent = `${graph.loops} over ${graph.keyframes} keyframes · last ${last}`;
+      // The IMU's mounting error as the server keeps it between runs: where this run's tilt starts from.
+      const kept = graph.imu_calibration;
+      if (kept) {
+        const tilt = kept.roll_deg === null ? '' : `: ${kept.roll_deg.toFixed(2)}° roll, ${kept.pitch_deg.toFixed(2)}° pitch`;
+        const words = {
+          off: 'not kept between runs',
+          none: 'learning it',
+          loaded: `from the last run${tilt}`,
+          saved: `kept for the next run${tilt}`,
+        };
+        const imu = field('loc-imu');
+        imu.textContent = words[kept.kept] ?? kept.kept;
+        imu.dataset.kept = kept.kept;
+      }
     }
     const rate = field('scan-rate');
     rate.textContent = `${(status.scan_rate * 60).toFixed(1)} / min`;
