@@ -86,7 +86,8 @@ TEST(ServeConfig, TheShippedConfigFilesStartTheServer) {
     SCOPED_TRACE(name);
     ServerProcess server({"--config", std::string(STRATA_DEPLOY_DIR) + "/" + name, "--maps-dir",
                           (scratch / "maps").string(), "--operator-token-file",
-                          (scratch / "operator-token").string(), "--scanner", "none"});
+                          (scratch / "operator-token").string(), "--imu-calibration",
+                          (scratch / "imu-calibration.json").string(), "--scanner", "none"});
     const auto world = nlohmann::json::parse(http_get(server.port(), "/api/v1/sim/world").body());
     EXPECT_EQ(world["name"], "campus");
   }

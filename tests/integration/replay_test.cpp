@@ -83,6 +83,10 @@ TEST(Replay, RecordedRunReplaysToTheSameMap) {
     EXPECT_EQ(status["driver"]["kind"], "replay");
     EXPECT_EQ(status["registration"]["scans"], kScans);
     EXPECT_EQ(status["registration"]["dropped"], 0);
+    // The recording's IMU readings are one IMU's, named by the recording: its calibration is kept under it.
+    const nlohmann::json& imu = status["pose_graph"]["imu_calibration"];
+    EXPECT_EQ(imu["kept"], "none") << imu.dump();
+    EXPECT_EQ(imu["imu"], "the IMU of the dataset " + fs::canonical(recording).string()) << imu.dump();
     // A replay has no simulated world.
     EXPECT_EQ(http_get(replay.port(), "/api/v1/sim/world").result(), http::status::not_found);
     const std::string replay_map = save_map(*op, replay_maps, "replay.strata");
@@ -150,6 +154,7 @@ TEST(Replay, ThreeDtkScansAloneAreRegisteredWithoutOdometry) {
       wait_for_status(client, [](const nlohmann::json& s) { return s["driver"]["finished"] == true; });
   EXPECT_EQ(status["registration"]["scans"], 3);
   EXPECT_EQ(status["registration"]["accepted"], 2) << status.dump();
+  EXPECT_EQ(status["pose_graph"]["imu_calibration"]["kept"], "off") << "3DTK scans have no IMU readings";
   const auto pose = nlohmann::json::parse(http_get(server.port(), "/api/v1/pose").body());
   const double estimate_error = distance(pose, pose["truth"]);
   const double yaw_error = std::abs(pose["yaw"].get<double>() - pose["truth"]["yaw"].get<double>());
