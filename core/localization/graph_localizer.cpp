@@ -116,12 +116,14 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
     // Not across a correction of the map frame: the last pose would be in the old one.
     const std::optional<Eigen::Isometry3d> second_guess =
         map_moved ? std::nullopt : scan_motion_.predict_pose(stamp);
+    scan_matching_.set_sensor_origin(sensor_origin);
     update = scan_matching_.add_scan(points, *odometry, gravity, GuessSource::kOdometry, std::nullopt,
                                      second_guess, heading_drift_ * moving);
     scan_motion_.update(stamp, *odometry, update.pose,
                         update.registration && update.correction != Correction::kNone, map_moved);
   } else {
     const Pose2 predicted = motion_.predict(stamp);
+    scan_matching_.set_sensor_origin(sensor_origin);
     update = scan_matching_.add_scan(points, predicted, gravity, GuessSource::kPrediction,
                                      motion_.uncertainty(stamp));
     motion_.update(stamp, predicted, update.pose,

@@ -26,6 +26,7 @@ void LocalMap::add(const PointCloud& points, const Eigen::Vector3d& sensor) {
     const auto [index, added] = voxels_.try_emplace(voxel_key(voxel_cell(p, inverse_voxel_size_)), next);
     if (added) {
       points_.push_back(p);
+      viewpoints_.push_back(sensor);
       seen_.push_back(scan_);
       seen_at_.push_back(travelled_);
     } else {
@@ -44,7 +45,9 @@ void LocalMap::transform(const Eigen::Isometry3d& transform) {
   const PointCloud moved = transformed(points_, transform);
   const std::vector<std::uint32_t> seen = seen_;
   const std::vector<double> seen_at = seen_at_;
+  const std::vector<Eigen::Vector3d> viewpoints = viewpoints_;
   points_.clear();
+  viewpoints_.clear();
   seen_.clear();
   seen_at_.clear();
   voxels_.clear();
@@ -55,6 +58,7 @@ void LocalMap::transform(const Eigen::Isometry3d& transform) {
         voxels_.try_emplace(voxel_key(voxel_cell(moved[i], inverse_voxel_size_)), next);
     if (added) {
       points_.push_back(moved[i]);
+      viewpoints_.push_back(transform * viewpoints[i]);
       seen_.push_back(seen[i]);
       seen_at_.push_back(seen_at[i]);
     } else {
@@ -73,6 +77,7 @@ void LocalMap::expire() {
   for (std::size_t i = 0; i < points_.size(); ++i) {
     if (seen_[i] >= oldest_kept || (metres_ > 0.0 && travelled_ - seen_at_[i] <= metres_)) {
       points_[kept] = points_[i];
+      viewpoints_[kept] = viewpoints_[i];
       seen_[kept] = seen_[i];
       seen_at_[kept] = seen_at_[i];
       if (normals) {
@@ -85,6 +90,7 @@ void LocalMap::expire() {
   if (kept == points_.size())
     return;
   points_.resize(kept);
+  viewpoints_.resize(kept);
   seen_.resize(kept);
   seen_at_.resize(kept);
   if (normals) {

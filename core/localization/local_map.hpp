@@ -30,6 +30,8 @@ class LocalMap {
 
   /// One point per live voxel, oldest voxels first.
   [[nodiscard]] const PointCloud& points() const { return points_; }
+  /// Per point: where the sensor was that first saw it.
+  [[nodiscard]] const std::vector<Eigen::Vector3d>& viewpoints() const { return viewpoints_; }
   [[nodiscard]] bool empty() const { return points_.empty(); }
   [[nodiscard]] std::size_t size() const { return points_.size(); }
 
@@ -48,11 +50,12 @@ class LocalMap {
   std::uint32_t scan_ = 0;  ///< scans added so far
   double travelled_ = 0.0;  ///< metres the sensor moved between the scans added so far
   std::optional<Eigen::Vector3d> last_sensor_;
-  PointCloud points_;                ///< per live voxel
-  std::vector<std::uint32_t> seen_;  ///< per live voxel: the last scan that reached it
-  std::vector<double> seen_at_;      ///< per live voxel: travelled_ at that scan
-  VoxelKeyMap voxels_;               ///< voxel -> its index in points_
-  LazyNormals::Estimates normals_;   ///< per live voxel, when known
+  PointCloud points_;                        ///< per live voxel
+  std::vector<std::uint32_t> seen_;          ///< per live voxel: the last scan that reached it
+  std::vector<double> seen_at_;              ///< per live voxel: travelled_ at that scan
+  std::vector<Eigen::Vector3d> viewpoints_;  ///< per live voxel: the sensor that first saw its point
+  VoxelKeyMap voxels_;                       ///< voxel -> its index in points_
+  LazyNormals::Estimates normals_;           ///< per live voxel, when known
 };
 
 }  // namespace strata

@@ -105,8 +105,11 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
     }
     const bool mapping = saved_registration_ == nullptr;
     ScanRegistration& registration = mapping ? registration_ : *saved_registration_;
-    if (mapping)
-      registration_.set_thinned_target(local_map_.points(), local_map_.take_normals());
+    if (mapping) {
+      registration_.set_thinned_target(local_map_.points(), local_map_.take_normals(),
+                                       local_map_.viewpoints());
+      registration_.set_source_viewpoint(sensor_origin_);
+    }
     RegistrationResult result = registration.register_scan(points, guess, limits);
     if (result.assessment.reason == RejectReason::kJumpFromGuess && second_guess) {
       // Far from the odometry: either ICP slid, or the odometry is off (wheels slipping, a bump). From a
@@ -183,7 +186,7 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   update.map_from_odom = global_.correction();
 
   if (saved_map_ == nullptr)
-    local_map_.add(transformed(points, update.pose), update.pose.translation());
+    local_map_.add(transformed(points, update.pose), update.pose * sensor_origin_);
   return update;
 }
 

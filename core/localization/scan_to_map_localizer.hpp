@@ -174,10 +174,14 @@ class ScanToMapLocalizer {
   void localize_in(std::shared_ptr<const LocalizationMap> map);
   [[nodiscard]] bool localizing() const { return saved_map_ != nullptr; }
 
+  /// Where the sensor is in the base frame (the local map keeps where each point was seen from).
+  void set_sensor_origin(const Eigen::Vector3d& origin) { sensor_origin_ = origin; }
+
  private:
   LocalizerOptions options_;
   ScanRegistration registration_;
   GlobalPose global_;
+  Eigen::Vector3d sensor_origin_ = Eigen::Vector3d::Zero();
   LocalMap local_map_;  // map frame
   GravityLeveling leveling_;
   std::optional<Pose2> last_odometry_;  // the last scan's: how far the guess's tilt may be stale

@@ -3,6 +3,8 @@
 #include <Eigen/Cholesky>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <span>
 
 namespace strata {
 namespace {
@@ -50,10 +52,56 @@ Eigen::Isometry3d point_to_point_step(const PointCloud& moved, const PointCloud&
   return step;
 }
 
+/// A wall's pairs across it, fewer than this, tell no turn: they are dropped.
+constexpr std::size_t kMinAcrossPairs = 10;
+
+/// The rows of the pairs across thin walls, each wall's mean taken out: its other face is parallel to the
+/// one the scan sees, at an offset no one measured, which a free offset per wall absorbs (minimised out
+/// in closed form). What is left is how the wall turns.
+void add_across_rows(const PointCloud& moved, const PointCloud& target, std::span<const AcrossPair> across,
+                     const IcpOptions& options, Eigen::Matrix<double, 6, 6>& hessian,
+                     Eigen::Matrix<double, 6, 1>& gradient) {
+  struct Row {
+    Eigen::Matrix<double, 6, 1> jacobian;
+    double residual = 0.0;
+  };
+  std::map<std::uint64_t, std::vector<Row>> walls;
+  for (const AcrossPair& a : across) {
+    // One wall's normals all turned one way (an estimate's sign is arbitrary): its rows differ only by
+    // where on the wall they are.
+    const Eigen::Vector3d& n = a.normal;
+    const Eigen::Vector3d& p = moved[a.pair.source];
+    Row row;
+    row.jacobian << n, p.cross(n);
+    row.residual = n.dot(p - target[a.pair.target]);
+    walls[a.surface].push_back(row);
+  }
+  for (const auto& [surface, rows] : walls) {
+    if (rows.size() < kMinAcrossPairs)
+      continue;
+    Row mean;
+    mean.jacobian.setZero();
+    for (const Row& row : rows) {
+      mean.jacobian += row.jacobian;
+      mean.residual += row.residual;
+    }
+    mean.jacobian /= static_cast<double>(rows.size());
+    mean.residual /= static_cast<double>(rows.size());
+    for (const Row& row : rows) {
+      const Eigen::Matrix<double, 6, 1> jacobian = row.jacobian - mean.jacobian;
+      const double residual = row.residual - mean.residual;
+      const double w = kernel_weight(residual, options.kernel_scale);
+      hessian.noalias() += w * jacobian * jacobian.transpose();
+      gradient.noalias() += w * residual * jacobian;
+    }
+  }
+}
+
 /// One point-to-plane Gauss-Newton step, linearised at the moved points: residual n . (p + w x p + t - x)
 /// in the small rotation w and translation t.
 Eigen::Isometry3d point_to_plane_step(const PointCloud& moved, const PointCloud& target, LazyNormals& normals,
-                                      const std::vector<Correspondence>& pairs, const IcpOptions& options) {
+                                      const std::vector<Correspondence>& pairs,
+                                      std::span<const AcrossPair> across, const IcpOptions& options) {
   Eigen::Matrix<double, 6, 6> hessian = Eigen::Matrix<double, 6, 6>::Zero();
   Eigen::Matrix<double, 6, 1> gradient = Eigen::Matrix<double, 6, 1>::Zero();
   std::size_t used = 0;
@@ -72,6 +120,7 @@ Eigen::Isometry3d point_to_plane_step(const PointCloud& moved, const PointCloud&
   }
   if (used < options.min_pairs)
     return Eigen::Isometry3d::Identity();
+  add_across_rows(moved, target, across, options, hessian, gradient);
   const Eigen::Matrix<double, 6, 1> delta = hessian.ldlt().solve(-gradient);
   if (!delta.allFinite())
     return Eigen::Isometry3d::Identity();
@@ -107,7 +156,7 @@ double mean_squared_error(const PointCloud& moved, const PointCloud& target, Laz
 }  // namespace
 
 IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* normals,
-                const Eigen::Isometry3d& guess, const IcpOptions& options) {
+                const Eigen::Isometry3d& guess, const IcpOptions& options, const SurfaceSides* sides) {
   IcpResult result;
   result.transform = guess;
   const IcpMetric metric = normals == nullptr ? IcpMetric::kPointToPoint : options.metric;
@@ -116,23 +165,30 @@ IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* nor
   PartnerSearch partners(target, source.size(), options.max_correspondence_distance);
   std::vector<Correspondence> pairs;
   pairs.reserve(source.size());
+  const bool split = sides != nullptr && normals != nullptr && options.surface_sides.enabled;
+  std::vector<AcrossPair> across;
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     // 1. Find closest point-pairs within the bound (Algorithm 2, steps 1-2).
     for (std::size_t i = 0; i < source.size(); ++i)
       moved[i] = result.transform * source[i];
     partners.pair(moved, pairs);
+    if (split)
+      split_across(result.transform, target.points(), *normals, *sides, options.surface_sides, pairs, across);
     if (pairs.size() < options.min_pairs)
       break;
     ++result.iterations;
     // 2. The transform that minimises the error over these pairs.
-    const Eigen::Isometry3d step = metric == IcpMetric::kPointToPlane
-                                       ? point_to_plane_step(moved, target.points(), *normals, pairs, options)
-                                       : point_to_point_step(moved, target.points(), pairs, options);
+    const Eigen::Isometry3d step =
+        metric == IcpMetric::kPointToPlane
+            ? point_to_plane_step(moved, target.points(), *normals, pairs, across, options)
+            : point_to_point_step(moved, target.points(), pairs, options);
     // 3. Apply it. The step acts on already-moved points, so it composes on the left: R <- R^ R and
     //    t <- R^ t + t^ (eqs. 4.9-4.10; eq. 4.9's printed order R R^ would not match eq. 4.10).
     result.transform = step * result.transform;
     for (const Correspondence& pair : pairs)
       moved[pair.source] = step * moved[pair.source];
+    for (const AcrossPair& a : across)
+      moved[a.pair.source] = step * moved[a.pair.source];
     // 4. Stop when the error has settled (eq. 4.12 and tau), or the transform has.
     const double mse = mean_squared_error(moved, target.points(), normals, pairs, metric);
     const bool small_step = step.translation().norm() < options.min_step_translation &&
@@ -149,6 +205,9 @@ IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* nor
   for (std::size_t i = 0; i < source.size(); ++i)
     moved[i] = result.transform * source[i];
   partners.pair(moved, result.pairs);
+  if (split)
+    split_across(result.transform, target.points(), *normals, *sides, options.surface_sides, result.pairs,
+                 across);
   double sum = 0.0;
   for (const Correspondence& pair : result.pairs)
     sum += (moved[pair.source] - target.points()[pair.target]).squaredNorm();

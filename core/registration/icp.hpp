@@ -9,6 +9,7 @@
 #include "core/points/point_cloud.hpp"
 #include "core/registration/partner_search.hpp"
 #include "core/registration/rotation_solvers.hpp"
+#include "core/registration/surface_sides.hpp"
 
 namespace strata {
 
@@ -41,6 +42,10 @@ struct IcpOptions {
   double kernel_scale = 0.0;
   /// Fewer pairs than this and a step is not taken (three pairs fix a pose; a few more guard the noise).
   std::size_t min_pairs = 6;
+  /// Pairs across a thin wall (align's `sides`): they do not pull the pose across the wall. Point-to-plane
+  /// keeps their turn, each wall's offset left free (its two faces are parallel); point-to-point drops
+  /// them.
+  SurfaceSideOptions surface_sides;
 };
 
 struct IcpResult {
@@ -53,8 +58,10 @@ struct IcpResult {
 
 /// ICP (thesis Algorithms 1 and 2): pair, solve for the transform, apply, until the MSE or the steps
 /// settle.
-/// `normals` serves the point-to-plane metric and may be null for point-to-point.
+/// `normals` serves the point-to-plane metric and may be null for point-to-point. `sides`, with normals,
+/// tells the pairs across a thin wall (IcpOptions::surface_sides); the result's pairs are the others.
 [[nodiscard]] IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* normals,
-                              const Eigen::Isometry3d& guess, const IcpOptions& options);
+                              const Eigen::Isometry3d& guess, const IcpOptions& options,
+                              const SurfaceSides* sides = nullptr);
 
 }  // namespace strata

@@ -88,8 +88,10 @@ void ScanRegistration::set_target(const PointCloud& target) {
   set_thinned_target(preprocess(target, options_.min_range, options_.target_voxel_size));
 }
 
-void ScanRegistration::set_thinned_target(PointCloud target, LazyNormals::Estimates normals) {
+void ScanRegistration::set_thinned_target(PointCloud target, LazyNormals::Estimates normals,
+                                          std::vector<Eigen::Vector3d> viewpoints) {
   normals_.reset();
+  viewpoints_ = std::move(viewpoints);
   target_ = std::make_unique<KdTree>(std::move(target));
   normals_ = std::make_unique<LazyNormals>(*target_, kNormalNeighbours, std::move(normals));
 }
@@ -119,6 +121,8 @@ RegistrationResult ScanRegistration::register_scan(const PointCloud& source, con
   IcpResult icp;
   icp.transform = guess;
   const PointCloud* points = nullptr;
+  const SurfaceSides sides{.target_viewpoints = &viewpoints_, .source_viewpoint = source_viewpoint_};
+  const bool seen_from = viewpoints_.size() == target_->size();
   for (const RegistrationStage& stage : options_.stages) {
     IcpOptions icp_options = options_.icp;
     icp_options.max_correspondence_distance = stage.max_correspondence_distance;
@@ -128,7 +132,7 @@ RegistrationResult ScanRegistration::register_scan(const PointCloud& source, con
     icp_options.max_iterations = stage.max_iterations;
     points = &source_levels.at(stage.source_voxel_size);
     const int iterations_so_far = icp.iterations;
-    icp = align(*points, *target_, normals_.get(), icp.transform, icp_options);
+    icp = align(*points, *target_, normals_.get(), icp.transform, icp_options, seen_from ? &sides : nullptr);
     icp.iterations += iterations_so_far;
   }
 

@@ -84,7 +84,12 @@ class ScanRegistration {
   void set_target(const PointCloud& target);
   /// Indexes a target that is already cropped and thinned (a local map), as it is. `normals`: estimates
   /// for its first points from an earlier target that began with the same points (take_normals()).
-  void set_thinned_target(PointCloud target, LazyNormals::Estimates normals = {});
+  /// `viewpoints`: per target point, where the sensor was that saw it (or none): with the source's
+  /// (set_source_viewpoint), pairs across a thin wall are told (IcpOptions::surface_sides).
+  void set_thinned_target(PointCloud target, LazyNormals::Estimates normals = {},
+                          std::vector<Eigen::Vector3d> viewpoints = {});
+  /// Where the next sources' sensor is, in their own frame.
+  void set_source_viewpoint(const Eigen::Vector3d& viewpoint) { source_viewpoint_ = viewpoint; }
   /// The target's normals estimated so far, moved out (the target then has none until the next
   /// set_target).
   [[nodiscard]] LazyNormals::Estimates take_normals();
@@ -100,6 +105,8 @@ class ScanRegistration {
   RegistrationOptions options_;
   std::unique_ptr<KdTree> target_;  // stable address: normals_ points into it
   std::unique_ptr<LazyNormals> normals_;
+  std::vector<Eigen::Vector3d> viewpoints_;  // per target point, or none
+  Eigen::Vector3d source_viewpoint_ = Eigen::Vector3d::Zero();
 };
 
 /// One-off registration of `source` onto `target`; `seconds` covers both scans' preprocessing.

@@ -296,13 +296,15 @@ int main(int argc, char** argv) {
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
   // STRATA_BENCH_LOCAL_METRES=<metres>, STRATA_BENCH_LOCAL_VOXEL=<metres>, STRATA_BENCH_SOURCE_POINTS=<n>,
   // STRATA_BENCH_FINE_VOXEL=<m>, STRATA_BENCH_ROTATION_GUARD=<eigenvalue>,
-  // STRATA_BENCH_DIRECTION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>,
+  // STRATA_BENCH_DIRECTION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>, STRATA_BENCH_SURFACE_SIDES=0,
   // STRATA_BENCH_TILT_DRIFT=<rad per scan>, STRATA_BENCH_BIAS_RATE=<per scan>, STRATA_BENCH_TILT_CHANGE=<rad
   // per metre>.
   if (const char* metric = std::getenv("STRATA_BENCH_METRIC")) {
     options.registration.icp.metric =
         std::string(metric) == "point" ? IcpMetric::kPointToPoint : IcpMetric::kPointToPlane;
   }
+  if (const char* sides = std::getenv("STRATA_BENCH_SURFACE_SIDES"))  // 0: pairs across thin walls as before
+    options.registration.icp.surface_sides.enabled = std::string(sides) != "0";
   if (const char* n = std::getenv("STRATA_BENCH_LOCAL_MAP"))
     options.local_map_scans = std::strtoul(n, nullptr, 10);
   if (const char* metres = std::getenv("STRATA_BENCH_LOCAL_METRES"))  // 0: by scan count alone, as before
