@@ -6,8 +6,16 @@
 namespace strata {
 namespace {
 
+/// The 16-bit bin of `value`, wrapped: surfaces 65,536 bins apart share a key, which only merges their
+/// free offsets. Wrapped in floating point, so that no value (however far, or not finite) is cast out of
+/// range.
 std::uint64_t bin(double value, double size) {
-  return static_cast<std::uint64_t>(static_cast<std::int64_t>(std::floor(value / size))) & 0xffffU;
+  const double cell = std::floor(value / size);
+  if (!std::isfinite(cell))
+    return 0U;
+  constexpr double kBins = 65536.0;
+  const double wrapped = cell - kBins * std::floor(cell / kBins);  // in [0, kBins]: rounding may reach it
+  return static_cast<std::uint64_t>(wrapped) & 0xffffU;
 }
 
 }  // namespace

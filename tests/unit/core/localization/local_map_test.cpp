@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <numbers>
 #include <set>
 
 #include "core/points/voxel_downsample.hpp"
@@ -75,6 +76,48 @@ TEST(LocalMap, CarriesNormalsWithTheirPoints) {
   EXPECT_EQ(carried.states[1], LazyNormals::State::kUnknown);                    // new since
   map.keep_normals({{Eigen::Vector3d::UnitZ()}, {LazyNormals::State::kValid}});  // one for two points
   EXPECT_TRUE(map.take_normals().states.empty());
+}
+
+// Each point keeps where the sensor was that first saw it (the thin-wall side test needs it): through a
+// revisit, expiry and a correction of the map frame, which turns the viewpoints with the points.
+TEST(LocalMap, CarriesViewpointsWithTheirPoints) {
+  LocalMap map(1.0, 2);
+  const Eigen::Vector3d first_sensor(0.0, -3.0, 0.5);
+  const Eigen::Vector3d second_sensor(0.0, 3.0, 0.5);
+  map.add({{0.5, 0.5, 0.5}, {1.5, 0.5, 0.5}}, first_sensor);
+  map.add({{1.5, 0.6, 0.5}, {2.5, 0.5, 0.5}}, second_sensor);  // revisits the second voxel, adds a third
+  map.add({{2.5, 0.6, 0.5}}, second_sensor);                   // the first voxel expires
+  ASSERT_EQ(map.size(), 2U);
+  ASSERT_EQ(map.viewpoints().size(), 2U);
+  EXPECT_EQ(map.points()[0], Eigen::Vector3d(1.5, 0.5, 0.5));
+  EXPECT_EQ(map.viewpoints()[0], first_sensor) << "a revisit keeps the first sensor, as it keeps the point";
+  EXPECT_EQ(map.viewpoints()[1], second_sensor);
+
+  Eigen::Isometry3d correction = Eigen::Isometry3d::Identity();
+  correction.rotate(Eigen::AngleAxisd(std::numbers::pi / 2.0, Eigen::Vector3d::UnitZ()));
+  correction.pretranslate(Eigen::Vector3d(10.0, 0.0, 0.0));
+  map.transform(correction);
+  ASSERT_EQ(map.size(), 2U);
+  ASSERT_EQ(map.viewpoints().size(), 2U);
+  for (std::size_t i = 0; i < map.size(); ++i) {
+    const Eigen::Vector3d before = correction.inverse() * map.points()[i];
+    const Eigen::Vector3d seen_from = before.x() < 2.0 ? first_sensor : second_sensor;
+    EXPECT_TRUE(map.viewpoints()[i].isApprox(correction * seen_from)) << "point " << i;
+  }
+}
+
+// Two points a correction moves into one voxel keep the older point and the older point's viewpoint.
+TEST(LocalMap, MergedVoxelsKeepTheOlderViewpoint) {
+  LocalMap map(1.0, 2);
+  const Eigen::Vector3d first_sensor(-2.0, 0.0, 0.5);
+  const Eigen::Vector3d second_sensor(4.0, 0.0, 0.5);
+  map.add({{0.9, 0.5, 0.5}}, first_sensor);
+  map.add({{1.1, 0.5, 0.5}}, second_sensor);
+  map.transform(Eigen::Isometry3d(Eigen::Translation3d(0.15, 0.0, 0.0)));
+  ASSERT_EQ(map.size(), 1U);
+  ASSERT_EQ(map.viewpoints().size(), 1U);
+  EXPECT_TRUE(map.points()[0].isApprox(Eigen::Vector3d(1.05, 0.5, 0.5)));
+  EXPECT_TRUE(map.viewpoints()[0].isApprox(first_sensor + Eigen::Vector3d(0.15, 0.0, 0.0)));
 }
 
 TEST(LocalMap, KeepsWhatTheSensorPassedInTheLastMetresWhateverTheScanRate) {
