@@ -298,7 +298,8 @@ int main(int argc, char** argv) {
   // STRATA_BENCH_FINE_VOXEL=<m>, STRATA_BENCH_ROTATION_GUARD=<eigenvalue>,
   // STRATA_BENCH_DIRECTION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>, STRATA_BENCH_SURFACE_SIDES=0,
   // STRATA_BENCH_TILT_DRIFT=<rad per scan>, STRATA_BENCH_BIAS_RATE=<per scan>, STRATA_BENCH_TILT_CHANGE=<rad
-  // per metre>.
+  // per metre>, STRATA_BENCH_SLIDING_YAW_DISTANCE=<metres>, STRATA_BENCH_ICP_STEP_STOP=<rad> (the scan path's
+  // ICP stops on its step, 1e-4 m and this, instead of on the MSE's change).
   if (const char* metric = std::getenv("STRATA_BENCH_METRIC")) {
     options.registration.icp.metric =
         std::string(metric) == "point" ? IcpMetric::kPointToPoint : IcpMetric::kPointToPlane;
@@ -325,6 +326,15 @@ int main(int argc, char** argv) {
     options.weak_rotation_guard = std::atof(guard);
   if (const char* guard = std::getenv("STRATA_BENCH_DIRECTION_GUARD"))
     options.weak_direction_guard = std::atof(guard);
+  if (const char* distance = std::getenv("STRATA_BENCH_SLIDING_YAW_DISTANCE"))
+    options.sliding_yaw_distance = std::atof(distance);
+  if (const char* step = std::getenv("STRATA_BENCH_ICP_STEP_STOP"))
+    for (RegistrationStage& stage : options.registration.stages) {
+      stage.mse_change_threshold = 0.0;
+      stage.min_step_translation = 1e-4;
+      stage.min_step_rotation = std::atof(step);
+      stage.max_iterations = 60;
+    }
   // Without odometry the localizer's odometry frame is its prediction's, which starts at the origin: the
   // map's start is then the true start itself.
   const Eigen::Isometry3d initial_correction =
