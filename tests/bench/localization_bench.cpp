@@ -246,6 +246,11 @@ int main(int argc, char** argv) {
       config.imu->tilt_noise_standing = 0.0;
     }
   }
+  // STRATA_BENCH_GYRO_NOISE=<rad/s^0.5>: the gyro's angle random walk, to tell how much of the heading error
+  // is the gyro's noise (1e-7: next to none; 0 would leave the stands' readings without a sigma, unused).
+  // The gravity readings draw from the same sequence: theirs differ.
+  if (const char* noise = std::getenv("STRATA_BENCH_GYRO_NOISE"); noise && config.imu)
+    config.imu->gyro_noise_density = std::atof(noise);
   // STRATA_BENCH_ODOMETRY=0: the localizer gets no odometry (a lidar alone: the constant velocity model).
   const bool with_odometry = std::getenv("STRATA_BENCH_ODOMETRY") == nullptr ||
                              std::string(std::getenv("STRATA_BENCH_ODOMETRY")) != "0";
