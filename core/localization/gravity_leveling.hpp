@@ -57,15 +57,15 @@ class GravityLeveling {
   [[nodiscard]] GravityReading corrected(const GravityReading& gravity) const;
 
   /// The rotation (map frame, about the base's position) that turns `pose`'s tilt toward `gravity` by
-  /// the filter's gain; updates the filter and the mounting error. Identity for a reading that is not a
-  /// unit vector with a positive sigma.
+  /// the filter's gain and leaves its heading (heading_of) where it was; updates the filter and the
+  /// mounting error. Identity for a reading that is not a unit vector with a positive sigma.
   [[nodiscard]] Eigen::Matrix3d level(const Eigen::Isometry3d& pose, const GravityReading& gravity);
 
-  /// The turn toward where `gravity` (corrected) puts `pose`'s up, without touching the filter: a guess's
-  /// tilt, which is the last scan's and stale on a ramp begun in the `moved` metres since. Weighed by
-  /// tilt_change_per_metre against the reading's sigma; with nothing moved known (none), by how sure the
-  /// filter is of the tilt: a start at a given pose took one reading's noise (0.5 degrees) as its tilt and
-  /// then held it (docs/benchmarks.md, "Loops on the bridge deck").
+  /// The turn toward where `gravity` (corrected) puts `pose`'s up, heading kept, without touching the
+  /// filter: a guess's tilt, which is the last scan's and stale on a ramp begun in the `moved` metres
+  /// since. Weighed by tilt_change_per_metre against the reading's sigma; with nothing moved known (none),
+  /// by how sure the filter is of the tilt: a start at a given pose took one reading's noise (0.5 degrees)
+  /// as its tilt and then held it (docs/benchmarks.md, "Loops on the bridge deck").
   [[nodiscard]] Eigen::Matrix3d align(const Eigen::Isometry3d& pose, const GravityReading& gravity,
                                       std::optional<double> moved = std::nullopt) const;
 

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <optional>
 
 namespace strata {
@@ -39,6 +40,27 @@ TEST(GravityLeveling, AlignPutsThePosesUpWhereGravitySays) {
   tilted.linear() = leveling.align(tilted, reading) * tilted.linear();
   EXPECT_NEAR(tilt(tilted.linear()), 0.0, 1e-4) << "an unknown start takes a sure reading nearly whole";
   EXPECT_NEAR(heading(tilted.linear()), heading(level.linear()), 0.01) << "gravity cannot see heading";
+}
+
+// Gravity tells tilt, not heading. A turn about a level axis moves a tilted pose's heading at second
+// order: a guess pitched -3 and rolled -2 degrees, turned to a reading of -4 and 3 (a hill crossed
+// slantwise), moved its heading 0.3 degrees. Both the guess's turn and the levelling keep it.
+TEST(GravityLeveling, TiltCorrectionsKeepTheHeading) {
+  const double degree = std::numbers::pi / 180.0;
+  const double yaw = 22.4 * degree;
+  const Eigen::Isometry3d estimate = pose_with(-2.0 * degree, -3.0 * degree, yaw);
+  const Eigen::Isometry3d truth = pose_with(3.0 * degree, -4.0 * degree, yaw);
+  const GravityReading reading{.up_in_base = truth.linear().transpose() * Eigen::Vector3d::UnitZ(),
+                               .sigma = 0.002};
+  const GravityLeveling unknown_start;
+  const Eigen::Matrix3d aligned = unknown_start.align(estimate, reading) * estimate.linear();
+  EXPECT_NEAR(heading(aligned), yaw, 1e-9);
+  EXPECT_LT((aligned * reading.up_in_base - Eigen::Vector3d::UnitZ()).norm(), 1e-4)
+      << "an unknown start takes a sure reading nearly whole";
+  GravityLeveling leveling;
+  const Eigen::Matrix3d levelled = leveling.level(estimate, reading) * estimate.linear();
+  EXPECT_NEAR(heading(levelled), yaw, 1e-9);
+  EXPECT_LT((levelled * reading.up_in_base - Eigen::Vector3d::UnitZ()).norm(), 1e-4);
 }
 
 // A guess a tenth of a metre on from the last scan (a 10 Hz lidar) mostly keeps the last scan's tilt

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <memory>
 #include <numbers>
@@ -39,6 +40,24 @@ TEST(ScanToMapLocalizer, FirstScanKeepsTheGivenStart) {
   EXPECT_FALSE(update.registration);
   EXPECT_EQ(update.correction, Correction::kNone);
   EXPECT_TRUE(update.pose.isApprox(start));
+}
+
+// A start at a given pose knows its tilt to the filter's sigma (0.002 rad), about as well as one reading
+// (0.002 rad of noise and 0.002 of mounting error): its first scan takes the reading once, by the
+// filter's gain (0.38), not twice (the guess's turn and then the levelling, 0.59 of it).
+TEST(ScanToMapLocalizer, AGivenStartsFirstScanTakesItsReadingOnce) {
+  Eigen::Isometry3d start = Eigen::Isometry3d::Identity();
+  start.translation() = Eigen::Vector3d(1, 2, 0.5);
+  const double off = 0.005;
+  const GravityReading reading{
+      .up_in_base = Eigen::AngleAxisd(off, Eigen::Vector3d::UnitX()) * Eigen::Vector3d::UnitZ(),
+      .sigma = std::hypot(0.002, 0.002)};
+  ScanToMapLocalizer localizer({}, start);
+  const PointCloud points = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const LocalizationUpdate update = localizer.add_scan(points, {0, 0, 0}, reading);
+  const double tilt = std::acos(std::clamp(update.pose.linear()(2, 2), -1.0, 1.0));
+  EXPECT_GT(tilt, 0.3 * off);
+  EXPECT_LT(tilt, 0.45 * off);
 }
 
 TEST(ScanToMapLocalizer, AGravityReadingItCannotUseIsNotPassedOn) {
