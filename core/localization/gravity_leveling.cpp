@@ -26,9 +26,9 @@ Eigen::Vector3d tilt_error(const Eigen::Isometry3d& pose, const Eigen::Vector3d&
 /// every run, and on open ground nothing turned it back (docs/benchmarks.md, "Tilt corrections keep the
 /// heading").
 Eigen::Matrix3d keeping_heading(const Eigen::Matrix3d& turn, const Eigen::Matrix3d& orientation) {
-  const auto heading = [](const Eigen::Matrix3d& r) { return std::atan2(r(1, 0), r(0, 0)); };
-  const double moved =
-      std::remainder(heading(turn * orientation) - heading(orientation), 2.0 * std::numbers::pi);
+  const double moved = std::remainder(
+      heading_of(Eigen::Isometry3d(turn * orientation)) - heading_of(Eigen::Isometry3d(orientation)),
+      2.0 * std::numbers::pi);
   return Eigen::AngleAxisd(-moved, Eigen::Vector3d::UnitZ()).toRotationMatrix() * turn;
 }
 

@@ -539,22 +539,19 @@ int main(int argc, char** argv) {
                                     truth_at.at(keyframes[loop.to].keyframe->stamp);
     const Eigen::Isometry3d error = truth.inverse() * loop.measurement;
     const double heading = heading_of(error) * 180.0 / std::numbers::pi;
-    if (std::getenv("STRATA_BENCH_TRACE") != nullptr)
+    if (std::getenv("STRATA_BENCH_TRACE") != nullptr) {
+      // The position error turned into the map's axes; the information's diagonal (x y z, then rotation).
+      const Eigen::Vector3d in_map =
+          truth_at.at(keyframes[loop.to].keyframe->stamp).linear() * error.translation();
+      std::string diagonal;
+      for (int k = 0; k < 6; ++k)
+        diagonal += (k ? "," : "") + std::to_string(loop.information(k, k));
       std::fprintf(stderr,
                    "loop_edge %.1f -> %.1f heading_error=%.3f position_error=%.3f map_error=(%.3f %.3f %.3f) "
                    "information=%s\n",
                    keyframes[loop.from].keyframe->stamp, keyframes[loop.to].keyframe->stamp, heading,
-                   error.translation().norm(),
-                   (truth_at.at(keyframes[loop.to].keyframe->stamp).linear() * error.translation()).x(),
-                   (truth_at.at(keyframes[loop.to].keyframe->stamp).linear() * error.translation()).y(),
-                   (truth_at.at(keyframes[loop.to].keyframe->stamp).linear() * error.translation()).z(),
-                   [&] {
-                     std::string diagonal;
-                     for (int k = 0; k < 6; ++k)
-                       diagonal += (k ? "," : "") + std::to_string(loop.information(k, k));
-                     return diagonal;
-                   }()
-                       .c_str());
+                   error.translation().norm(), in_map.x(), in_map.y(), in_map.z(), diagonal.c_str());
+    }
     loop_heading_sum += heading;
     loop_heading_abs_sum += std::abs(heading);
     loop_heading_worst = std::max(loop_heading_worst, std::abs(heading));
