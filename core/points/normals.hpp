@@ -1,6 +1,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/ann/kdtree.hpp"
@@ -27,11 +28,18 @@ class LazyNormals {
   /// The unit normal at point `index`, or nullptr where the neighbourhood is no surface (too few
   /// neighbours, or as spread in its flattest direction as in the others: a corner or scatter).
   [[nodiscard]] const Eigen::Vector3d* at(std::size_t index);
+  /// Estimates now, on up to `threads` threads, the normals at those of `indices` not known yet (each is
+  /// estimated from the tree alone, so the order and the threads do not change it): at() then only looks
+  /// them up. A registration's first pairing asks for thousands of normals at once.
+  void estimate(std::span<const std::uint32_t> indices, unsigned threads);
 
   /// Moves the estimates out; the normals are then empty.
   [[nodiscard]] Estimates take() { return std::move(estimates_); }
 
  private:
+  /// Estimates the normal at `index` into estimates_, with `neighbors` as scratch.
+  void estimate_one(std::size_t index, std::vector<Neighbor>& neighbors);
+
   const KdTree* tree_;
   std::size_t k_;
   Estimates estimates_;

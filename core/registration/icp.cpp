@@ -2,6 +2,7 @@
 
 #include <Eigen/Cholesky>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <map>
 #include <span>
@@ -162,16 +163,23 @@ IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* nor
   const IcpMetric metric = normals == nullptr ? IcpMetric::kPointToPoint : options.metric;
   double previous_mse = std::numeric_limits<double>::infinity();
   PointCloud moved(source.size());
-  PartnerSearch partners(target, source.size(), options.max_correspondence_distance);
+  PartnerSearch partners(target, source.size(), options.max_correspondence_distance, options.threads);
   std::vector<Correspondence> pairs;
   pairs.reserve(source.size());
   const bool split = sides != nullptr && normals != nullptr && options.surface_sides.enabled;
   std::vector<AcrossPair> across;
+  std::vector<std::uint32_t> paired;  // the pairs' target points, for their normals
   for (int iteration = 0; iteration < options.max_iterations; ++iteration) {
     // 1. Find closest point-pairs within the bound (Algorithm 2, steps 1-2).
     for (std::size_t i = 0; i < source.size(); ++i)
       moved[i] = result.transform * source[i];
     partners.pair(moved, pairs);
+    if (metric == IcpMetric::kPointToPlane && options.threads > 1) {  // at() then finds them known
+      paired.clear();
+      for (const Correspondence& pair : pairs)
+        paired.push_back(static_cast<std::uint32_t>(pair.target));
+      normals->estimate(paired, options.threads);
+    }
     if (split)
       split_across(result.transform, target.points(), *normals, *sides, options.surface_sides, pairs, across);
     if (pairs.size() < options.min_pairs)

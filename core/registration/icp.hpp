@@ -46,6 +46,10 @@ struct IcpOptions {
   /// keeps their turn, each wall's offset left free (its two faces are parallel); point-to-point drops
   /// them.
   SurfaceSideOptions surface_sides;
+  /// Threads for each pairing's kd-tree searches and its target points' missing normals (point-to-plane),
+  /// the caller's among them. The result is the same on any number: each search and each normal depends
+  /// on its own point alone (docs/benchmarks.md, "The scan path on two threads").
+  unsigned threads = 1;
 };
 
 struct IcpResult {

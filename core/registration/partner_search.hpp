@@ -23,8 +23,9 @@ struct Correspondence {
 /// points).
 class PartnerSearch {
  public:
-  /// Pairs within `max_distance` of each other with sources of `source_size` points.
-  PartnerSearch(const KdTree& target, std::size_t source_size, double max_distance);
+  /// Pairs within `max_distance` of each other with sources of `source_size` points; the kd-tree searches
+  /// on up to `threads` threads (the caller's among them), which gives the same pairs.
+  PartnerSearch(const KdTree& target, std::size_t source_size, double max_distance, unsigned threads = 1);
 
   /// Replaces `pairs` with each moved source point's closest target point within the bound, in source
   /// order. `moved` keeps its size between calls.
@@ -43,10 +44,15 @@ class PartnerSearch {
     std::size_t runner_up = kNone;  ///< the next closest: with `target`, bounds the next search
   };
 
+  /// Searches the tree for the partners of `q`, the moved point of `partner`.
+  void search(const Eigen::Vector3d& q, Partner& partner) const;
+
   const KdTree* target_;
   double max_squared_;
   double reach_;  ///< search bound: a little beyond max_distance, so points without a partner can skip too
+  unsigned threads_;
   std::vector<Partner> partners_;
+  std::vector<std::size_t> stale_;  ///< scratch: the points searched this pairing
   std::size_t searches_ = 0;
 };
 

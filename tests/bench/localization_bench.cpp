@@ -304,11 +304,14 @@ int main(int argc, char** argv) {
   // STRATA_BENCH_DIRECTION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>, STRATA_BENCH_SURFACE_SIDES=0,
   // STRATA_BENCH_TILT_DRIFT=<rad per scan>, STRATA_BENCH_BIAS_RATE=<per scan>, STRATA_BENCH_TILT_CHANGE=<rad
   // per metre>, STRATA_BENCH_SLIDING_YAW_DISTANCE=<metres>, STRATA_BENCH_ICP_STEP_STOP=<rad> (the scan path's
-  // ICP stops on its step, 1e-4 m and this, instead of on the MSE's change).
+  // ICP stops on its step, 1e-4 m and this, instead of on the MSE's change), STRATA_BENCH_THREADS=<n> (the
+  // registration's threads; 1 as before).
   if (const char* metric = std::getenv("STRATA_BENCH_METRIC")) {
     options.registration.icp.metric =
         std::string(metric) == "point" ? IcpMetric::kPointToPoint : IcpMetric::kPointToPlane;
   }
+  if (const char* threads = std::getenv("STRATA_BENCH_THREADS"))  // the scan path's registration threads
+    options.registration.icp.threads = static_cast<unsigned>(std::atoi(threads));
   if (const char* sides = std::getenv("STRATA_BENCH_SURFACE_SIDES"))  // 0: pairs across thin walls as before
     options.registration.icp.surface_sides.enabled = std::string(sides) != "0";
   if (const char* n = std::getenv("STRATA_BENCH_LOCAL_MAP"))
