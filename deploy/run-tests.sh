@@ -4,7 +4,7 @@
 # and UndefinedBehaviorSanitizer. Then two lean presets that build only what they run: `fuzz` (clang's
 # libFuzzer: every parser of outside input, a fixed number of executions each on its seed corpus,
 # tests/fuzz/) and `tsan` (ThreadSanitizer over the concurrency tests: send queue, client hub, mapping
-# worker, localizer sink, navigator). Exits non-zero if anything fails.
+# worker, localizer sink, navigator, the registration's parallel_for). Exits non-zero if anything fails.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"
