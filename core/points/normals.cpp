@@ -6,13 +6,6 @@
 #include "core/parallel/parallel_for.hpp"
 
 namespace strata {
-
-LazyNormals::LazyNormals(const KdTree& tree, std::size_t k, Estimates earlier)
-    : tree_(&tree), k_(k), estimates_(std::move(earlier)) {
-  estimates_.normals.resize(tree.size());
-  estimates_.states.resize(tree.size(), State::kUnknown);
-}
-
 namespace {
 
 /// Fewer unknown normals than this a thread are left to the caller's: a normal costs about 2 microseconds,
@@ -20,6 +13,12 @@ namespace {
 constexpr std::size_t kMinPerThread = 64;
 
 }  // namespace
+
+LazyNormals::LazyNormals(const KdTree& tree, std::size_t k, Estimates earlier)
+    : tree_(&tree), k_(k), estimates_(std::move(earlier)) {
+  estimates_.normals.resize(tree.size());
+  estimates_.states.resize(tree.size(), State::kUnknown);
+}
 
 const Eigen::Vector3d* LazyNormals::at(std::size_t index) {
   if (estimates_.states[index] == State::kUnknown)
