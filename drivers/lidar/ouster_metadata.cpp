@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "drivers/io/json_input.hpp"
 #include "drivers/lidar/lidar_config_error.hpp"
 
 namespace strata::lidar {
@@ -33,8 +34,11 @@ std::vector<double> angles(const nlohmann::json& root, const char* key, std::str
 }  // namespace
 
 OusterMetadata parse_ouster_metadata(const std::string& json_text, std::string_view source) {
-  const nlohmann::json root = nlohmann::json::parse(json_text, nullptr, false);
-  if (root.is_discarded() || !root.is_object())
+  const io::JsonInput input = io::parse_json(json_text);
+  if (!input.ok())
+    throw LidarConfigError(std::string(source) + ": " + input.error);
+  const nlohmann::json& root = input.value;
+  if (!root.is_object())
     throw LidarConfigError(std::string(source) + ": not a JSON object");
   OusterMetadata metadata;
   metadata.beam_altitude_angles = angles(root, "beam_altitude_angles", source);

@@ -5,10 +5,12 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 
+#include "drivers/io/json_input.hpp"
 #include "drivers/io/kitti_reader.hpp"
 #include "drivers/io/point_cloud_file.hpp"
 #include "drivers/io/text_fields.hpp"
@@ -221,13 +223,12 @@ Dataset read_recording(const fs::path& directory, bool with_metadata) {
   std::string source = "a list of point files";
   if (with_metadata) {
     const fs::path path = directory / kRecordingFile;
-    nlohmann::json metadata;
-    try {
-      std::ifstream in(path);
-      metadata = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception& error) {
-      throw DatasetError(path.string() + ": not JSON: " + error.what());
-    }
+    std::ifstream in(path);
+    const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const io::JsonInput input = io::parse_json(text);
+    if (!input.ok())
+      throw DatasetError(path.string() + ": " + input.error);
+    const nlohmann::json& metadata = input.value;
     if (!metadata.is_object() || metadata.value("format", "") != kRecordingFormat)
       throw DatasetError(path.string() + ": not a Strata recording (format '" +
                          std::string(kRecordingFormat) + "')");

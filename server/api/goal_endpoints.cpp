@@ -1,9 +1,11 @@
 // REST: the goal (GET, POST to set, DELETE to cancel), the planned path, the operator's pose estimate, and
 // the IMU calibration kept between runs (GET, DELETE to forget it).
+#include <chrono>
 #include <nlohmann/json.hpp>
 #include <variant>
 
 #include "server/api/http_router.hpp"
+#include "server/api/operator_commands.hpp"
 #include "server/api/responses.hpp"
 #include "server/protocol/client_messages.hpp"
 #include "server/protocol/messages.hpp"
@@ -27,20 +29,14 @@ protocol::HttpResponse HttpRouter::goal(const protocol::HttpRequest& request) co
                           "navigation is not available on this server");
   };
   if (request.method() == http::verb::post) {
-    // The body is the WebSocket set_goal message without "op": one validation for both.
-    nlohmann::json body = nlohmann::json::parse(request.body(), nullptr, /*allow_exceptions=*/false);
-    if (body.is_discarded() || !body.is_object()) {
-      return error_response(request, http::status::bad_request, ErrorCode::kBadJson,
-                            "the body must be a JSON object {\"x\": ..., \"y\": ..., \"z\": ...}");
-    }
-    body["op"] = "set_goal";
-    const auto parsed = protocol::parse_client_message(body.dump());
-    if (!parsed.request) {
-      return error_response(request, http::status::bad_request, parsed.error, parsed.error_message);
-    }
+    // The body is the WebSocket set_goal message without "op": one validation, one command for both.
+    auto command = command_from_body(request, "set_goal");
+    if (auto* refusal = std::get_if<protocol::HttpResponse>(&command))
+      return std::move(*refusal);
     if (motion == nullptr)
       return unavailable();
-    const CommandResult result = motion->set_goal(std::get<protocol::SetGoalRequest>(*parsed.request).goal);
+    const CommandResult result = run_operator_command(services_, std::get<protocol::ClientRequest>(command),
+                                                      std::chrono::steady_clock::now());
     if (!result.ok)
       return command_error(request, result.code, result.message);
     return json_response(request, http::status::accepted,
@@ -70,22 +66,12 @@ protocol::HttpResponse HttpRouter::pose_estimate(const protocol::HttpRequest& re
     return method_not_allowed(request, "POST");
   if (auto refusal = require_operator(request))
     return std::move(*refusal);
-  // The body is the WebSocket set_pose message without "op": one validation for both.
-  nlohmann::json body = nlohmann::json::parse(request.body(), nullptr, /*allow_exceptions=*/false);
-  if (body.is_discarded() || !body.is_object()) {
-    return error_response(request, http::status::bad_request, ErrorCode::kBadJson,
-                          "the body must be a JSON object {\"x\": ..., \"y\": ..., \"yaw\": ...}");
-  }
-  body["op"] = "set_pose";
-  const auto parsed = protocol::parse_client_message(body.dump());
-  if (!parsed.request)
-    return error_response(request, http::status::bad_request, parsed.error, parsed.error_message);
-  if (services_.localization == nullptr) {
-    return error_response(request, http::status::service_unavailable, ErrorCode::kUnavailable,
-                          "localization is not available on this server");
-  }
-  const CommandResult result =
-      services_.localization->set_pose_estimate(std::get<protocol::SetPoseRequest>(*parsed.request).estimate);
+  // The body is the WebSocket set_pose message without "op": one validation, one command for both.
+  auto command = command_from_body(request, "set_pose");
+  if (auto* refusal = std::get_if<protocol::HttpResponse>(&command))
+    return std::move(*refusal);
+  const CommandResult result = run_operator_command(services_, std::get<protocol::ClientRequest>(command),
+                                                    std::chrono::steady_clock::now());
   if (!result.ok)
     return command_error(request, result.code, result.message);
   return json_response(request, http::status::accepted, nlohmann::json{{"message", result.message}}.dump());

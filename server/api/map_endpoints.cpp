@@ -2,11 +2,13 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <charconv>
+#include <chrono>
 #include <cstdint>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "server/api/http_router.hpp"
+#include "server/api/operator_commands.hpp"
 #include "server/api/responses.hpp"
 #include "server/auth/request_auth.hpp"
 #include "server/protocol/binary_frames.hpp"
@@ -210,22 +212,15 @@ protocol::HttpResponse HttpRouter::maps(const protocol::HttpRequest& request, st
     }
     if (request.method() != http::verb::post)
       return method_not_allowed(request, "GET, HEAD, POST");
-    const nlohmann::json body = nlohmann::json::parse(request.body(), nullptr, /*allow_exceptions=*/false);
-    if (body.is_discarded() || !body.is_object() || !body.contains("name") || !body["name"].is_string() ||
-        body.size() != 1) {
-      return error_response(request, http::status::bad_request, ErrorCode::kBadParams,
-                            "the body must be {\"name\": \"<file name>\"}");
-    }
-    const auto name = body["name"].get<std::string>();
-    if (!protocol::is_valid_map_name(name)) {
-      return error_response(
-          request, http::status::bad_request, ErrorCode::kBadParams,
-          "a map name is 1-64 characters of A-Z a-z 0-9 . _ - and does not start with a dot");
-    }
-    const CommandResult result = maps->save_map(name);
+    // The body is the WebSocket save_map message without "op": {"name": "<file name>"}.
+    auto command = command_from_body(request, "save_map");
+    if (auto* refusal = std::get_if<protocol::HttpResponse>(&command))
+      return std::move(*refusal);
+    const auto& save = std::get<protocol::SaveMapRequest>(std::get<protocol::ClientRequest>(command));
+    const CommandResult result = run_operator_command(services_, save, std::chrono::steady_clock::now());
     if (!result.ok)
       return command_error(request, result.code, result.message);
-    return json_response(request, http::status::created, nlohmann::json{{"name", name}}.dump());
+    return json_response(request, http::status::created, nlohmann::json{{"name", save.name}}.dump());
   }
   // "/{name}/load"
   constexpr std::string_view kLoad = "/load";
@@ -238,28 +233,18 @@ protocol::HttpResponse HttpRouter::maps(const protocol::HttpRequest& request, st
           request, http::status::bad_request, ErrorCode::kBadParams,
           "a map name is 1-64 characters of A-Z a-z 0-9 . _ - and does not start with a dot");
     }
-    // The body is optional: {"mode": "mapping"} (the default) or {"mode": "localize"}.
-    MapMode mode = MapMode::kMapping;
-    if (!request.body().empty()) {
-      const nlohmann::json body = nlohmann::json::parse(request.body(), nullptr, /*allow_exceptions=*/false);
-      const bool well_formed =
-          !body.is_discarded() && body.is_object() &&
-          (body.empty() || (body.size() == 1 && body.contains("mode") && body["mode"].is_string()));
-      const std::optional<MapMode> parsed = well_formed && body.contains("mode")
-                                                ? map_mode_from_string(body["mode"].get<std::string>())
-                                                : std::optional<MapMode>(MapMode::kMapping);
-      if (!well_formed || !parsed) {
-        return error_response(request, http::status::bad_request, ErrorCode::kBadParams,
-                              "the body is empty or {\"mode\": \"mapping\" | \"localize\"}");
-      }
-      mode = *parsed;
-    }
-    const CommandResult result = maps->load_map(name, mode);
+    // The body is the WebSocket load_map message without "op" and "name" (the URL's): empty, or
+    // {"mode": "mapping"} (the default) or {"mode": "localize"}.
+    auto command = command_from_body(request, "load_map", {{"name", name}});
+    if (auto* refusal = std::get_if<protocol::HttpResponse>(&command))
+      return std::move(*refusal);
+    const auto& load = std::get<protocol::LoadMapRequest>(std::get<protocol::ClientRequest>(command));
+    const CommandResult result = run_operator_command(services_, load, std::chrono::steady_clock::now());
     if (!result.ok)
       return command_error(request, result.code, result.message);
     return json_response(
         request, http::status::ok,
-        nlohmann::json{{"loaded", name}, {"mode", to_string(mode)}, {"message", result.message}}.dump());
+        nlohmann::json{{"loaded", name}, {"mode", to_string(load.mode)}, {"message", result.message}}.dump());
   }
   return error_response(request, http::status::not_found, ErrorCode::kNotFound,
                         "saved maps: GET/POST /api/v1/maps, POST /api/v1/maps/{name}/load");

@@ -44,6 +44,9 @@ protocol::HttpResponse HttpRouter::metrics(const protocol::HttpRequest& request)
          count(metrics_.ws_errors_sent));
   metric(out, "strata_ws_rate_limited_total", "counter", "client messages refused for the rate limit",
          count(metrics_.ws_rate_limited));
+  metric(out, "strata_ws_stale_teleop_total", "counter",
+         "teleop commands that would have moved the robot, refused as stale or out of order",
+         count(metrics_.ws_stale_teleop));
   metric(out, "strata_ws_slow_clients_dropped_total", "counter", "clients disconnected for not keeping up",
          count(metrics_.ws_slow_dropped));
   metric(out, "strata_ws_bytes_sent_total", "counter", "payload bytes sent to WebSocket clients",

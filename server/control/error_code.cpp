@@ -30,6 +30,8 @@ std::string_view to_string(ErrorCode code) {
       return "corrupt_file";
     case ErrorCode::kIoError:
       return "io_error";
+    case ErrorCode::kStaleCommand:
+      return "stale_command";
     case ErrorCode::kInternal:
       return "internal";
   }

@@ -20,6 +20,7 @@ enum class ErrorCode {
   kForbidden,     ///< refused whatever the token: a WebSocket from a browser origin that is not allowed
   kCorruptFile,   ///< a saved map failed its checks (truncated, checksum, version); the current map is kept
   kIoError,       ///< the server could not read or write a file
+  kStaleCommand,  ///< a teleop that would move the robot arrived too late or out of order: not obeyed
   kInternal,
 };
 [[nodiscard]] std::string_view to_string(ErrorCode code);

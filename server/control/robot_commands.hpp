@@ -1,5 +1,6 @@
 #pragma once
 
+#include <chrono>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -39,8 +40,10 @@ class MotionCommands {
   /// one: the WebSocket operator connection that set it closed. A goal replaced since, reached, failed or
   /// cancelled is left alone. Returns whether it cancelled.
   virtual bool cancel_goal_if_active(std::uint64_t goal_id, const std::string& reason) = 0;
-  /// Drives at (v m/s, w rad/s) for 0.5 s unless renewed; overrides (and cancels) a goal.
-  virtual CommandResult teleop(double v, double w) = 0;
+  /// Drives at (v m/s, w rad/s) until 0.5 s after `sent` (when the operator sent it, steady clock) unless
+  /// renewed; overrides (and cancels) a goal. Whether a command is fresh enough to obey is decided before
+  /// (TeleopFreshness): the lease only never outlives the intent it carries.
+  virtual CommandResult teleop(double v, double w, std::chrono::steady_clock::time_point sent) = 0;
   /// Stops teleoperation at once (the teleoperating client disconnected).
   virtual void stop_teleop() = 0;
   [[nodiscard]] virtual GoalStatus goal_status() const = 0;

@@ -11,6 +11,8 @@
 #include <variant>
 
 #include "drivers/io/text_fields.hpp"
+#include "server/api/operator_commands.hpp"
+#include "server/control/server_clock.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/protocol/protocol.hpp"
 
@@ -107,7 +109,7 @@ void WebSocketSession<Stream>::on_accept(beast::error_code error) {
   // is dropped as stale by the queue (same order). Nothing is missed between snapshot and joining.
   context_->hub.join(this->shared_from_this());
   enqueue(streams::OutgoingMessage::text(
-      protocol::hello_message(role_ == auth::Role::kOperator ? "operator" : "viewer")));
+      protocol::hello_message(role_ == auth::Role::kOperator ? "operator" : "viewer", server_clock_ms())));
   if (!context_->sim_world_message.empty())
     enqueue(streams::OutgoingMessage::text(context_->sim_world_message));
   nlohmann::json status = context_->status.fields();
@@ -180,62 +182,41 @@ void WebSocketSession<Stream>::handle_client_message(std::string_view text) {
 template <class Stream>
 void WebSocketSession<Stream>::handle_request(const protocol::ClientRequest& request, std::string_view op,
                                               const nlohmann::json& id) {
-  MotionCommands* motion = context_->services.motion;
-  MapCommands* maps = context_->services.maps;
-  const auto unavailable = [&](std::string_view what) {
-    reply(CommandResult::failure(ErrorCode::kUnavailable,
-                                 std::string(what) + " is not available on this server"),
-          op, id);
-  };
-  std::visit(
-      [&](const auto& r) {
-        using T = std::decay_t<decltype(r)>;
-        if constexpr (std::is_same_v<T, protocol::PingRequest>) {
-          enqueue(streams::OutgoingMessage::text(protocol::pong_message(id)));
-        } else if constexpr (std::is_same_v<T, protocol::SubscribeRequest>) {
-          const protocol::StreamSet added = r.streams & static_cast<protocol::StreamSet>(~streams_);
-          streams_ = r.streams;
-          // Newly subscribed streams start with their current state, as for a late joiner.
-          for (auto& message : context_->current_state()) {
-            if ((message.stream & added) != 0)
-              enqueue(std::move(message));
-          }
-          reply(CommandResult::success(), op, id);
-        } else if constexpr (std::is_same_v<T, protocol::SetGoalRequest>) {
-          if (motion == nullptr)
-            return unavailable("navigation");
-          const CommandResult result = motion->set_goal(r.goal);
-          if (result.ok)
-            goal_id_ = result.goal_id;
-          reply(result, op, id);
-        } else if constexpr (std::is_same_v<T, protocol::CancelGoalRequest>) {
-          if (motion == nullptr)
-            return unavailable("navigation");
-          reply(motion->cancel_goal(), op, id);
-        } else if constexpr (std::is_same_v<T, protocol::TeleopRequest>) {
-          if (motion == nullptr)
-            return unavailable("teleoperation");
-          const CommandResult result = motion->teleop(r.v, r.w);
-          teleoperating_ = teleoperating_ || result.ok;
-          // Teleop runs at 10-20 Hz: acknowledge only when the client asked for it (gave an id).
-          if (!result.ok || !id.is_null())
-            reply(result, op, id);
-        } else if constexpr (std::is_same_v<T, protocol::SaveMapRequest>) {
-          if (maps == nullptr)
-            return unavailable("map saving");
-          reply(maps->save_map(r.name), op, id);
-        } else if constexpr (std::is_same_v<T, protocol::LoadMapRequest>) {
-          if (maps == nullptr)
-            return unavailable("map loading");
-          reply(maps->load_map(r.name, r.mode), op, id);
-        } else if constexpr (std::is_same_v<T, protocol::SetPoseRequest>) {
-          LocalizationCommands* localization = context_->services.localization;
-          if (localization == nullptr)
-            return unavailable("pose estimates");
-          reply(localization->set_pose_estimate(r.estimate), op, id);
-        }
-      },
-      request);
+  if (std::holds_alternative<protocol::PingRequest>(request)) {
+    enqueue(streams::OutgoingMessage::text(protocol::pong_message(id, server_clock_ms())));
+    return;
+  }
+  if (const auto* subscribe = std::get_if<protocol::SubscribeRequest>(&request)) {
+    const protocol::StreamSet added = subscribe->streams & static_cast<protocol::StreamSet>(~streams_);
+    streams_ = subscribe->streams;
+    // Newly subscribed streams start with their current state, as for a late joiner.
+    for (auto& message : context_->current_state()) {
+      if ((message.stream & added) != 0)
+        enqueue(std::move(message));
+    }
+    reply(CommandResult::success(), op, id);
+    return;
+  }
+  const auto now = std::chrono::steady_clock::now();
+  const auto* teleop = std::get_if<protocol::TeleopRequest>(&request);
+  if (teleop != nullptr) {
+    const CommandResult fresh = teleop_freshness_.admit(teleop->stamp, teleop->moves(), server_clock_ms(now));
+    if (!fresh.ok) {
+      context_->metrics.ws_stale_teleop.fetch_add(1, std::memory_order_relaxed);
+      return reply(fresh, op, id);
+    }
+  }
+  const CommandResult result = api::run_operator_command(context_->services, request, now);
+  if (teleop != nullptr) {
+    teleoperating_ = teleoperating_ || result.ok;
+    // Teleop runs at 10-20 Hz: acknowledge only when the client asked for it (gave an id).
+    if (!result.ok || !id.is_null())
+      reply(result, op, id);
+    return;
+  }
+  if (result.ok && std::holds_alternative<protocol::SetGoalRequest>(request))
+    goal_id_ = result.goal_id;
+  reply(result, op, id);
 }
 
 template <class Stream>

@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "server/auth/operator_token.hpp"
+#include "server/control/teleop_freshness.hpp"
 #include "server/net/connection_limit.hpp"
 #include "server/net/rate_limiter.hpp"
 #include "server/net/send_queue.hpp"
@@ -59,7 +60,8 @@ class WebSocketSession : public streams::ClientConnection,
   std::chrono::steady_clock::time_point write_started_{};
   bool open_ = false;
   bool teleoperating_ = false;
-  std::uint64_t goal_id_ = 0;  // the last goal this connection set: cancelled when it closes
+  TeleopFreshness teleop_freshness_;  // refuses moving teleops that are stale or out of order
+  std::uint64_t goal_id_ = 0;         // the last goal this connection set: cancelled when it closes
 };
 
 extern template class WebSocketSession<PlainStream>;

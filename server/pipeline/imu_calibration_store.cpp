@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "core/files/atomic_file.hpp"
+#include "drivers/io/json_input.hpp"
 
 namespace strata::pipeline {
 namespace {
@@ -33,15 +34,18 @@ ImuCalibrationStatus status_of(ImuCalibrationStatus::Kept kept, const ImuCalibra
 }  // namespace
 
 ImuCalibration parse_imu_calibration(const std::string& text) {
-  const nlohmann::json json = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (json.is_discarded() || !json.is_object())
+  const io::JsonInput input = io::parse_json(text);
+  if (!input.ok())
+    throw std::runtime_error(input.error);
+  const nlohmann::json& json = input.value;
+  if (!json.is_object())
     throw std::runtime_error("not a JSON object");
   if (json.value("format", "") != kFormat)
     throw std::runtime_error(std::string("no \"format\": \"") + kFormat + "\"");
   if (!json.contains("version") || !json["version"].is_number_integer() ||
       json["version"].get<int>() != kVersion)
-    throw std::runtime_error("version " + json.value("version", nlohmann::json()).dump() + ", expected " +
-                             std::to_string(kVersion));
+    throw std::runtime_error("version " + json.value("version", nlohmann::json()).dump().substr(0, 40) +
+                             ", expected " + std::to_string(kVersion));
   const auto number = [&](const char* key) {
     if (!json.contains(key) || !json[key].is_number() || !std::isfinite(json[key].get<double>()))
       throw std::runtime_error(std::string("\"") + key + "\" is not a finite number");

@@ -133,7 +133,7 @@ bool Navigator::cancel_goal_if_active(std::uint64_t goal_id, const std::string& 
   return true;  // drive() now answers a stop: commanded_ was set with the goal
 }
 
-CommandResult Navigator::teleop(double v, double w) {
+CommandResult Navigator::teleop(double v, double w, std::chrono::steady_clock::time_point sent) {
   if (!std::isfinite(v) || !std::isfinite(w))
     return CommandResult::failure(ErrorCode::kBadParams, "teleop v and w must be finite numbers");
   std::lock_guard lock(mutex_);
@@ -143,8 +143,9 @@ CommandResult Navigator::teleop(double v, double w) {
   goal_waiting_ = false;
   teleop_ = {std::clamp(v, -config_.max_speed, config_.max_speed),
              std::clamp(w, -config_.max_turn_rate, config_.max_turn_rate)};
-  teleop_until_ = clock_() + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                 std::chrono::duration<double>(config_.teleop_timeout));
+  // The lease runs from when the operator sent it: a command that waited in the network drives less long.
+  teleop_until_ = std::min(sent, clock_()) + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                                 std::chrono::duration<double>(config_.teleop_timeout));
   return CommandResult::success();
 }
 

@@ -54,7 +54,9 @@ class Navigator : public MotionCommands {
   CommandResult set_goal(const GoalRequest& goal) override;
   CommandResult cancel_goal() override;
   bool cancel_goal_if_active(std::uint64_t goal_id, const std::string& reason) override;
-  CommandResult teleop(double v, double w) override;
+  CommandResult teleop(double v, double w, std::chrono::steady_clock::time_point sent) override;
+  /// Sent now (tests, and commands that carry no stamp).
+  CommandResult teleop(double v, double w) { return teleop(v, w, clock_()); }
   void stop_teleop() override;
   [[nodiscard]] GoalStatus goal_status() const override;
   [[nodiscard]] std::shared_ptr<const PlannedPath> path() const override;

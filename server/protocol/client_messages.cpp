@@ -7,6 +7,8 @@
 #include <initializer_list>
 #include <numbers>
 
+#include "drivers/io/json_input.hpp"
+
 namespace strata::protocol {
 namespace {
 
@@ -55,6 +57,17 @@ double number(const json& message, const char* name, double limit, bool required
   return value;
 }
 
+/// A client's value quoted in an error message: short, whatever it was.
+std::string quoted_briefly(const json& value) {
+  if (!value.is_primitive())
+    return value.is_array() ? "(an array)" : "(an object)";
+  std::string text = value.dump(-1, ' ', false, json::error_handler_t::replace);
+  constexpr std::size_t kMaxQuoted = 40;
+  if (text.size() > kMaxQuoted)
+    text = text.substr(0, kMaxQuoted) + "...";
+  return text;
+}
+
 std::string map_name(const json& message) {
   const auto found = message.find("name");
   if (found == message.end() || !found->is_string())
@@ -79,7 +92,8 @@ ClientRequest parse_request(const std::string& op, const json& message) {
     for (const auto& item : *found) {
       const auto stream = item.is_string() ? stream_from_name(item.get<std::string>()) : std::nullopt;
       if (!stream)
-        throw Invalid{"unknown stream " + item.dump() + " (pose, status, tiles, occupancy, path, goal)"};
+        throw Invalid{"unknown stream " + quoted_briefly(item) +
+                      " (pose, status, tiles, occupancy, path, goal)"};
       request.streams |= static_cast<StreamSet>(*stream);
     }
     return request;
@@ -108,8 +122,17 @@ ClientRequest parse_request(const std::string& op, const json& message) {
     return CancelGoalRequest{};
   }
   if (op == "teleop") {
-    only_fields(message, {"v", "w"});
-    return TeleopRequest{number(message, "v", kMaxTeleopSpeed), number(message, "w", kMaxTeleopTurn)};
+    only_fields(message, {"v", "w", "seq", "t"});
+    TeleopRequest request{number(message, "v", kMaxTeleopSpeed), number(message, "w", kMaxTeleopTurn)};
+    if (message.contains("seq") != message.contains("t"))
+      throw Invalid{"\"seq\" and \"t\" come together"};
+    if (message.contains("seq")) {
+      const auto& seq = message.at("seq");
+      if (!seq.is_number_unsigned() && !(seq.is_number_integer() && seq.get<std::int64_t>() >= 0))
+        throw Invalid{"\"seq\" must be an integer from 0"};
+      request.stamp = TeleopStamp{seq.get<std::uint64_t>(), number(message, "t", kMaxClockMs)};
+    }
+    return request;
   }
   if (op == "save_map") {
     only_fields(message, {"name"});
@@ -153,13 +176,18 @@ bool is_valid_map_name(std::string_view name) {
 }
 
 ParsedClientMessage parse_client_message(std::string_view text) {
-  ParsedClientMessage parsed;
-  const json message = json::parse(text, nullptr, /*allow_exceptions=*/false);
-  if (message.is_discarded()) {
+  const io::JsonInput input = io::parse_json(text);
+  if (!input.ok()) {
+    ParsedClientMessage parsed;
     parsed.error = ErrorCode::kBadJson;
-    parsed.error_message = "message is not valid JSON";
+    parsed.error_message = "message is " + input.error;
     return parsed;
   }
+  return validate_client_message(input.value);
+}
+
+ParsedClientMessage validate_client_message(const json& message) {
+  ParsedClientMessage parsed;
   const auto op = message.is_object() ? message.find("op") : message.end();
   if (!message.is_object() || op == message.end() || !op->is_string()) {
     parsed.error = ErrorCode::kBadMessage;

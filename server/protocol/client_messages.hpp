@@ -8,6 +8,7 @@
 #include <variant>
 
 #include "server/control/robot_commands.hpp"
+#include "server/control/teleop_freshness.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/state/goal_state.hpp"
 
@@ -38,8 +39,10 @@ struct SetGoalRequest {
 };
 struct CancelGoalRequest {};
 struct TeleopRequest {
-  double v = 0.0;  ///< m/s, forward positive
-  double w = 0.0;  ///< rad/s, counter-clockwise positive
+  double v = 0.0;                    ///< m/s, forward positive
+  double w = 0.0;                    ///< rad/s, counter-clockwise positive
+  std::optional<TeleopStamp> stamp;  ///< "seq" and "t": what tells a stale command (TeleopFreshness)
+  [[nodiscard]] bool moves() const { return v != 0.0 || w != 0.0; }
 };
 struct SaveMapRequest {
   std::string name;
@@ -65,9 +68,12 @@ struct ParsedClientMessage {
   std::string error_message;
 };
 
-/// Parses and validates one text frame against proto/schemas/ws-client: JSON, an object with a known string
-/// "op", exactly the fields that op allows, of the right types and in range (finite numbers, sane bounds).
+/// Parses and validates one text frame against proto/schemas/ws-client: JSON nested at most
+/// io::kMaxJsonDepth levels, an object with a known string "op", exactly the fields that op allows, of the
+/// right types and in range (finite numbers, sane bounds).
 [[nodiscard]] ParsedClientMessage parse_client_message(std::string_view text);
+/// The same for a message already parsed (a REST body with its endpoint's "op" added).
+[[nodiscard]] ParsedClientMessage validate_client_message(const nlohmann::json& message);
 
 /// Goals, teleop, save and load move the robot or change the map: operators only.
 [[nodiscard]] bool needs_operator(const ClientRequest& request);
@@ -76,6 +82,7 @@ struct ParsedClientMessage {
 inline constexpr double kMaxCoordinate = 1.0e6;  ///< metres from the map origin
 inline constexpr double kMaxTeleopSpeed = 2.0;   ///< m/s; the base clamps further to its own limits
 inline constexpr double kMaxTeleopTurn = 3.0;    ///< rad/s
+inline constexpr double kMaxClockMs = 1.0e15;    ///< teleop "t": the server clock, ms (31,000 years)
 
 /// A map file name: 1-64 characters of A-Z a-z 0-9 . _ -, not starting with a dot. Never a path.
 [[nodiscard]] bool is_valid_map_name(std::string_view name);

@@ -225,13 +225,15 @@ std::string sim_world_message(const sim::World& world) {
   return message.dump();
 }
 
-std::string hello_message(std::string_view role) {
+std::string hello_message(std::string_view role, double clock_ms) {
   return nlohmann::json{{"op", "hello"},
                         {"server", "strata"},
                         {"version", build_info::version()},
                         {"protocol", kSubprotocol},
                         {"protocol_version", kVersion},
-                        {"role", role}}
+                        {"protocol_minor", kMinorVersion},
+                        {"role", role},
+                        {"clock_ms", clock_ms}}
       .dump();
 }
 
@@ -250,8 +252,8 @@ std::string error_message(std::string_view code, std::string_view message, std::
   return error.dump();
 }
 
-std::string pong_message(const nlohmann::json& id) {
-  nlohmann::json message{{"op", "pong"}};
+std::string pong_message(const nlohmann::json& id, double clock_ms) {
+  nlohmann::json message{{"op", "pong"}, {"clock_ms", clock_ms}};
   if (!id.is_null())
     message["id"] = id;
   return message.dump();

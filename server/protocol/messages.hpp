@@ -52,7 +52,8 @@ struct StatusExtras {
 /// {"op":"sim_world", ...}: the same, sent to late joiners when the robot is simulated.
 [[nodiscard]] std::string sim_world_message(const sim::World& world);
 /// {"op":"hello", ...}: the first message on every connection; `role` is "operator" or "viewer".
-[[nodiscard]] std::string hello_message(std::string_view role = "viewer");
+/// `clock_ms`: the server clock (control/server_clock.hpp) that clients stamp teleop commands in.
+[[nodiscard]] std::string hello_message(std::string_view role, double clock_ms);
 /// {"op":"error","code":...,"message":...[,"request":op][,"id":id]}
 [[nodiscard]] std::string error_message(ErrorCode code, std::string_view message,
                                         std::string_view request_op = {}, const nlohmann::json& id = nullptr);
@@ -60,7 +61,7 @@ struct StatusExtras {
 [[nodiscard]] std::string error_message(std::string_view code, std::string_view message,
                                         std::string_view request_op, const nlohmann::json& id);
 /// {"op":"pong", "id": ...}
-[[nodiscard]] std::string pong_message(const nlohmann::json& id);
+[[nodiscard]] std::string pong_message(const nlohmann::json& id, double clock_ms);
 /// The body of GET /api/v1/info.
 [[nodiscard]] nlohmann::json info();
 /// The REST error body {"error":{"code":...,"message":...}}.

@@ -24,7 +24,9 @@ class AcceptingMotion : public strata::MotionCommands {
   }
   strata::CommandResult cancel_goal() override { return strata::CommandResult::success(); }
   bool cancel_goal_if_active(std::uint64_t, const std::string&) override { return false; }
-  strata::CommandResult teleop(double, double) override { return strata::CommandResult::success(); }
+  strata::CommandResult teleop(double, double, std::chrono::steady_clock::time_point) override {
+    return strata::CommandResult::success();
+  }
   void stop_teleop() override {}
   [[nodiscard]] strata::GoalStatus goal_status() const override { return {}; }
   [[nodiscard]] std::shared_ptr<const strata::PlannedPath> path() const override { return nullptr; }

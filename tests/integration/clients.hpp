@@ -131,6 +131,30 @@ class WsClient {
 /// The same client; the name says a test connects over TLS.
 using WssClient = WsClient;
 
+/// Stamps teleop commands as the clients do (proto/PROTOCOL.md, "Teleoperation"): the server clock from
+/// hello's clock_ms plus the time elapsed here since it arrived, and a sequence number.
+class TeleopStamper {
+ public:
+  explicit TeleopStamper(const nlohmann::json& hello)
+      : clock_at_hello_ms_(hello.at("clock_ms").get<double>()),
+        hello_arrived_(std::chrono::steady_clock::now()) {}
+  /// A teleop at (v, w) sent now; with an `id` when not null (it asks for an ack).
+  [[nodiscard]] std::string command(double v, double w, const nlohmann::json& id = nullptr) {
+    const double elapsed_ms =
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - hello_arrived_).count();
+    nlohmann::json command{
+        {"op", "teleop"}, {"v", v}, {"w", w}, {"seq", ++seq_}, {"t", clock_at_hello_ms_ + elapsed_ms}};
+    if (!id.is_null())
+      command["id"] = id;
+    return command.dump();
+  }
+
+ private:
+  double clock_at_hello_ms_;
+  std::chrono::steady_clock::time_point hello_arrived_;
+  std::uint64_t seq_ = 0;
+};
+
 /// Reads status messages until `done` holds for one; returns it. Fails after many minutes of messages.
 template <typename Condition>
 nlohmann::json wait_for_status(WsClient& client, Condition done) {

@@ -194,7 +194,7 @@ TEST_F(Mission, CancelStopsTheRobot) {
 
 TEST_F(Mission, TeleopMovesTheRobotAndStopsWhenTheCommandsStop) {
   auto op = WsClient::operator_client(port(), kTestOperatorToken);
-  op->read_op("hello");
+  TeleopStamper stamper(op->read_op("hello"));
   // A stop command ends the demo route; then the robot stands until told. It does not move while it takes
   // a stop-and-go scan, so wait for the first one to finish.
   op->send_text(R"({"op":"teleop","v":0,"w":0,"id":"stop"})");
@@ -202,7 +202,7 @@ TEST_F(Mission, TeleopMovesTheRobotAndStopsWhenTheCommandsStop) {
   wait_for_map(*op, 1);
   const auto start = wait_until_still(*op);
   for (int i = 0; i < 20; ++i) {
-    op->send_text(R"({"op":"teleop","v":0.3,"w":0.4})");
+    op->send_text(stamper.command(0.3, 0.4));
     std::this_thread::sleep_for(std::chrono::milliseconds(50));
   }
   // No more commands: it stops by itself (the commands expire after 0.5 s).
@@ -218,10 +218,10 @@ TEST_F(Mission, ClosingTheConnectionStopsATeleoperatedRobot) {
   WsClient observer(port());
   {
     auto op = WsClient::operator_client(port(), kTestOperatorToken);
-    op->read_op("hello");
+    TeleopStamper stamper(op->read_op("hello"));
     for (int i = 0; i < 10; ++i) {
       // An id asks for an ack: proof each command was taken.
-      op->send_text(R"({"op":"teleop","v":-0.2,"w":0,"id":1})");
+      op->send_text(stamper.command(-0.2, 0.0, 1));
       op->read_op("ack");
     }
   }  // closed while the last command is still valid

@@ -70,6 +70,10 @@ pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd,
       const rlimit limit{limits.open_files, limits.open_files};
       setrlimit(RLIMIT_NOFILE, &limit);
     }
+    if (limits.stack != RLIM_INFINITY) {  // glibc sizes new threads' stacks by it too
+      const rlimit limit{limits.stack, limits.stack};
+      setrlimit(RLIMIT_STACK, &limit);
+    }
     execve(argv[0], argv.data(), envp.data());
     _exit(127);
   }

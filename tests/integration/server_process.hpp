@@ -21,6 +21,7 @@ inline constexpr const char* kTestOperatorToken = "integration-test-operator-tok
 struct ProcessLimits {
   std::uint64_t file_size = RLIM_INFINITY;   ///< RLIMIT_FSIZE, bytes: a disk that fills up
   std::uint64_t open_files = RLIM_INFINITY;  ///< RLIMIT_NOFILE: a server that runs out of descriptors
+  std::uint64_t stack = RLIM_INFINITY;       ///< RLIMIT_STACK, bytes: every thread's stack (glibc)
   std::filesystem::path log_file;            ///< stderr (the log) goes here; empty: to the test's output
 };
 

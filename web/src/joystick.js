@@ -1,18 +1,25 @@
 // The teleop joystick with a deadman: while a finger (or the mouse button) holds the knob, teleop commands
 // go out at 10 Hz (the server lets each one drive for 0.5 s), and a changed command at once from the pointer
 // event (at most every MIN_SEND_GAP_MS), never waiting for the map to be drawn; letting go, losing the
-// pointer, hiding the page or losing the connection stops sending and sends v = 0, w = 0 at once.
+// pointer, hiding the page or losing the connection stops sending and sends v = 0, w = 0 at once. Each
+// command carries a sequence number and when it was sent on the server's clock, so that commands a link
+// outage held back never move the robot when they arrive (proto/PROTOCOL.md, "Teleoperation").
 const SEND_INTERVAL_MS = 100;
 const MIN_SEND_GAP_MS = 40;
 const MAX_SPEED = 0.6; // m/s forward at full deflection
 const MAX_TURN = 1.0; // rad/s counter-clockwise at full deflection
 
 export class Joystick {
-  /** send(message) returns whether it went out; onChange(state) reports { held, v, w }. */
-  constructor(element, { send, onChange = () => {} }) {
+  /**
+   * send(message) returns whether it went out; onChange(state) reports { held, v, w }; serverNow() is the
+   * server's clock in ms (ServerClock.now), or null when the server does not give it.
+   */
+  constructor(element, { send, serverNow = () => null, onChange = () => {} }) {
     this.element = element;
     this.knob = element.querySelector('.knob');
     this.send = send;
+    this.serverNow = serverNow;
+    this.seq = 0;
     this.onChange = onChange;
     this.held = false;
     this.pointerId = null;
@@ -72,7 +79,7 @@ export class Joystick {
   }
 
   tick() {
-    if (this.send({ op: 'teleop', v: this.v, w: this.w })) this.sent += 1;
+    if (this.send(this.command(this.v, this.w))) this.sent += 1;
     this.sentAt = performance.now();
   }
 
@@ -87,8 +94,14 @@ export class Joystick {
     this.w = 0;
     this.element.classList.remove('held');
     this.knob.style.transform = '';
-    this.send({ op: 'teleop', v: 0, w: 0 });
+    this.send(this.command(0, 0));
     this.onChange(this.state);
+  }
+
+  command(v, w) {
+    const t = this.serverNow();
+    this.seq += 1;
+    return t === null ? { op: 'teleop', v, w } : { op: 'teleop', v, w, seq: this.seq, t: Math.round(t) };
   }
 
   get state() {

@@ -5,6 +5,7 @@ import { Connection, websocketUrl } from './connection.js';
 import { setUpFilesDialog } from './files_dialog.js';
 import { GoalPanel } from './goal_panel.js';
 import { Joystick } from './joystick.js';
+import { ServerClock } from './server_clock.js';
 import { setUpToggles, trackUncoveredArea } from './layout.js';
 import { tokenRefused } from './map_files.js';
 import { MapFeed } from './map_feed.js';
@@ -75,10 +76,13 @@ function showRole(newRole) {
 }
 
 const pings = new Map(); // id -> performance.now() when sent
+const serverClock = new ServerClock(); // teleop's t
 
 const handlers = {
   hello: (m) => {
     perf.helloMs ??= performance.now();
+    serverClock.reset();
+    serverClock.observe(m.clock_ms);
     $('source').textContent = `server ${m.version} · ${m.protocol}`;
     showRole(m.role);
     mapFeed.clear();
@@ -109,6 +113,7 @@ const handlers = {
     notices.show(note ? `${ackText[m.request]}: ${note}` : ackText[m.request], 'ok', note ? 6 : 3);
   },
   pong: (m) => {
+    serverClock.observe(m.clock_ms);
     const sent = pings.get(m.id);
     pings.delete(m.id);
     if (sent !== undefined) panel.showRoundTrip(performance.now() - sent);
@@ -121,7 +126,10 @@ const handlers = {
 };
 
 // ---- the joystick (before the connection, whose state changes release it) -------------------------
-const joystick = new Joystick($('joystick'), { send: (message) => connection.send(message) });
+const joystick = new Joystick($('joystick'), {
+  send: (message) => connection.send(message),
+  serverNow: () => serverClock.now(),
+});
 
 // ---- the connection ---------------------------------------------------------------------------------
 const stateText = { connecting: 'connecting…', connected: 'live', disconnected: 'disconnected: retrying' };

@@ -3,6 +3,7 @@
 const EXPLANATIONS = {
   unauthorized: 'needs the operator token (enter it with the Token button)',
   rate_limited: 'too many commands at once; try again in a moment',
+  stale_command: 'the link delayed the drive command too long: the robot did not move on it',
   unavailable: 'not available on this server right now',
   not_found: 'not found',
   bad_params: 'the server did not accept the values',

@@ -86,6 +86,10 @@ class Connection:
         self._listeners: dict[str, list[Listener]] = {}
         self._message_observers: list[MessageObserver] = []
         self._frame_observers: list[FrameObserver] = []
+        # The server's clock (hello's and pong's clock_ms) minus ours at arrival, newest last: teleop's "t".
+        self._clock_offsets: list[float] = []
+        # One sequence for every teleop on this connection: the server refuses a moving one not above the last.
+        self.teleop_sequence = itertools.count(1)
 
         # The first message is hello; read it before anything else so the role and version are known.
         self.hello = self._read_hello()
@@ -250,7 +254,23 @@ class Connection:
             raise
         hello = Hello.from_json(message)
         self._latest["hello"] = hello
+        self._observe_server_clock(message)
         return hello
+
+    def _observe_server_clock(self, message: JsonObject) -> None:
+        clock_ms = message.get("clock_ms")
+        if isinstance(clock_ms, (int, float)) and not isinstance(clock_ms, bool):
+            with self._lock:
+                self._clock_offsets = (self._clock_offsets + [clock_ms - time.monotonic() * 1000.0])[-8:]
+
+    def server_clock_ms(self) -> Optional[float]:
+        """The server's clock now, in ms, as told by hello and pong (proto/PROTOCOL.md, "Teleoperation"): each
+        says the clock read at least clock_ms when it arrived, so the best estimate is the largest bound
+        over the last eight. None from a server before protocol 1.1."""
+        with self._lock:
+            if not self._clock_offsets:
+                return None
+            return time.monotonic() * 1000.0 + max(self._clock_offsets)
 
     def _read_loop(self) -> None:
         reason = "closed by the server"
@@ -290,6 +310,8 @@ class Connection:
             log.warning("strata_client: ignoring a text frame that is not a message: %.200s", text)
             return
         op = message["op"]
+        if op == "pong":
+            self._observe_server_clock(message)
         parser = PARSERS.get(op)
         typed = parser(message) if parser else message  # ops this client does not know are kept as dicts
         answer_queue = None

@@ -1,7 +1,10 @@
-"""Teleoperation: the server obeys a teleop command for 0.5 s only, so a thread repeats it while it is held."""
+"""Teleoperation: the server obeys a teleop command for 0.5 s only, so a thread repeats it while it is held.
+Each command carries a sequence number and when it was sent on the server's clock, so that commands a link
+outage held back never move the robot when they arrive (proto/PROTOCOL.md, "Teleoperation")."""
 
 from __future__ import annotations
 
+import itertools
 import math
 import threading
 from typing import TYPE_CHECKING, Optional
@@ -15,6 +18,15 @@ LEASE_SECONDS = 0.5  # proto/PROTOCOL.md: a teleop command expires 0.5 s after t
 RESEND_SECONDS = 0.1  # 10 Hz: five commands per lease, well within the 40 messages/s rate limit
 MAX_V = 2.0  # m/s, proto/schemas/ws-client/teleop.schema.json; the base clamps to its own limits
 MAX_W = 3.0  # rad/s
+
+
+def teleop_command(connection: "Connection", v: float, w: float, seq: int) -> dict:
+    """The teleop message, stamped when the server gives its clock."""
+    command: dict = {"op": "teleop", "v": v, "w": w}
+    now = connection.server_clock_ms()
+    if now is not None:
+        command.update(seq=seq, t=round(now, 1))
+    return command
 
 
 def check_velocity(v: float, w: float) -> tuple[float, float]:
@@ -36,7 +48,8 @@ class Teleop:
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self.failure: Optional[BaseException] = None  # why the keep-alive thread ended early, if it did
-        connection.request({"op": "teleop", "v": self._v, "w": self._w})
+        self._seq = connection.teleop_sequence
+        connection.request(self._command(self._v, self._w))
         self._thread = threading.Thread(target=self._keep_alive, name="strata-teleop", daemon=True)
         self._thread.start()
 
@@ -47,16 +60,19 @@ class Teleop:
     def set(self, v: float, w: float) -> None:
         """Changes the velocity; sent at once."""
         v, w = check_velocity(v, w)
-        with self._lock:
+        with self._lock:  # numbered and sent under the lock: the keep-alive never overtakes it
             self._v, self._w = v, w
-        self._connection.send({"op": "teleop", "v": v, "w": w})
+            self._connection.send(self._command(v, w))
 
     def stop(self) -> None:
         """Stops the keep-alive and commands a standstill (acknowledged), rather than letting the lease run out."""
         self._stop.set()
         self._thread.join()
         if not self._connection.closed:
-            self._connection.request({"op": "teleop", "v": 0.0, "w": 0.0})
+            self._connection.request(self._command(0.0, 0.0))
+
+    def _command(self, v: float, w: float) -> dict:
+        return teleop_command(self._connection, v, w, next(self._seq))
 
     def __enter__(self) -> "Teleop":
         return self
@@ -66,10 +82,9 @@ class Teleop:
 
     def _keep_alive(self) -> None:
         while not self._stop.wait(RESEND_SECONDS):
-            with self._lock:
-                command = {"op": "teleop", "v": self._v, "w": self._w}
             try:
-                self._connection.send(command)
+                with self._lock:
+                    self._connection.send(self._command(self._v, self._w))
             except (ConnectionClosed, StrataError) as failure:
                 self.failure = failure
                 return

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "core/geometry/angles.hpp"
+#include "drivers/io/json_input.hpp"
 #include "drivers/sim/world/embedded_worlds.hpp"
 
 namespace strata::sim {
@@ -211,9 +212,10 @@ HeightField make_terrain(const Fields& f) {
 }  // namespace
 
 WorldDescription parse_world(std::string_view text, std::string_view source) {
-  const json document = json::parse(text, nullptr, false);
-  if (document.is_discarded())
-    throw std::runtime_error(std::string(source) + ": not valid JSON");
+  const io::JsonInput input = io::parse_json(text);
+  if (!input.ok())
+    throw std::runtime_error(std::string(source) + ": " + input.error);
+  const json& document = input.value;
   const Fields top(document, std::string(source));
   WorldDescription world;
   world.name = top.text("name", "unnamed");

@@ -35,7 +35,9 @@ class RecordingMotion : public MotionCommands {
     return CommandResult::success();
   }
   bool cancel_goal_if_active(std::uint64_t, const std::string&) override { return false; }
-  CommandResult teleop(double, double) override { return CommandResult::success(); }
+  CommandResult teleop(double, double, std::chrono::steady_clock::time_point) override {
+    return CommandResult::success();
+  }
   void stop_teleop() override {}
   [[nodiscard]] GoalStatus goal_status() const override { return status; }
   [[nodiscard]] std::shared_ptr<const PlannedPath> path() const override { return nullptr; }

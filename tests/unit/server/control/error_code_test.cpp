@@ -12,10 +12,10 @@ namespace strata {
 namespace {
 
 constexpr ErrorCode kEveryCode[] = {
-    ErrorCode::kBadJson,          ErrorCode::kBadMessage,  ErrorCode::kUnknownOp,   ErrorCode::kNotFound,
-    ErrorCode::kMethodNotAllowed, ErrorCode::kBadRequest,  ErrorCode::kUnavailable, ErrorCode::kBadParams,
-    ErrorCode::kUnauthorized,     ErrorCode::kRateLimited, ErrorCode::kForbidden,   ErrorCode::kCorruptFile,
-    ErrorCode::kIoError,          ErrorCode::kInternal,
+    ErrorCode::kBadJson,          ErrorCode::kBadMessage,   ErrorCode::kUnknownOp,   ErrorCode::kNotFound,
+    ErrorCode::kMethodNotAllowed, ErrorCode::kBadRequest,   ErrorCode::kUnavailable, ErrorCode::kBadParams,
+    ErrorCode::kUnauthorized,     ErrorCode::kRateLimited,  ErrorCode::kForbidden,   ErrorCode::kCorruptFile,
+    ErrorCode::kIoError,          ErrorCode::kStaleCommand, ErrorCode::kInternal,
 };
 
 std::set<std::string> schema_codes(const std::string& schema) {

@@ -287,6 +287,19 @@ TEST(Navigator, TeleopLastsHalfASecondUnlessRenewed) {
   EXPECT_EQ(navigator.drive(at(0, 0, 0), 1.2)->v, 0.0);  // at once
 }
 
+TEST(Navigator, TeleopsLeaseRunsFromWhenItWasSent) {
+  ManualClock clock;
+  Navigator navigator({}, clock.function());
+  ASSERT_TRUE(navigator.teleop(0.4, 0.0, clock.now - 300ms).ok);  // 300 ms in the network
+  clock.now += 150ms;
+  EXPECT_EQ(navigator.drive(at(0, 0, 0), 0.0)->v, 0.4);
+  clock.now += 100ms;  // 550 ms after it was sent
+  EXPECT_EQ(navigator.drive(at(0, 0, 0), 0.1)->v, 0.0);
+  ASSERT_TRUE(navigator.teleop(0.4, 0.0, clock.now + 5s).ok);  // a clock ahead counts as sent now
+  clock.now += 600ms;
+  EXPECT_EQ(navigator.drive(at(0, 0, 0), 0.7)->v, 0.0);
+}
+
 TEST(Navigator, TeleopCancelsTheGoal) {
   const MlsMap map = test::bridge_scene();
   Navigator navigator;

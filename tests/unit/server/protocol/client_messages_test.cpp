@@ -40,6 +40,40 @@ TEST(ClientMessages, ValidRequests) {
   EXPECT_TRUE(parse_client_message(R"({"op":"ping","id":"a"})").request);
 }
 
+TEST(ClientMessages, TeleopCarriesItsSequenceAndSendingTime) {
+  const auto stamped = parse_client_message(R"({"op":"teleop","v":0.5,"w":0,"seq":12,"t":81234567.5})");
+  ASSERT_TRUE(stamped.request);
+  const auto& teleop = std::get<TeleopRequest>(*stamped.request);
+  ASSERT_TRUE(teleop.stamp);
+  EXPECT_EQ(teleop.stamp->seq, 12U);
+  EXPECT_DOUBLE_EQ(teleop.stamp->sent_ms, 81234567.5);
+  EXPECT_TRUE(teleop.moves());
+  const auto stop = parse_client_message(R"({"op":"teleop","v":0,"w":0})");
+  ASSERT_TRUE(stop.request);
+  EXPECT_FALSE(std::get<TeleopRequest>(*stop.request).stamp);
+  EXPECT_FALSE(std::get<TeleopRequest>(*stop.request).moves());
+  for (const char* half :
+       {R"({"op":"teleop","v":0.5,"w":0,"seq":1})", R"({"op":"teleop","v":0.5,"w":0,"t":1})",
+        R"({"op":"teleop","v":0.5,"w":0,"seq":-1,"t":1})", R"({"op":"teleop","v":0.5,"w":0,"seq":1.5,"t":1})",
+        R"({"op":"teleop","v":0.5,"w":0,"seq":1,"t":"now"})"}) {
+    EXPECT_EQ(parse_client_message(half).error, ErrorCode::kBadParams) << half;
+  }
+}
+
+TEST(ClientMessages, JsonNestedTooDeepIsRefusedAndNeverEchoed) {
+  const std::string deep =
+      R"({"op":"subscribe","streams":[)" + std::string(100000, '[') + std::string(100000, ']') + "]}";
+  const auto refused = parse_client_message(deep);
+  EXPECT_FALSE(refused.request);
+  EXPECT_EQ(refused.error, ErrorCode::kBadJson);
+  EXPECT_EQ(refused.error_message, "message is nested deeper than 64 levels");
+  // Within the bound, an unknown item is named briefly.
+  const auto item =
+      parse_client_message(R"({"op":"subscribe","streams":[")" + std::string(5000, 'x') + R"("]})");
+  EXPECT_EQ(item.error, ErrorCode::kBadParams);
+  EXPECT_LT(item.error_message.size(), 200U);
+}
+
 struct Refusal {
   const char* text;
   ErrorCode code;

@@ -61,11 +61,15 @@ TEST(Messages, PoseSaysStandingOnlyWhereTheBaseKnowsItStands) {
   EXPECT_EQ(nlohmann::json::parse(pose_message({replay, replay.odometry, true}))["mode"], "driving");
 }
 
-TEST(Messages, HelloNamesTheProtocol) {
-  const auto hello = nlohmann::json::parse(hello_message());
+TEST(Messages, HelloNamesTheProtocolAndTheServerClock) {
+  const auto hello = nlohmann::json::parse(hello_message("operator", 1234.5));
   EXPECT_EQ(hello["op"], "hello");
   EXPECT_EQ(hello["protocol"], kSubprotocol);
   EXPECT_EQ(hello["protocol_version"], kVersion);
+  EXPECT_EQ(hello["protocol_minor"], kMinorVersion);
+  EXPECT_EQ(hello["role"], "operator");
+  EXPECT_EQ(hello["clock_ms"], 1234.5);
+  EXPECT_EQ(nlohmann::json::parse(pong_message(7, 99.0))["clock_ms"], 99.0);
 }
 
 TEST(Messages, ErrorsCarryCodes) {
