@@ -55,7 +55,12 @@ TEST(OusterMetadata, ReadsNewerFieldsAndRejectsBadFilesClearly) {
   EXPECT_DOUBLE_EQ(metadata.lidar_origin_to_beam_origin_mm, 12.163);
   EXPECT_EQ(metadata.lidar_to_sensor_transform(0, 0), 1.0);
 
-  EXPECT_NE(metadata_error_of("{not json").find("not a JSON object"), std::string::npos);
+  EXPECT_NE(metadata_error_of("{not json").find("not valid JSON"), std::string::npos);
+  EXPECT_NE(metadata_error_of("[1]").find("not a JSON object"), std::string::npos);
+  EXPECT_NE(metadata_error_of(R"({"beam_altitude_angles":)" + std::string(100000, '[') +
+                              std::string(100000, ']') + "}")
+                .find("nested deeper than 64 levels"),
+            std::string::npos);
   EXPECT_NE(metadata_error_of("{}").find("beam_altitude_angles"), std::string::npos);
   EXPECT_NE(metadata_error_of(metadata_json(16, "1024x10")).find("has 16 values"), std::string::npos);
   EXPECT_NE(metadata_error_of(metadata_json(64, "1024x15")).find("unknown lidar_mode '1024x15'"),
