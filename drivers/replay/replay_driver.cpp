@@ -23,6 +23,12 @@ Pose3 planar(const Pose3& pose) {
 
 ReplayDriver::ReplayDriver(Dataset dataset, ReplayOptions options)
     : dataset_(std::move(dataset)), options_(options), clock_(options_.pacing) {
+  const bool mount_unknown = std::any_of(dataset_.scans.begin(), dataset_.scans.end(),
+                                         [](const DatasetScan& s) { return !s.mount_known; });
+  if (options_.mount || mount_unknown)
+    mount_.emplace(options_.mount, "replay");
+  if (mount_unknown)
+    carry_references_to_the_base();
   const auto& scans = dataset_.scans;
   const bool has_odometry =
       std::all_of(scans.begin(), scans.end(), [](const DatasetScan& s) { return s.odometry.has_value(); });
@@ -70,11 +76,6 @@ ReplayDriver::ReplayDriver(Dataset dataset, ReplayOptions options)
   else if (has_reference)
     initial_map_from_odom_ =
         scans.front().reference->to_isometry() * odometry.front().to_isometry().inverse();
-
-  const bool mount_unknown =
-      std::any_of(scans.begin(), scans.end(), [](const DatasetScan& s) { return !s.mount_known; });
-  if (options_.mount || mount_unknown)
-    mount_.emplace(options_.mount, "replay");
 
   const auto sample_of = [](double stamp, const Pose3& pose, const std::optional<Pose3>& reference) {
     RobotSample sample;
@@ -128,6 +129,34 @@ void ReplayDriver::stop() {
   clock_.stop();
   if (thread_.joinable())
     thread_.join();
+}
+
+void ReplayDriver::carry_references_to_the_base() {
+  // The mount now, given or from the ground in the first scans, so that the map frame is the reference's
+  // from the first scan on (SensorMount::apply then hands every scan the same mount).
+  std::optional<Eigen::Isometry3d> sensor_to_base = mount_->mount();
+  for (std::size_t i = 0; !sensor_to_base && i < std::min(dataset_.scans.size(), SensorMount::kScansToTry);
+       ++i) {
+    ScanEvent probe;
+    try {
+      probe.points = load_points(dataset_.scans[i]);
+    } catch (const std::exception&) {
+      continue;  // skipped with a message when it is played
+    }
+    mount_->apply(probe);
+    sensor_to_base = mount_->mount();
+  }
+  if (!sensor_to_base)
+    return;  // no ground: the sensor's frame is the base's, and so are the references
+  const Eigen::Isometry3d sensor_from_base = sensor_to_base->inverse();
+  const auto carried = [&](std::optional<Pose3>& reference) {
+    if (reference)
+      reference = Pose3::from_isometry(reference->to_isometry() * sensor_from_base);
+  };
+  for (DatasetScan& scan : dataset_.scans)
+    carried(scan.reference);
+  for (DatasetOdometry& sample : dataset_.odometry)
+    carried(sample.reference);
 }
 
 void ReplayDriver::run(Outputs outputs) {

@@ -66,6 +66,10 @@ class ReplayDriver final : public RobotDriver {
     RobotSample sample;
   };
   void run(Outputs outputs);
+  /// A dataset that does not say where its sensor sits has the sensor's reference poses (nothing knew a
+  /// base): carried into the base frame through the mount (given, or estimated now from the first scans),
+  /// so that the map frame, the estimates and the truth shown compare. docs/lidar.md.
+  void carry_references_to_the_base();
 
   Dataset dataset_;
   ReplayOptions options_;

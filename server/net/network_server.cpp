@@ -46,16 +46,18 @@ NetworkServer::NetworkServer(ServerServices services)
     throw std::runtime_error("cannot listen on " + options.bind_address + ":" + std::to_string(options.port) +
                              ": " + error.code().message());
   }
-  // The pose: only when there is a new one.
+  // The pose: only when there is a new one, a new sample or a new correction. A lidar alone's correction
+  // comes after the sample of its scan went out: sent on the sample alone, every pose showed the scan
+  // before, and the last scan's never.
   add_broadcast(options.pose_rate,
-                [robot = context_->services.robot, last_stamp = std::optional<double>()]() mutable {
+                [robot = context_->services.robot, last_version = std::optional<std::uint64_t>()]() mutable {
                   std::vector<streams::OutgoingMessage> messages;
                   const auto snapshot = robot->snapshot();
-                  if (!snapshot || snapshot->sample.stamp == last_stamp)
+                  if (!snapshot || snapshot->version == last_version)
                     return messages;
-                  last_stamp = snapshot->sample.stamp;
+                  last_version = snapshot->version;
                   messages.push_back(streams::OutgoingMessage::text(protocol::pose_message(*snapshot), "pose",
-                                                                    snapshot->sample.stamp,
+                                                                    static_cast<double>(snapshot->version),
                                                                     stream_bit(protocol::Stream::kPose)));
                   return messages;
                 });

@@ -117,7 +117,8 @@ void WebSocketSession<Stream>::on_accept(beast::error_code error) {
   enqueue(streams::OutgoingMessage::text(status.dump(), "status", std::nullopt,
                                          static_cast<std::uint8_t>(protocol::Stream::kStatus)));
   if (const auto robot = context_->services.robot->snapshot()) {
-    enqueue(streams::OutgoingMessage::text(protocol::pose_message(*robot), "pose", robot->sample.stamp,
+    enqueue(streams::OutgoingMessage::text(protocol::pose_message(*robot), "pose",
+                                           static_cast<double>(robot->version),
                                            static_cast<std::uint8_t>(protocol::Stream::kPose)));
   }
   for (auto& message : context_->current_state())

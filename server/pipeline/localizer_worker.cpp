@@ -5,6 +5,7 @@
 
 #include <chrono>
 #include <cmath>
+#include <ctime>
 #include <numbers>
 #include <string>
 #include <utility>
@@ -13,6 +14,13 @@
 
 namespace strata::pipeline {
 namespace {
+
+/// This thread's CPU time, ms: what a scan costs one core, whatever else the machine runs.
+double thread_cpu_ms() {
+  timespec now{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
+  return 1e3 * static_cast<double>(now.tv_sec) + 1e-6 * static_cast<double>(now.tv_nsec);
+}
 
 /// Following the places a search found fitting as well: a scan is looked at once the robot has moved this
 /// far or turned this much since the last one looked at (the same view again decides nothing). How far
@@ -295,6 +303,8 @@ void LocalizerWorker::search_with_latest_scan(const PoseEstimate& estimate) {
 }
 
 void LocalizerWorker::process(ScanEvent event) {
+  const double cpu_start_ms = thread_cpu_ms();
+  const std::optional<Pose3> truth = event.truth;
   std::optional<PoseEstimate> estimate;
   {
     std::lock_guard lock(mutex_);
@@ -393,6 +403,16 @@ void LocalizerWorker::process(ScanEvent event) {
     ++scans_for_the_graph_;
   }
   graph_wake_.notify_one();
+  if (observer_) {
+    // A relocalization may have moved the map <- odometry correction after the registration.
+    observer_(ScanReport{.stamp = stamp,
+                          .pose = map_from_odom * update.map_from_odom.inverse() * update.pose,
+                          .truth = truth,
+                          .registered = update.registration.has_value(),
+                          .correction = update.correction,
+                          .state = status_.localization.state,
+                          .cpu_ms = thread_cpu_ms() - cpu_start_ms});
+  }
 }
 
 }  // namespace strata::pipeline

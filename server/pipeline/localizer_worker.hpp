@@ -28,6 +28,19 @@ namespace strata::pipeline {
 /// scan, so registration never waits for it.
 class LocalizerWorker final : public LocalizationCommands {
  public:
+  /// What became of one scan on the scan path, for benchmarks (tests/bench/sequence_bench.cpp): where the
+  /// base was put, what the driver knows of the truth, how the scan registered, and what it cost.
+  struct ScanReport {
+    double stamp = 0.0;
+    Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();  ///< the base in the map frame after the scan
+    std::optional<Pose3> truth;                              ///< the driver's truth or reference, if any
+    bool registered = false;                                 ///< a registration ran (not the first scan)
+    Correction correction = Correction::kNone;
+    LocalizationState state = LocalizationState::kDegraded;
+    double cpu_ms = 0.0;  ///< the localizer thread's CPU time for the scan, preprocessing to hand-on
+  };
+  using ScanObserver = std::function<void(const ScanReport& outcome)>;
+
   LocalizerWorker(RobotState& state, GraphLocalizerOptions options,
                   const Eigen::Isometry3d& initial_map_from_odom);
   ~LocalizerWorker() override;
@@ -51,6 +64,8 @@ class LocalizerWorker final : public LocalizationCommands {
   /// Starts from the IMU calibration `store` keeps, if any, and keeps the pose graph's estimate there
   /// after each loop closure. `store` outlives the worker. Before start().
   void keep_imu_calibration(ImuCalibrationStore& store);
+  /// Called on the localizer's thread after every scan it processed (not those dropped). Before start().
+  void set_scan_observer(ScanObserver observer) { observer_ = std::move(observer); }
 
   void start();
   void stop();
@@ -93,6 +108,7 @@ class LocalizerWorker final : public LocalizationCommands {
   RobotState& state_;
   RegisteredScanSink sink_;
   KeyframesMovedSink keyframes_sink_;
+  ScanObserver observer_;
   ImuCalibrationStore* calibration_ = nullptr;
   GraphLocalizer localizer_;
   RegistrationStatus status_;

@@ -57,6 +57,10 @@ class RobotPipeline {
   /// Before start(): called on the mapping thread each time a new map snapshot is published (the network
   /// pushes what changed). Whatever it reaches must outlive stop().
   void on_map_published(std::function<void()> callback);
+  /// Before start(): called on the localizer's thread after every scan it processed (benchmarks).
+  void on_scan_localized(LocalizerWorker::ScanObserver observer) {
+    localizer_.set_scan_observer(std::move(observer));
+  }
 
   /// Starts the workers, loads the initial map if there is one (throws std::runtime_error saying why when
   /// it cannot), then starts the driver's thread.

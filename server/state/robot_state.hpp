@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cstddef>
+#include <cstdint>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -91,6 +92,9 @@ struct RobotSnapshot {
   RobotSample sample;
   Pose3 estimate;          ///< odometry carried into the map by the latest correction (PoseExtrapolator)
   bool localized = false;  ///< at least one scan registered: the estimate is no longer bare odometry
+  /// Counts every new sample and every new correction: a snapshot with a higher one says something new,
+  /// even at the same sample stamp (a lidar alone's scan registered after its sample went out).
+  std::uint64_t version = 0;
 };
 
 /// The latest robot state, written by the driver thread and the localizer, read by the network side.
@@ -101,6 +105,7 @@ class RobotState {
     const auto now = SensorWatch::Clock::now();
     std::lock_guard lock(mutex_);
     latest_ = sample;
+    ++version_;
     extrapolator_.add_sample(sample.stamp, sample.odometry, sample.gravity);
     sensor_.sample(sample.awaiting_scan, now);
   }
@@ -121,6 +126,7 @@ class RobotState {
     std::lock_guard lock(mutex_);
     extrapolator_.set_correction(map_from_odom, scan_stamp);
     localized_ = localized;
+    ++version_;
   }
   /// The gravity reading's mounting error the localizer has learnt (PoseExtrapolator::set_mounting_error).
   void set_gravity_mounting(const Eigen::Vector3d& mounting) {
@@ -143,7 +149,7 @@ class RobotState {
     std::lock_guard lock(mutex_);
     if (!latest_)
       return std::nullopt;
-    RobotSnapshot snapshot{*latest_, {}, localized_};
+    RobotSnapshot snapshot{*latest_, {}, localized_, version_};
     snapshot.estimate = extrapolator_.estimate();
     return snapshot;
   }
@@ -164,6 +170,7 @@ class RobotState {
  private:
   mutable std::mutex mutex_;
   std::optional<RobotSample> latest_;
+  std::uint64_t version_ = 0;  // RobotSnapshot::version
   PoseExtrapolator extrapolator_;
   bool localized_ = false;
   RegistrationStatus registration_;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "drivers/io/pcd_writer.hpp"
 #include "drivers/replay/dataset.hpp"
 #include "drivers/replay/recorder.hpp"
 #include "drivers/replay/reference_odometry.hpp"
@@ -308,6 +309,44 @@ TEST_F(Recording, ADatasetWithOdometryCanBeReplayedAsALidarAlone) {
   options.odometry = OdometrySource::kNone;
   const ReplayDriver driver(open_dataset(dir_), options);
   EXPECT_NE(driver.description().find("odometry from none"), std::string::npos) << driver.description();
+}
+
+TEST_F(Recording, AScanListsReferencesWithoutAMountAreTheSensorsCarriedToTheBase) {
+  // A lidar dataset: point files and the sensor's reference poses, nothing about a base. With the mount
+  // (given here; estimated from the ground otherwise) the map frame and the truth are the base's, so that
+  // the estimate, a base pose, compares with them.
+  const std::vector<Eigen::Vector3f> points{{1.0f, 0.0f, 0.0f}, {0.0f, 1.0f, 0.0f}};
+  fs::create_directories(dir_);
+  std::ofstream(dir_ / "a.pcd", std::ios::binary) << io::encode_binary_pcd(points);
+  std::ofstream(dir_ / "b.pcd", std::ios::binary) << io::encode_binary_pcd(points);
+  std::ofstream(dir_ / "scans.csv") << "file,stamp,truth_x,truth_y,truth_z,truth_roll,truth_pitch,truth_yaw\n"
+                                       "a.pcd,0,1,2,1.5,0.1,0,0.3\nb.pcd,1,3,2,1.5,0.1,0,0.8\n";
+  Eigen::Isometry3d sensor_to_base = Eigen::Isometry3d::Identity();
+  sensor_to_base.translation() = Eigen::Vector3d(0.2, 0.0, 1.2);
+  sensor_to_base.linear() = Eigen::AngleAxisd(-0.1, Eigen::Vector3d::UnitX()).toRotationMatrix();
+  ReplayOptions options;
+  options.pacing.as_fast_as_possible = true;
+  options.odometry = OdometrySource::kNone;
+  options.mount = sensor_to_base;
+  ReplayDriver driver(open_dataset(dir_), options);
+  const Dataset dataset = open_dataset(dir_);
+  const Eigen::Isometry3d first_base = dataset.scans[0].reference->to_isometry() * sensor_to_base.inverse();
+  EXPECT_TRUE(driver.initial_map_from_odom().isApprox(first_base, 1e-9));
+  std::vector<ScanEvent> scans;
+  RobotDriver::Outputs outputs;
+  outputs.on_sample = [](const RobotSample&) {};
+  outputs.on_scan = [&](ScanEvent s) { scans.push_back(std::move(s)); };
+  outputs.wait_for_pipeline = [] { return true; };
+  ASSERT_TRUE(play_to_the_end(driver, outputs));
+  ASSERT_EQ(scans.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    ASSERT_TRUE(scans[i].truth.has_value());
+    const Eigen::Isometry3d expected = dataset.scans[i].reference->to_isometry() * sensor_to_base.inverse();
+    EXPECT_TRUE(scans[i].truth->to_isometry().isApprox(expected, 1e-9)) << i;
+    // The sensor, where the base's truth and the mount put it, is where the reference says.
+    EXPECT_TRUE((scans[i].truth->to_isometry() * scans[i].sensor_to_base)
+                    .isApprox(dataset.scans[i].reference->to_isometry(), 1e-9));
+  }
 }
 
 }  // namespace

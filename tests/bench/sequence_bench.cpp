@@ -1,0 +1,226 @@
+// Real lidar sequences with a reference trajectory through the real scan path (issue 58 item 1): the
+// replay driver, the localizer and the mapping worker of `strata serve --replay DIR --replay-odometry none`
+// (RobotPipeline, without the network), paced as fast as the pipeline takes the scans (none dropped) or by
+// the recorded clock (a busy localizer drops scans, as on a robot). Prints a line per processed scan (time,
+// verdict, localization state, CPU, errors against the reference) and a JSON summary: maximum horizontal
+// and 3D error, heading, relative error per 10 m, KITTI-style drift, scans dropped, whether the track was
+// ever lost. A benchmark: prints numbers, never fails on them.
+//
+// Usage: strata_sequence_bench DIR [--pace max|recorded] [--time-scale X] [--mount estimate|identity]
+//        [--every N] [--quiet]   (--every N: every n-th scan only: scans dropped, turns n times as sharp)
+//        strata_sequence_bench --all [--data DIR] [options]: every sequence in DATA/sequences
+//        strata_sequence_bench DIR --lay-out OUT: only writes OUT/scans.csv, for `strata serve --replay OUT`
+// DIR: a scans.csv with truth_* columns, or a layout of ../shared/data/sequences (tests/support/sequence_layout.hpp).
+#include <spdlog/sinks/stdout_color_sinks.h>
+#include <spdlog/spdlog.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <condition_variable>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "support/sequence_layout.hpp"
+#include "bench/trajectory_errors.hpp"
+#include "drivers/replay/dataset.hpp"
+#include "drivers/replay/replay_driver.hpp"
+#include "server/app/memory_policy.hpp"
+#include "server/pipeline/robot_pipeline.hpp"
+
+using namespace strata;
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Settings {
+  bool recorded_pace = false;
+  double time_scale = 1.0;
+  bool estimate_mount = true;  // as a scans.csv without mount columns replays
+  bool quiet = false;
+  std::size_t every = 1;  // keep every n-th scan
+};
+
+/// What the pipeline's observer saw, on the localizer's thread.
+struct Observed {
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::vector<pipeline::LocalizerWorker::ScanReport> outcomes;
+};
+
+double median(std::vector<double> values) {
+  if (values.empty())
+    return 0.0;
+  std::sort(values.begin(), values.end());
+  return values[values.size() / 2];
+}
+
+const char* state_name(LocalizationState state) {
+  switch (state) {
+    case LocalizationState::kOk:
+      return "ok";
+    case LocalizationState::kDegraded:
+      return "degraded";
+    case LocalizationState::kLost:
+      return "lost";
+  }
+  return "?";
+}
+
+void run(const fs::path& dir, const Settings& settings, bool first) {
+  const fs::path scratch = fs::temp_directory_path() / ("strata-sequence-" + std::to_string(::getpid()));
+  const fs::path list = test::scan_list_for(dir, scratch, settings.every);
+  replay::ReplayOptions options;
+  options.pacing = {.time_scale = settings.time_scale, .as_fast_as_possible = !settings.recorded_pace};
+  options.odometry = replay::OdometrySource::kNone;
+  if (!settings.estimate_mount)
+    options.mount = Eigen::Isometry3d::Identity();
+  auto driver = std::make_unique<replay::ReplayDriver>(replay::open_dataset(list), options);
+  const replay::ReplayDriver& replay = *driver;
+  const std::size_t scans = replay::open_dataset(list).scans.size();
+
+  Observed observed;
+  pipeline::PipelineOptions pipeline_options;
+  pipeline_options.maps_dir = scratch / "maps";  // nothing is saved there
+  pipeline::RobotPipeline robot(std::move(driver), nullptr, pipeline_options);
+  robot.on_scan_localized([&observed](const pipeline::LocalizerWorker::ScanReport& outcome) {
+    std::lock_guard lock(observed.mutex);
+    observed.outcomes.push_back(outcome);
+    observed.changed.notify_all();
+  });
+  const auto start = std::chrono::steady_clock::now();
+  robot.start();
+  {
+    // Until the replay has played everything and the localizer has been quiet for a second after it.
+    std::unique_lock lock(observed.mutex);
+    std::size_t seen = 0;
+    while (!replay.finished() || observed.outcomes.size() != seen) {
+      seen = observed.outcomes.size();
+      observed.changed.wait_for(lock, std::chrono::seconds(1));
+      if (observed.outcomes.size() == scans)
+        break;
+    }
+  }
+  const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  robot.stop();
+  fs::remove_all(scratch);
+
+  std::vector<bench::TrackedPose> track;
+  std::vector<double> cpu_ms;
+  std::size_t full = 0, partial = 0, kept = 0, lost = 0;
+  for (std::size_t i = 0; i < observed.outcomes.size(); ++i) {
+    const auto& o = observed.outcomes[i];
+    cpu_ms.push_back(o.cpu_ms);
+    full += o.correction == Correction::kFull ? 1 : 0;
+    partial += o.correction == Correction::kPartial ? 1 : 0;
+    kept += o.registered && o.correction == Correction::kNone ? 1 : 0;
+    lost += o.state == LocalizationState::kLost ? 1 : 0;
+    if (!o.truth)
+      continue;
+    track.push_back({o.stamp, o.pose, o.truth->to_isometry()});
+    if (!settings.quiet) {
+      const Eigen::Vector3d offset = o.pose.translation() - track.back().reference.translation();
+      std::fprintf(stderr, "%s scan %zu t=%.3f cpu %.1f ms %s %s horizontal %.3f m 3d %.3f m\n",
+                   dir.filename().c_str(), i, o.stamp, o.cpu_ms,
+                   o.registered ? std::string(to_string(o.correction)).c_str() : "first", state_name(o.state),
+                   offset.head<2>().norm(), offset.norm());
+    }
+  }
+  const bench::TrajectoryErrors errors = bench::trajectory_errors(track);
+  std::printf(
+      "%s  {\"sequence\": \"%s\", \"every\": %zu, \"pace\": \"%s\", \"time_scale\": %.2f, \"mount\": \"%s\", "
+      "\"scans\": %zu, "
+      "\"processed\": %zu, \"dropped\": %zu, \"full\": %zu, \"partial\": %zu, \"kept_prediction\": %zu, "
+      "\"lost_scans\": %zu, \"ever_lost\": %s, \"path_m\": %.2f, \"max_horizontal_m\": %.3f, \"max_3d_m\": "
+      "%.3f, "
+      "\"final_horizontal_m\": %.3f, \"max_heading_deg\": %.2f, \"relative_per_10m_mean_m\": %.3f, "
+      "\"relative_per_10m_max_m\": %.3f, \"drift_percent\": %.2f, \"cpu_ms_median\": %.1f, \"wall_s\": %.1f}",
+      first ? "" : ",\n", dir.filename().c_str(), settings.every, settings.recorded_pace ? "recorded" : "max",
+      settings.time_scale, settings.estimate_mount ? "estimate" : "identity", scans, observed.outcomes.size(),
+      scans - std::min(scans, observed.outcomes.size()), full, partial, kept, lost,
+      lost > 0 ? "true" : "false", errors.path_m, errors.max_horizontal_m, errors.max_3d_m,
+      errors.final_horizontal_m, errors.max_heading_deg, errors.relative_per_10m_mean_m,
+      errors.relative_per_10m_max_m, errors.drift_percent, median(cpu_ms), wall_s);
+  std::fflush(stdout);
+}
+
+int usage() {
+  std::fprintf(stderr,
+               "usage: strata_sequence_bench DIR|--all [--data DIR] [--pace max|recorded] [--time-scale X] "
+               "[--mount estimate|identity] [--every N] [--quiet] [--lay-out OUT]\n");
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  strata::app::keep_freed_memory();  // as the server does
+  spdlog::set_default_logger(spdlog::stderr_color_mt("bench"));
+  spdlog::set_level(spdlog::level::warn);
+  Settings settings;
+  fs::path data = STRATA_DATA_DIR;
+  std::vector<fs::path> dirs;
+  bool all = false;
+  std::optional<fs::path> lay_out;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--all")
+      all = true;
+    else if (arg == "--quiet")
+      settings.quiet = true;
+    else if (arg == "--every" && has_value)
+      settings.every = static_cast<std::size_t>(std::max(1, std::atoi(argv[++i])));
+    else if (arg == "--lay-out" && has_value)
+      lay_out = argv[++i];
+    else if (arg == "--data" && has_value)
+      data = argv[++i];
+    else if (arg == "--pace" && has_value)
+      settings.recorded_pace = std::string(argv[++i]) == "recorded";
+    else if (arg == "--time-scale" && has_value)
+      settings.time_scale = std::atof(argv[++i]);
+    else if (arg == "--mount" && has_value)
+      settings.estimate_mount = std::string(argv[++i]) != "identity";
+    else if (!arg.starts_with("--"))
+      dirs.emplace_back(arg);
+    else
+      return usage();
+  }
+  if (all) {
+    if (!fs::is_directory(data / "sequences")) {
+      std::fprintf(stderr, "strata_sequence_bench: no %s: skipped\n", (data / "sequences").c_str());
+      return 0;
+    }
+    for (const auto& entry : fs::directory_iterator(data / "sequences")) {
+      if (entry.is_directory())
+        dirs.push_back(entry.path());
+    }
+    std::sort(dirs.begin(), dirs.end());
+  }
+  if (dirs.empty())
+    return usage();
+  if (lay_out) {
+    const fs::path list = test::scan_list_for(dirs.front(), *lay_out, settings.every);
+    std::printf("%s\n", (list / "scans.csv").c_str());
+    return 0;
+  }
+  std::printf("[\n");
+  bool first = true;
+  for (const fs::path& dir : dirs) {
+    try {
+      run(dir, settings, first);
+      first = false;
+    } catch (const std::exception& error) {
+      std::fprintf(stderr, "strata_sequence_bench: %s: %s\n", dir.c_str(), error.what());
+    }
+  }
+  std::printf("\n]\n");
+  return 0;
+}
