@@ -127,6 +127,9 @@ struct LocalizationUpdate {
   /// Rejected for a jump from the odometry guess, and registered again from the second guess (the scans'
   /// own motion), which found the same pose: the odometry was off (wheels slipping), not the match.
   bool retried = false;
+  /// A lidar alone's prediction matched poorly, and registration from the guess turned by this much about
+  /// gravity's axis (radians) matched clearly better: a sharp turn the prediction did not foresee.
+  std::optional<double> turn_found;
 };
 
 /// Localization by scan matching (thesis chapter 4, with a local map as the model set): each scan is
