@@ -1,5 +1,6 @@
 #include "core/localization/pose_extrapolator.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/localization/gravity_leveling.hpp"
@@ -56,7 +57,14 @@ Pose3 PoseExtrapolator::estimate() const {
   if (steps_.empty())
     return Pose3::from_isometry(map_from_odom_);
   const Step& now = steps_.back();
-  Pose3 pose = Pose3::from_isometry(map_from_odom_ * now.odometry.to_isometry());
+  Eigen::Isometry3d carried = map_from_odom_ * now.odometry.to_isometry();
+  if (velocity_ && scan_stamp_ && now.stamp > *scan_stamp_) {
+    const double dt = std::min(now.stamp - *scan_stamp_, kMaxCarried);
+    carried =
+        carried *
+        Pose3::from_pose2(Pose2{velocity_->x * dt, velocity_->y * dt, velocity_->theta * dt}).to_isometry();
+  }
+  Pose3 pose = Pose3::from_isometry(carried);
   const Step& at_scan = steps_.front();
   if (!gravity_ || !scan_stamp_ || at_scan.stamp > *scan_stamp_)
     return pose;  // no reading now, or the samples do not reach back to the scan: carried as it is

@@ -27,6 +27,12 @@ class PoseExtrapolator {
   /// The reading's mounting error, a rotation vector in the base frame (radians; GravityLeveling::bias):
   /// the samples from now on are taken without it.
   void set_mounting_error(const Eigen::Vector3d& mounting) { mounting_ = mounting; }
+  /// A base without odometry (a lidar alone): its velocity from the last scans (per second, base frame;
+  /// ConstantVelocityPrediction), which carries the last scan's pose on to the newest sample, for at most
+  /// kMaxCarried seconds. Otherwise every pose between two scans would be the last scan's, behind the
+  /// robot by its motion since. None: a base with odometry, or no velocity known yet.
+  void set_velocity(const std::optional<Pose2>& velocity) { velocity_ = velocity; }
+  static constexpr double kMaxCarried = 1.0;
   /// Where the robot is now; the odometry's origin before the first sample.
   [[nodiscard]] Pose3 estimate() const;
 
@@ -42,6 +48,7 @@ class PoseExtrapolator {
   Eigen::Vector3d mounting_ = Eigen::Vector3d::Zero();  ///< the readings' mounting error (set_mounting_error)
   Eigen::Isometry3d map_from_odom_ = Eigen::Isometry3d::Identity();
   std::optional<double> scan_stamp_;
+  std::optional<Pose2> velocity_;
 };
 
 }  // namespace strata

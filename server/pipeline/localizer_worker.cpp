@@ -393,7 +393,9 @@ void LocalizerWorker::process(ScanEvent event) {
   // Published after the scan is handed on: whoever sees the count can queue a map command (a save) knowing
   // it runs after this scan is mapped.
   state_.set_gravity_mounting(localizer_.gravity_mounting());
-  state_.set_correction(map_from_odom, true, stamp);
+  // A lidar alone's pose between scans is carried on by the velocity of the last ones.
+  state_.set_correction(map_from_odom, true, stamp,
+                        odometry ? std::nullopt : localizer_.velocity(std::nullopt, stamp));
   status_.graph = localizer_.status();
   if (calibration_ != nullptr)
     status_.imu_calibration = calibration_->imu_calibration();
@@ -406,12 +408,12 @@ void LocalizerWorker::process(ScanEvent event) {
   if (observer_) {
     // A relocalization may have moved the map <- odometry correction after the registration.
     observer_(ScanReport{.stamp = stamp,
-                          .pose = map_from_odom * update.map_from_odom.inverse() * update.pose,
-                          .truth = truth,
-                          .registered = update.registration.has_value(),
-                          .correction = update.correction,
-                          .state = status_.localization.state,
-                          .cpu_ms = thread_cpu_ms() - cpu_start_ms});
+                         .pose = map_from_odom * update.map_from_odom.inverse() * update.pose,
+                         .truth = truth,
+                         .registered = update.registration.has_value(),
+                         .correction = update.correction,
+                         .state = status_.localization.state,
+                         .cpu_ms = thread_cpu_ms() - cpu_start_ms});
   }
 }
 

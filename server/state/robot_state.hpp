@@ -120,11 +120,14 @@ class RobotState {
     std::lock_guard lock(mutex_);
     sensor_.set_timeout(seconds);
   }
-  /// The localizer's correction, computed from the scan taken at `scan_stamp` (none: a given start).
+  /// The localizer's correction, computed from the scan taken at `scan_stamp` (none: a given start); for a
+  /// base without odometry, with its velocity from the last scans (PoseExtrapolator::set_velocity).
   void set_correction(const Eigen::Isometry3d& map_from_odom, bool localized,
-                      std::optional<double> scan_stamp = std::nullopt) {
+                      std::optional<double> scan_stamp = std::nullopt,
+                      const std::optional<Pose2>& velocity = std::nullopt) {
     std::lock_guard lock(mutex_);
     extrapolator_.set_correction(map_from_odom, scan_stamp);
+    extrapolator_.set_velocity(velocity);
     localized_ = localized;
     ++version_;
   }

@@ -110,6 +110,29 @@ TEST(PoseExtrapolator, WithoutGravityTheOdometryIsCarriedByTheCorrection) {
   EXPECT_TRUE(extrapolator.estimate().to_isometry().isApprox(carried, 1e-9));
 }
 
+TEST(PoseExtrapolator, ALidarAlonesPoseIsCarriedOnByItsVelocityBetweenScans) {
+  // No odometry: the samples' odometry stands still, and the last scan's pose would be shown until the next.
+  PoseExtrapolator extrapolator;
+  Eigen::Isometry3d at_scan = Eigen::Isometry3d::Identity();
+  at_scan.translation() = Eigen::Vector3d(2.0, 1.0, 0.5);
+  at_scan.linear() = Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  extrapolator.add_sample(10.0, Pose3{}, std::nullopt);
+  extrapolator.set_correction(at_scan, 10.0);
+  extrapolator.set_velocity(Pose2{1.0, 0.0, 0.2});  // 1 m/s forward, turning
+  EXPECT_TRUE(extrapolator.estimate().to_isometry().isApprox(at_scan, 1e-12)) << "at the scan: its pose";
+  extrapolator.add_sample(10.5, Pose3{}, std::nullopt);
+  const Eigen::Isometry3d expected =
+      at_scan * Pose3::from_pose2(Pose2{0.5, 0.0, 0.1}).to_isometry();  // half a second on
+  EXPECT_TRUE(extrapolator.estimate().to_isometry().isApprox(expected, 1e-12));
+  // Scans stopped coming: carried for at most a second, not on and on.
+  extrapolator.add_sample(30.0, Pose3{}, std::nullopt);
+  const Eigen::Isometry3d capped = at_scan * Pose3::from_pose2(Pose2{1.0, 0.0, 0.2}).to_isometry();
+  EXPECT_TRUE(extrapolator.estimate().to_isometry().isApprox(capped, 1e-12));
+  // A base with odometry gives none: the odometry carries it.
+  extrapolator.set_velocity(std::nullopt);
+  EXPECT_TRUE(extrapolator.estimate().to_isometry().isApprox(at_scan, 1e-12));
+}
+
 TEST(PoseExtrapolator, ACorrectionFromBeforeTheSamplesKeptIsCarriedAsItIs) {
   PoseExtrapolator extrapolator;
   drive(extrapolator, -3.0, 3.0, 100.0, true);
