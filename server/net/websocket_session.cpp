@@ -203,7 +203,8 @@ void WebSocketSession<Stream>::handle_request(const protocol::ClientRequest& req
   if (teleop != nullptr) {
     const CommandResult fresh = teleop_freshness_.admit(teleop->stamp, teleop->moves(), server_clock_ms(now));
     if (!fresh.ok) {
-      context_->metrics.ws_stale_teleop.fetch_add(1, std::memory_order_relaxed);
+      if (fresh.code == ErrorCode::kStaleCommand)
+        context_->metrics.ws_stale_teleop.fetch_add(1, std::memory_order_relaxed);
       return reply(fresh, op, id);
     }
   }
