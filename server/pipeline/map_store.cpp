@@ -6,6 +6,7 @@
 #include <chrono>
 #include <fstream>
 #include <iterator>
+#include <string_view>
 #include <system_error>
 
 #include "core/files/temporary_files.hpp"
@@ -43,7 +44,8 @@ CommandResult MapStore::save(const MlsMap& map, const LocalizationMap* localizat
   try {
     save_map_file(map, localization, directory_ / name);  // atomic: temporary file, fsync, rename
   } catch (const std::exception& error) {
-    return CommandResult::failure(ErrorCode::kIoError, error.what());
+    spdlog::warn("map save failed: {}", error.what());  // the whole story, paths too, for the log
+    return CommandResult::failure(ErrorCode::kIoError, for_clients(error.what()));
   }
   spdlog::info("map saved to {}", (directory_ / name).string());
   return CommandResult::success();
@@ -54,15 +56,36 @@ MapStore::Loaded MapStore::load(const std::string& name) const {
     return {check_name(name), MlsMap(), std::nullopt};
   const std::filesystem::path path = directory_ / name;
   std::error_code error;
-  if (!std::filesystem::is_regular_file(path, error))
+  // A regular file inside the directory, never what a link points to (/etc/passwd, a map elsewhere).
+  if (std::filesystem::symlink_status(path, error).type() != std::filesystem::file_type::regular)
     return {CommandResult::failure(ErrorCode::kNotFound, "no map named '" + name + "'"), MlsMap(),
             std::nullopt};
   try {
     MapFile file = load_map_file(path);  // the whole file is checked
     return {CommandResult::success(), std::move(file.map), std::move(file.localization)};
   } catch (const std::exception& failure) {
-    return {CommandResult::failure(ErrorCode::kCorruptFile, failure.what()), MlsMap(), std::nullopt};
+    spdlog::warn("map load failed: {}", failure.what());
+    return {CommandResult::failure(ErrorCode::kCorruptFile, for_clients(failure.what())), MlsMap(),
+            std::nullopt};
   }
+}
+
+std::string MapStore::for_clients(std::string message) const {
+  // Files by their names: where the server keeps them is not a client's business.
+  const std::string prefix = (directory_ / "").string();
+  for (std::size_t at = message.find(prefix); at != std::string::npos; at = message.find(prefix, at))
+    message.erase(at, prefix.size());
+  // A temporary file's name carries the process id (NAME.tmp.PID): NAME.tmp.
+  constexpr std::string_view kTemporary = ".tmp.";
+  for (std::size_t at = message.find(kTemporary); at != std::string::npos;
+       at = message.find(kTemporary, at)) {
+    at += kTemporary.size() - 1;
+    std::size_t digits = at + 1;
+    while (digits < message.size() && message[digits] >= '0' && message[digits] <= '9')
+      ++digits;
+    message.erase(at, digits - at);
+  }
+  return message;
 }
 
 std::vector<MapFileInfo> MapStore::list() const {
@@ -70,7 +93,9 @@ std::vector<MapFileInfo> MapStore::list() const {
   std::error_code error;
   for (const auto& entry : std::filesystem::directory_iterator(directory_, error)) {
     const std::string name = entry.path().filename().string();
-    if (!protocol::is_valid_map_name(name) || temporary_file_owner(name) || !entry.is_regular_file(error))
+    // Regular files only: a link in the directory is not listed (its target's size and date are not ours).
+    if (!protocol::is_valid_map_name(name) || temporary_file_owner(name) ||
+        entry.symlink_status(error).type() != std::filesystem::file_type::regular)
       continue;
     MapFileInfo info;
     info.name = name;

@@ -49,6 +49,9 @@ class MapStore {
   [[nodiscard]] const std::filesystem::path& directory() const { return directory_; }
 
  private:
+  /// A file error's message as clients get it: no absolute paths, no process id (docs/architecture.md 6).
+  [[nodiscard]] std::string for_clients(std::string message) const;
+
   std::filesystem::path directory_;
 };
 

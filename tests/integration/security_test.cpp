@@ -3,6 +3,8 @@
 // "Limits").
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <string>
 #include <thread>
 
@@ -107,6 +109,28 @@ TEST(ClientLimit, OneClientOverTheLimitGets503UntilOneLeaves) {
   const auto metrics = http_get(server.port(), "/metrics").body();
   EXPECT_EQ(metrics.find("strata_ws_refused_full_total 0\n"), std::string::npos) << metrics;
   second.read_op("pose");  // the clients that were in were not disturbed
+}
+
+TEST(MapsDirectory, LinksInItAreNeitherListedNorLoaded) {
+  // Links in the maps directory (issue 59 item 9): one to /etc/passwd was listed to anyone with its size
+  // and date, one to a file elsewhere was loaded (and then downloadable without a token).
+  const std::filesystem::path maps = private_temp_path("strata-links", "");
+  std::filesystem::create_directories(maps);
+  const std::filesystem::path outside = private_temp_path("strata-outside", ".strata");
+  std::ofstream(outside) << "not a map, and not in the maps directory";
+  std::filesystem::create_symlink("/etc/passwd", maps / "passwd.strata");
+  std::filesystem::create_symlink(outside, maps / "outside.strata");
+  ServerProcess server({"--scanner", "none", "--maps-dir", maps.string()});
+  const auto listed = nlohmann::json::parse(http_get(server.port(), "/api/v1/maps").body());
+  EXPECT_TRUE(listed["maps"].empty()) << listed.dump();
+  for (const char* name : {"outside.strata", "passwd.strata"}) {
+    const auto load = http_request(server.port(), http::verb::post,
+                                   std::string("/api/v1/maps/") + name + "/load", "", kTestOperatorToken);
+    EXPECT_EQ(load.result(), http::status::not_found) << name << ": " << load.body();
+  }
+  EXPECT_EQ(server.stop(), 0);
+  std::filesystem::remove_all(maps);
+  std::filesystem::remove(outside);
 }
 
 }  // namespace
