@@ -10,7 +10,8 @@
 //        [--every N] [--quiet]   (--every N: every n-th scan only: scans dropped, turns n times as sharp)
 //        strata_sequence_bench --all [--data DIR] [options]: every sequence in DATA/sequences
 //        strata_sequence_bench DIR --lay-out OUT: only writes OUT/scans.csv, for `strata serve --replay OUT`
-// DIR: a scans.csv with truth_* columns, or a layout of ../shared/data/sequences (tests/support/sequence_layout.hpp).
+// DIR: a scans.csv with truth_* columns, or a layout of ../shared/data/sequences
+// (tests/support/sequence_layout.hpp).
 #include <spdlog/sinks/stdout_color_sinks.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -28,12 +29,12 @@
 #include <thread>
 #include <vector>
 
-#include "support/sequence_layout.hpp"
 #include "bench/trajectory_errors.hpp"
 #include "drivers/replay/dataset.hpp"
 #include "drivers/replay/replay_driver.hpp"
 #include "server/app/memory_policy.hpp"
 #include "server/pipeline/robot_pipeline.hpp"
+#include "support/sequence_layout.hpp"
 
 using namespace strata;
 namespace fs = std::filesystem;
@@ -62,18 +63,6 @@ double median(std::vector<double> values) {
   return values[values.size() / 2];
 }
 
-const char* state_name(LocalizationState state) {
-  switch (state) {
-    case LocalizationState::kOk:
-      return "ok";
-    case LocalizationState::kDegraded:
-      return "degraded";
-    case LocalizationState::kLost:
-      return "lost";
-  }
-  return "?";
-}
-
 void run(const fs::path& dir, const Settings& settings, bool first) {
   const fs::path scratch = fs::temp_directory_path() / ("strata-sequence-" + std::to_string(::getpid()));
   const fs::path list = test::scan_list_for(dir, scratch, settings.every);
@@ -82,9 +71,10 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
   options.odometry = replay::OdometrySource::kNone;
   if (!settings.estimate_mount)
     options.mount = Eigen::Isometry3d::Identity();
-  auto driver = std::make_unique<replay::ReplayDriver>(replay::open_dataset(list), options);
+  replay::Dataset dataset = replay::open_dataset(list);
+  const std::size_t scans = dataset.scans.size();
+  auto driver = std::make_unique<replay::ReplayDriver>(std::move(dataset), options);
   const replay::ReplayDriver& replay = *driver;
-  const std::size_t scans = replay::open_dataset(list).scans.size();
 
   Observed observed;
   pipeline::PipelineOptions pipeline_options;
@@ -129,8 +119,8 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
       const Eigen::Vector3d offset = o.pose.translation() - track.back().reference.translation();
       std::fprintf(stderr, "%s scan %zu t=%.3f cpu %.1f ms %s %s horizontal %.3f m 3d %.3f m\n",
                    dir.filename().c_str(), i, o.stamp, o.cpu_ms,
-                   o.registered ? std::string(to_string(o.correction)).c_str() : "first", state_name(o.state),
-                   offset.head<2>().norm(), offset.norm());
+                   o.registered ? std::string(to_string(o.correction)).c_str() : "first",
+                   std::string(to_string(o.state)).c_str(), offset.head<2>().norm(), offset.norm());
     }
   }
   const bench::TrajectoryErrors errors = bench::trajectory_errors(track);

@@ -97,6 +97,15 @@ class Recording : public testing::Test {
     return in_time;
   }
 
+  /// Plays `driver` as fast as it goes into `scans`; false when it did not finish in time.
+  static bool play_scans(ReplayDriver& driver, std::vector<ScanEvent>& scans) {
+    RobotDriver::Outputs outputs;
+    outputs.on_sample = [](const RobotSample&) {};
+    outputs.on_scan = [&](ScanEvent s) { scans.push_back(std::move(s)); };
+    outputs.wait_for_pipeline = [] { return true; };
+    return play_to_the_end(driver, outputs);
+  }
+
   fs::path dir_;
 };
 
@@ -271,11 +280,7 @@ TEST_F(Recording, AListOfScansWithoutPosesReplaysAsALidarAlone) {
   ReplayDriver driver(open_dataset(dir_), options);  // was: "the dataset has no reference pose ..."
   EXPECT_NE(driver.description().find("odometry from none"), std::string::npos) << driver.description();
   std::vector<ScanEvent> scans;
-  RobotDriver::Outputs outputs;
-  outputs.on_sample = [](const RobotSample&) {};
-  outputs.on_scan = [&](ScanEvent s) { scans.push_back(std::move(s)); };
-  outputs.wait_for_pipeline = [] { return true; };
-  ASSERT_TRUE(play_to_the_end(driver, outputs));
+  ASSERT_TRUE(play_scans(driver, scans));
   // Handed on as a lidar alone's: the localizer predicts the motion from the scans (a constant odometry
   // would say the sensor stood still, and every real turn would be "too far from the guess").
   ASSERT_EQ(scans.size(), 2u);
@@ -333,11 +338,7 @@ TEST_F(Recording, AScanListsReferencesWithoutAMountAreTheSensorsCarriedToTheBase
   const Eigen::Isometry3d first_base = dataset.scans[0].reference->to_isometry() * sensor_to_base.inverse();
   EXPECT_TRUE(driver.initial_map_from_odom().isApprox(first_base, 1e-9));
   std::vector<ScanEvent> scans;
-  RobotDriver::Outputs outputs;
-  outputs.on_sample = [](const RobotSample&) {};
-  outputs.on_scan = [&](ScanEvent s) { scans.push_back(std::move(s)); };
-  outputs.wait_for_pipeline = [] { return true; };
-  ASSERT_TRUE(play_to_the_end(driver, outputs));
+  ASSERT_TRUE(play_scans(driver, scans));
   ASSERT_EQ(scans.size(), 2u);
   for (std::size_t i = 0; i < 2; ++i) {
     ASSERT_TRUE(scans[i].truth.has_value());
