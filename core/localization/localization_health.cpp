@@ -1,7 +1,9 @@
 #include "core/localization/localization_health.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <utility>
 
 namespace strata {
 namespace {
@@ -71,6 +73,22 @@ std::string from_odometry(const ScanOutcome& partial) {
   return std::string(where) + ": " + what;
 }
 
+std::string placed_text(double stamp) {
+  char text[96];
+  std::snprintf(text, sizeof text, "placed by a search at t=%.1f: waiting for the next scans to match there",
+                stamp);
+  return text;
+}
+
+/// How far `step` went along `directions` (unit vectors, map frame; orthogonal): the part of the way
+/// odometry carried.
+double along(const Eigen::Vector2d& step, const std::vector<Eigen::Vector3d>& directions) {
+  double squared = 0.0;
+  for (const Eigen::Vector3d& d : directions)
+    squared += std::pow(d.head<2>().dot(step), 2);
+  return std::min(std::sqrt(squared), step.norm());
+}
+
 }  // namespace
 
 std::string_view to_string(LocalizationState state) {
@@ -90,9 +108,11 @@ LocalizationHealth LocalizationHealth::no_scan_yet() {
 }
 
 void LocalizationHealthClassifier::add_scan(const ScanOutcome& scan) {
-  const double moved = have_odometry_ ? (scan.odometry - last_odometry_).norm() : 0.0;
-  have_odometry_ = true;
-  last_odometry_ = scan.odometry;
+  const Eigen::Vector2d step =
+      have_position_ ? Eigen::Vector2d(scan.position - last_position_) : Eigen::Vector2d::Zero();
+  const double moved = step.norm();
+  have_position_ = true;
+  last_position_ = scan.position;
   ++scans_;
   last_ = scan;
   if (scan.registered && scan.correction != Correction::kNone)
@@ -106,8 +126,11 @@ void LocalizationHealthClassifier::add_scan(const ScanOutcome& scan) {
     have_partial_ = false;
     return;
   }
-  odometry_distance_ += moved;  // along some direction, or all of them
   if (scan.correction == Correction::kPartial) {
+    // Only the way odometry carried counts: along a corridor, its axis; a turn taken from the gyro
+    // carries no position (on the campus the tilting scanner's partial scans said "degraded" for a whole
+    // run, 394 m "from odometry" counted where the walls fixed all but the heading).
+    odometry_distance_ += along(step, scan.odometry_directions);
     unmatched_scans_ = 0;
     unmatched_distance_ = 0.0;
     last_matched_stamp_ = scan.stamp;
@@ -115,8 +138,27 @@ void LocalizationHealthClassifier::add_scan(const ScanOutcome& scan) {
     have_partial_ = true;
     return;
   }
+  odometry_distance_ += moved;
   ++unmatched_scans_;
   unmatched_distance_ += moved;
+}
+
+void LocalizationHealthClassifier::placed(double stamp) {
+  placed_at_ = stamp;
+  lost_.reset();
+}
+
+void LocalizationHealthClassifier::confirm(std::string /*why*/) {
+  placed_at_.reset();
+  lost_.reset();
+  odometry_distance_ = 0.0;
+  unmatched_scans_ = 0;
+  unmatched_distance_ = 0.0;
+}
+
+void LocalizationHealthClassifier::lose(std::string why) {
+  placed_at_.reset();
+  lost_ = std::move(why);
 }
 
 LocalizationHealth LocalizationHealthClassifier::health() const {
@@ -133,10 +175,16 @@ LocalizationHealth LocalizationHealthClassifier::health() const {
                        amount(last_.stamp - last_matched_stamp_, "s") + ", " +
                        amount(unmatched_distance_, "m") + "): position from odometry only"};
   }
+  if (lost_)
+    return {kLost, *lost_};
+  if (placed_at_)
+    return {kDegraded, placed_text(*placed_at_)};
   if (unmatched_scans_ >= options_.degraded_unmatched_scans)
     return {kDegraded, kept};
+  // A turn taken from the gyro carries no distance: said without one.
   const std::string carried = (have_partial_ ? from_odometry(last_partial_) : std::string("position")) +
-                              " from odometry for " + amount(odometry_distance_, "m");
+                              " from odometry" +
+                              (odometry_distance_ < 0.05 ? "" : " for " + amount(odometry_distance_, "m"));
   if (odometry_distance_ >= options_.degraded_odometry_distance)
     return {kDegraded, unmatched_scans_ > 0 ? carried + "; " + kept : carried};
   if (unmatched_scans_ > 0)

@@ -2,6 +2,7 @@
 
 #include <Eigen/Core>
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -29,8 +30,10 @@ struct LocalizationHealth {
 
 /// What one scan's localization did: what LocalizationHealthClassifier is fed.
 struct ScanOutcome {
-  double stamp = 0.0;                                  ///< robot time, s
-  Eigen::Vector2d odometry = Eigen::Vector2d::Zero();  ///< wheel odometry position at the scan, m
+  double stamp = 0.0;  ///< robot time, s
+  /// Where the scan put the robot, map frame, m: how far it moved between scans (a lidar alone has no
+  /// odometry to measure it by).
+  Eigen::Vector2d position = Eigen::Vector2d::Zero();
   bool registered = false;  ///< there was a map to register against (false for the first scan)
   Correction correction = Correction::kNone;
   RejectReason reason = RejectReason::kNone;  ///< fault control's, when the odometry guess was kept
@@ -78,14 +81,24 @@ class LocalizationHealthClassifier {
 
   /// After each scan the localizer processed.
   void add_scan(const ScanOutcome& scan);
+  /// A search placed the robot at the scan of `stamp`: degraded until its next scans confirm it
+  /// (confirm()) or contradict it (lose()).
+  void placed(double stamp);
+  /// Something besides the scan path confirmed the estimate (a loop closure, a place the next scans
+  /// matched from, `why`): what odometry carried before it is forgiven, and a lost state ends.
+  void confirm(std::string why);
+  /// The estimate was contradicted (`why`): lost until confirm().
+  void lose(std::string why);
 
   [[nodiscard]] LocalizationHealth health() const;
 
  private:
   LocalizationHealthOptions options_;
   std::size_t scans_ = 0;
-  bool have_odometry_ = false;
-  Eigen::Vector2d last_odometry_ = Eigen::Vector2d::Zero();
+  bool have_position_ = false;
+  Eigen::Vector2d last_position_ = Eigen::Vector2d::Zero();
+  std::optional<double> placed_at_;  ///< a search's place waiting for the scans after it
+  std::optional<std::string> lost_;  ///< why the estimate was contradicted, until confirmed
   /// Odometry alone: scans in a row that kept odometry, since when (stamp of the last matched scan) and
   /// how far.
   std::size_t unmatched_scans_ = 0;

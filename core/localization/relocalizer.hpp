@@ -82,6 +82,11 @@ struct RelocalizationOptions {
   /// carried it (Relocalizer::follow).
   double settled_metres = 0.1;
   double settled_radians = 0.035;  // 2 degrees
+  /// A place taken is confirmed when this many of the scans after it match from there, and dropped
+  /// (the robot lost, the whole map searched) when this many are refused from there first: a right
+  /// place's next scans match, a wrong one's are refused as jumps or poor fits.
+  std::size_t confirm_scans = 2;
+  std::size_t contradict_scans = 2;
   /// A place about to be taken is refined again from starts this far to each side of it (metres, along
   /// and across its heading), for a better basin near it (relocalizer.cpp, decide); 0: not.
   double basin_step = 0.3;
@@ -168,6 +173,9 @@ class Relocalizer {
   /// Refines each candidate by ICP and takes the best if it fits and no other place fits as well.
   [[nodiscard]] RelocalizationResult decide(const PointCloud& scan, const PointCloud& structure,
                                             const std::vector<Candidate>& candidates);
+  /// Refuses a find or a place to follow outside the hint's radius and heading span (what the operator
+  /// was told is searched).
+  void keep_within_hint(RelocalizationResult& result, double x, double y, double yaw) const;
   /// `hinted`: the poses are around an operator's hint (a scan of bare ground is searched only there).
   [[nodiscard]] RelocalizationResult search(const PointCloud& scan, std::vector<Eigen::Isometry3d> poses,
                                             bool hinted);

@@ -9,9 +9,7 @@
 #include <thread>
 #include <vector>
 
-#include "core/localization/graph_localizer.hpp"
-#include "core/localization/localization_health.hpp"
-#include "core/localization/relocalizer.hpp"
+#include "core/localization/localizer.hpp"
 #include "drivers/scan_event.hpp"
 #include "server/control/robot_commands.hpp"
 #include "server/pipeline/imu_calibration_store.hpp"
@@ -20,12 +18,12 @@
 
 namespace strata::pipeline {
 
-/// The pipeline worker for localization: takes scans from the driver thread without blocking it, registers
-/// each on its own thread, and publishes the corrected pose and the registration status. When scans come
-/// faster than registration (a 10 Hz lidar), the newest waiting scan replaces an older one: the pose
-/// stays current and the driver never waits (docs/architecture.md 3). Behind it, on a thread of its own,
-/// the pose graph looks for loop closures and optimizes; its corrections reach the scan path at the next
-/// scan, so registration never waits for it.
+/// The localizer's mailbox and thread: takes scans from the driver thread without blocking it, runs each
+/// through the core Localizer on its own thread, and publishes the corrected pose and the status. When
+/// scans come faster than localization (a 10 Hz lidar), the newest waiting scan replaces an older one:
+/// the pose stays current and the driver never waits (docs/architecture.md 3). Behind it, on a thread of
+/// its own, the pose graph looks for loop closures and optimizes; its corrections reach the scan path at
+/// the next scan, so registration never waits for it.
 class LocalizerWorker final : public LocalizationCommands {
  public:
   /// What became of one scan on the scan path, for benchmarks (tests/bench/sequence_bench.cpp): where the
@@ -92,27 +90,20 @@ class LocalizerWorker final : public LocalizationCommands {
   /// An operator's pose estimate, searched with the latest scan: a stop-and-go scanner standing still
   /// takes no next scan, and waiting for one would leave the estimate unanswered.
   void search_with_latest_scan(const PoseEstimate& estimate);
-  /// Searches around `estimate` (the robot's pose when it took `points`) and, found, places the robot
-  /// there; the status's relocalization says how it went. The new map <- odometry correction, if found.
-  std::optional<Eigen::Isometry3d> search_around(const PoseEstimate& estimate, const PointCloud& points,
-                                                 const std::optional<Pose2>& odometry, double stamp);
-  /// Places an estimate's search found fitting as well, followed into this scan (moved by the odometry
-  /// since) once the robot has moved a little: found, the robot is placed there; the status's
-  /// relocalization says how it went.
-  void follow_places(const PointCloud& points, const Pose2& odometry, double stamp);
   /// The pose graph's thread: closes loops whenever the scan path made keyframes.
   void close_loops();
-  /// The localization state after a scan, into status_.localization.
-  void classify(const ScanEvent& scan, const LocalizationUpdate& update);
+  /// What the localizer did with a scan, into the status and the log.
+  void report(const ScanEvent& scan, const LocalizedScan& localized);
+  void report(const std::vector<RelocalizationReport>& searches);
+  void report(const LocalizationHealth& health, double stamp);
 
   RobotState& state_;
   RegisteredScanSink sink_;
   KeyframesMovedSink keyframes_sink_;
   ScanObserver observer_;
   ImuCalibrationStore* calibration_ = nullptr;
-  GraphLocalizer localizer_;
+  Localizer localizer_;
   RegistrationStatus status_;
-  LocalizationHealthClassifier health_;  // scan path only
   std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable idle_;
@@ -122,26 +113,7 @@ class LocalizerWorker final : public LocalizationCommands {
   std::optional<std::shared_ptr<const LocalizationMap>> pending_map_;
   bool localizing_ = false;  ///< a map to localize in was handed over (pose estimates need one)
   std::optional<PoseEstimate> pending_estimate_;
-  std::unique_ptr<Relocalizer> relocalizer_;  // scan path only: searches the map localized in
-  std::size_t lost_scans_ = 0;                // scan path only: in a row, while lost
-  /// Places a search found fitting as well (a pose estimate's, or the whole map's while lost), for the next
-  /// scans to decide between (one scan of a hallway fits a metre along it as well; as the robot drives
-  /// on, its scans see a door or an end).
-  struct Following {
-    std::vector<Eigen::Isometry3d> places;  // map frame, at the scan of `odometry`
-    Pose2 odometry;
-    std::size_t scans = 0;  // followed so far
-    double metres = 0.0;    // driven between them
-  };
-  std::optional<Following> following_;  // scan path only
-  /// The latest scan, what a pose estimate is searched with at once.
-  struct LatestScan {
-    PointCloud points;  // base frame, preprocessed
-    std::optional<Pose2> odometry;
-    double stamp = 0.0;
-  };
-  std::optional<LatestScan> latest_scan_;  // scan path only
-  bool latest_scan_kept_ = false;          // under mutex_: latest_scan_ holds one
+  bool latest_scan_kept_ = false;  ///< the localizer has a scan to search an estimate with at once
   std::size_t dropped_ = 0;
   bool stopping_ = false;
   std::size_t scans_for_the_graph_ = 0;  ///< processed scans the loop thread has not looked at

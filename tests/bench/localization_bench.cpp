@@ -16,6 +16,7 @@
 // Loop measurements: each loop edge's relative pose against its two keyframes' true relative pose, the
 // heading (signed: a mean off zero is a bias the loops hand to the map) and the position.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -27,7 +28,7 @@
 #include <string>
 #include <vector>
 
-#include "core/localization/graph_localizer.hpp"
+#include "core/localization/localizer.hpp"
 #include "core/localization/pose_extrapolator.hpp"
 #include "core/points/voxel_downsample.hpp"
 #include "drivers/sim/simulator.hpp"
@@ -347,7 +348,7 @@ int main(int argc, char** argv) {
   // map's start is then the true start itself.
   const Eigen::Isometry3d initial_correction =
       with_odometry ? map_from_odom : simulator.sample().truth->to_isometry();
-  GraphLocalizer localizer(graph_options, initial_correction);
+  Localizer localizer(graph_options, initial_correction);
   // STRATA_BENCH_START_MOUNTING_DEG=<roll>,<pitch> (or "sim": the simulated IMU's own) and
   // STRATA_BENCH_START_DRIFT_DEG_PER_H=<rate> (or "sim": the gyro's bias, at the share of each scan's
   // seconds spent driving, 0.55): the run starts from that calibration (GraphLocalizer::
@@ -388,6 +389,10 @@ int main(int argc, char** argv) {
   std::vector<double> source_points;  // per registration, after thinning
   std::vector<double> scan_times;     // the whole add_scan: local map, index, registration
   std::size_t scans = 0, full = 0, partial = 0, none = 0, retried = 0;
+  // Scans by the localization state they left (ok, degraded, lost), and the largest error the state
+  // called ok: how honest the status is.
+  std::array<std::size_t, 3> in_state{};
+  double max_error_while_ok = 0.0;
   Eigen::Vector3d last = simulator.sample().truth->position;
   std::vector<Visit> mapped;                     // every scan the live map took, at the pose it took it with
   std::map<double, Eigen::Isometry3d> truth_at;  // by scan stamp
@@ -418,26 +423,36 @@ int main(int argc, char** argv) {
       PointCloud points = pipeline::points_in_base(scan, 0.3, &point_times);
       const auto start = std::chrono::steady_clock::now();
       const std::optional<Pose2> measured = with_odometry ? std::optional<Pose2>(odometry) : std::nullopt;
-      if (deskewing)
-        localizer.deskew(points, point_times, measured, scan.stamp);
-      const LocalizationUpdate update = localizer.add_scan(
-          points, measured, scan.stamp, scan.sensor_to_base.translation(),
-          gravity ? scan.gravity : std::nullopt, standing_gyro ? scan.standing_gyro : std::nullopt);
+      ScanToLocalize to_localize{.points = std::move(points),
+                                 .times = deskewing ? std::move(point_times) : std::vector<float>{},
+                                 .stamp = scan.stamp,
+                                 .odometry = measured,
+                                 .sensor_origin = scan.sensor_to_base.translation(),
+                                 .gravity = gravity ? scan.gravity : std::nullopt,
+                                 .standing_gyro = standing_gyro ? scan.standing_gyro : std::nullopt};
+      const LocalizedScan localized = localizer.add_scan(to_localize);
+      const PointCloud& points_deskewed = to_localize.points;
+      const LocalizationUpdate& update = localized.update;
+      ++in_state[static_cast<std::size_t>(localized.health.state)];
+      if (localized.health.state == LocalizationState::kOk)
+        max_error_while_ok =
+            std::max(max_error_while_ok, (update.pose.translation() - scan.truth->position).head<2>().norm());
       streamed.set_mounting_error(localizer.gravity_mounting());
       streamed.set_correction(update.map_from_odom, scan.stamp);
       truth_at[scan.stamp] = scan.truth->to_isometry();
       if (!update.registration || update.correction != Correction::kNone)
-        mapped.push_back({scan.truth->to_isometry(), update.pose, voxel_downsample(points, 0.5), travelled});
+        mapped.push_back(
+            {scan.truth->to_isometry(), update.pose, voxel_downsample(points_deskewed, 0.5), travelled});
       scan_times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       // The server runs this on a thread of its own; here it runs after each scan, so the numbers do not
       // depend on the machine's speed.
       const auto loop_start = std::chrono::steady_clock::now();
-      const std::size_t loops_before = localizer.status().loops;
+      const std::size_t loops_before = localizer.graph_status().loops;
       localizer.close_loops();
       loop_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
-      if (std::getenv("STRATA_BENCH_TRACE") != nullptr && localizer.status().loops != loops_before)
+      if (std::getenv("STRATA_BENCH_TRACE") != nullptr && localizer.graph_status().loops != loops_before)
         std::fprintf(stderr, "loops %zu -> %zu at t=%.1f: the last moved its keyframe %.3f m\n", loops_before,
-                     localizer.status().loops, scan.stamp, localizer.status().last_correction);
+                     localizer.graph_status().loops, scan.stamp, localizer.graph_status().last_correction);
       // STRATA_BENCH_HEADINGS_AT=<t>: the keyframes' heading errors as the graph has them at t.
       if (const char* at = std::getenv("STRATA_BENCH_HEADINGS_AT");
           at && !dumped && scan.stamp >= std::atof(at)) {
@@ -479,12 +494,13 @@ int main(int argc, char** argv) {
             update.registration
                 ? rotation_information(update.registration->constraint, Eigen::Vector3d::UnitZ())
                 : 0.0,
-            localizer.status().heading_drift_deg_per_h(),
+            localizer.graph_status().heading_drift_deg_per_h(),
             // The odometry's own heading error (its drift so far), degrees.
             std::remainder(heading_of(map_from_odom * scan.odometry.to_isometry()) - scan.truth->yaw,
                            2.0 * M_PI) *
                 180.0 / M_PI,
-            localizer.status().gravity_mounting_deg().x(), localizer.status().gravity_mounting_deg().y(),
+            localizer.graph_status().gravity_mounting_deg().x(),
+            localizer.graph_status().gravity_mounting_deg().y(),
             localizer.gravity_mounting().x() * 180.0 / M_PI, localizer.gravity_mounting().y() * 180.0 / M_PI);
       }
     }
@@ -500,7 +516,7 @@ int main(int argc, char** argv) {
   }
   std::sort(times.begin(), times.end());
   std::sort(scan_times.begin(), scan_times.end());
-  const PoseGraphStatus graph = localizer.status();
+  const PoseGraphStatus graph = localizer.graph_status();
   const std::vector<KeyframePose> keyframes = localizer.keyframes();
   std::size_t keyframe_points = 0, keyframe_map_points = 0;
   std::vector<Visit> rebuilt;  // the keyframes at their final estimates: what the rebuilt map has
@@ -572,6 +588,7 @@ int main(int argc, char** argv) {
       "{\"bench\":\"localization\",\"world\":\"%s\",\"scanner\":\"%s\",\"sim_seconds\":%.0f,\"travelled_m\":%"
       ".1f,"
       "\"scans\":%zu,\"full\":%zu,\"partial\":%zu,\"none\":%zu,\"retried\":%zu,"
+      "\"state_scans\":{\"ok\":%zu,\"degraded\":%zu,\"lost\":%zu},\"max_error_while_ok_m\":%.3f,"
       "\"final_error_m\":{\"corrected\":%.3f,\"odometry_xy\":%.3f},"
       "\"final_error_pct_of_distance\":{\"corrected\":%.2f,\"odometry_xy\":%.2f},"
       "\"max_error_m\":{\"corrected\":%.3f,\"odometry_xy\":%.3f},\"max_height_error_m\":%.3f,"
@@ -591,9 +608,9 @@ int main(int argc, char** argv) {
       "\"loop_measurement\":{\"heading_error_deg\":{\"mean\":%.3f,\"mean_abs\":%.3f,\"max_abs\":%.3f},"
       "\"position_error_m\":{\"median\":%.3f,\"max\":%.3f}}}\n",
       world_name.c_str(), scanner.c_str(), duration, travelled, scans, full, partial, none, retried,
-      corrected_error, odometry_error, 100.0 * corrected_error / travelled,
-      100.0 * odometry_error / travelled, max_corrected_error, max_odometry_error, max_height_error,
-      1000 * pct(0.5), 1000 * pct(0.95), 1000 * pct(1.0),
+      in_state[0], in_state[1], in_state[2], max_error_while_ok, corrected_error, odometry_error,
+      100.0 * corrected_error / travelled, 100.0 * odometry_error / travelled, max_corrected_error,
+      max_odometry_error, max_height_error, 1000 * pct(0.5), 1000 * pct(0.95), 1000 * pct(1.0),
       times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
       pct_of(source_points, 0.5), graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops,

@@ -40,7 +40,7 @@ class Robot {
   }
   LocalizationHealth add(ScanOutcome scan) {
     scan.stamp = seconds_ * static_cast<double>(scans_);
-    scan.odometry = {step_ * static_cast<double>(scans_), 0.0};
+    scan.position = {step_ * static_cast<double>(scans_), 0.0};
     ++scans_;
     classifier.add_scan(scan);
     return classifier.health();
@@ -175,7 +175,8 @@ TEST(LocalizationHealth, ADiagonalCorridorIsAlongXAndY) {
   scan.registered = true;
   scan.correction = Correction::kPartial;
   scan.odometry_directions = {Eigen::Vector3d(0.7, -0.7, 0.1).normalized()};
-  EXPECT_EQ(robot.add(scan).reason, "corridor: position along x,y from odometry for 2.0 m");
+  // Only the part of the 2 m step along the corridor's axis was odometry's.
+  EXPECT_EQ(robot.add(scan).reason, "corridor: position along x,y from odometry for 1.4 m");
 }
 
 TEST(LocalizationHealth, OnlyTheHeadingFromOdometry) {
@@ -185,7 +186,51 @@ TEST(LocalizationHealth, OnlyTheHeadingFromOdometry) {
   scan.registered = true;
   scan.correction = Correction::kPartial;
   scan.odometry_axes = {Eigen::Vector3d::UnitZ()};
-  EXPECT_EQ(robot.add(scan).reason, "few surfaces: heading from odometry for 2.0 m");
+  // The walls fixed the position: the way driven is not odometry's.
+  const LocalizationHealth health = robot.add(scan);
+  EXPECT_EQ(health.reason, "few surfaces: heading from odometry");
+  for (int i = 0; i < 10; ++i)
+    robot.add(scan);
+  EXPECT_EQ(robot.classifier.health().state, kOk) << "22 m with the heading alone from odometry";
+}
+
+TEST(LocalizationHealth, ALoopClosureEndsAStretchOnOdometry) {
+  Robot robot;
+  robot.first();
+  for (int i = 0; i < 6; ++i)
+    robot.corridor();
+  ASSERT_EQ(robot.classifier.health().state, kDegraded);
+  robot.classifier.confirm("a loop closure");
+  EXPECT_EQ(robot.classifier.health().state, kOk) << robot.classifier.health().reason;
+  EXPECT_EQ(robot.corridor().reason, "corridor: position along x from odometry for 2.0 m")
+      << "counted again from the loop";
+}
+
+TEST(LocalizationHealth, APlaceASearchFoundIsDegradedUntilTheNextScansConfirmIt) {
+  Robot robot;
+  robot.first();
+  robot.full();
+  robot.classifier.placed(20.0);
+  LocalizationHealth health = robot.classifier.health();
+  EXPECT_EQ(health.state, kDegraded);
+  EXPECT_EQ(health.reason, "placed by a search at t=20.0: waiting for the next scans to match there");
+  EXPECT_EQ(robot.full().state, kDegraded) << "a matched scan alone does not confirm it";
+  robot.classifier.confirm("the next scans matched there");
+  EXPECT_EQ(robot.classifier.health().state, kOk);
+}
+
+TEST(LocalizationHealth, AContradictedEstimateIsLostUntilConfirmed) {
+  Robot robot;
+  robot.first();
+  robot.classifier.placed(10.0);
+  robot.classifier.lose("the place a search found was wrong");
+  EXPECT_EQ(robot.classifier.health().state, kLost);
+  EXPECT_EQ(robot.classifier.health().reason, "the place a search found was wrong");
+  EXPECT_EQ(robot.full().state, kLost) << "the scans register from the wrong place";
+  robot.classifier.placed(30.0);
+  EXPECT_EQ(robot.classifier.health().state, kDegraded) << "a new place, waiting for confirmation";
+  robot.classifier.confirm("the next scans matched there");
+  EXPECT_EQ(robot.full().state, kOk);
 }
 
 TEST(LocalizationHealth, ThreeLooseFitsInARowAreDegraded) {

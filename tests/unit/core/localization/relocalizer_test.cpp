@@ -286,8 +286,10 @@ TEST(Relocalizer, APlaceAboutToBeTakenIsLookedForInTheBasinsBesideIt) {
     if (p.head<2>().norm() <= 8.0F)
       scan.push_back(p.cast<double>());
   const auto shared = std::make_shared<const LocalizationMap>(map);
-  // One start only: at the hint, 1.75 m along the wall.
-  const RelocalizationOptions one_start{.hint_radius = 0.0, .hint_yaw = 0.0, .refined = 1};
+  // One start only (the grid's step longer than the radius): at the hint, 1.75 m along the wall, the
+  // place within the radius searched.
+  const RelocalizationOptions one_start{
+      .hint_radius = 1.8, .hint_yaw = 0.0, .position_step = 2.0, .refined = 1};
   RelocalizationOptions no_basins = one_start;
   no_basins.basin_step = 0.0;
   const RelocalizationResult stayed = Relocalizer(shared, no_basins).around(scan, 1.75, 0.0, 0.0, 0.0);
