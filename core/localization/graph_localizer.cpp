@@ -66,75 +66,95 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
                                             double stamp, const Eigen::Vector3d& sensor_origin,
                                             const std::optional<GravityReading>& gravity,
                                             const std::optional<StandingGyro>& standing_gyro) {
-  if (standing_gyro && odometry)
-    standing_drift_.add(*standing_gyro);
-  const std::optional<double> measured_drift = standing_drift_.drift();
-  if (measured_drift) {
-    heading_drift_ = *measured_drift;
-    std::lock_guard lock(mutex_);
-    status_.heading_drift = *measured_drift;
-    heading_drift_measured_ = true;
-  }
-  bool map_moved = false;
+  const bool drift_measured = take_standing_gyro(odometry, standing_gyro);
   const bool pose_graph = options_.pose_graph && !scan_matching_.localizing();
-  if (pose_graph) {
-    std::optional<Eigen::Isometry3d> correction;
-    std::optional<Eigen::Vector3d> mounting;
-    {
-      std::lock_guard lock(mutex_);
-      correction = std::exchange(pending_correction_, std::nullopt);
-      if (correction)
-        last_keyframe_frontend_ = *correction * last_keyframe_frontend_;
-      // The graph's fit, where the gyro's standing reading does not tell the drift itself.
-      if (pending_heading_drift_ && !measured_drift)
-        heading_drift_ = *std::exchange(pending_heading_drift_, std::nullopt);
-      mounting = std::exchange(pending_mounting_, std::nullopt);
-    }
-    if (correction)
-      scan_matching_.correct(*correction);
-    if (mounting)
-      scan_matching_.set_gravity_mounting(*mounting);
-    map_moved = correction.has_value();
-  }
+  // The last optimization moves the scan path's frame before this scan registers in it; so does a place a
+  // search found. Either is a jump the motion models must not take for a velocity.
+  bool map_moved = pose_graph && take_graph_corrections(drift_measured);
   map_moved = std::exchange(placed_, false) || map_moved;
-  LocalizationUpdate update;
-  if (odometry) {
-    // Seconds of motion since the last scan, over which the odometry's heading drifted: none where it
-    // stood still (a base standing holds its heading), and less the time it stood where the gyro says.
-    double moving = 0.0;
-    if (last_odometry_) {
-      const Pose2 moved = odometry->relative_to(last_odometry_->odometry);
-      if (std::hypot(moved.x, moved.y) > 1e-4 || std::abs(moved.theta) > 1e-5)
-        moving =
-            std::max(0.0, stamp - last_odometry_->stamp - (standing_gyro ? standing_gyro->seconds : 0.0));
-      odometry_heading_ += moved.theta;
-    } else {
-      odometry_heading_ = odometry->theta;
-    }
-    moving_seconds_ += moving;
-    last_odometry_ = OdometryAt{stamp, *odometry};
-    // Not across a correction of the map frame: the last pose would be in the old one.
-    const std::optional<Eigen::Isometry3d> second_guess =
-        map_moved ? std::nullopt : scan_motion_.predict_pose(stamp);
-    scan_matching_.set_sensor_origin(sensor_origin);
-    update = scan_matching_.add_scan(points, *odometry, gravity, GuessSource::kOdometry, std::nullopt,
-                                     second_guess, heading_drift_ * moving);
-    scan_motion_.update(stamp, *odometry, update.pose,
-                        update.registration && update.correction != Correction::kNone, map_moved);
-  } else {
-    const Pose2 predicted = motion_.predict(stamp);
-    scan_matching_.set_sensor_origin(sensor_origin);
-    update = scan_matching_.add_scan(points, predicted, gravity, GuessSource::kPrediction,
-                                     motion_.uncertainty(stamp));
-    motion_.update(stamp, predicted, update.pose,
-                   update.registration && update.correction != Correction::kNone, map_moved);
-    // The correction is against the prediction's frame, which no one else has: to whoever carries the
-    // base's missing (constant, identity) odometry with it, it must give the scan's pose.
-    update.map_from_odom = update.pose;
-  }
+  scan_matching_.set_sensor_origin(sensor_origin);
+  const LocalizationUpdate update =
+      odometry ? register_with_odometry(points, *odometry, stamp, gravity, standing_gyro, map_moved)
+               : register_alone(points, stamp, gravity, map_moved);
   const bool registered = !update.registration || update.correction != Correction::kNone;
   if (pose_graph && registered)
     add_keyframe(points, update, stamp, sensor_origin, gravity);
+  return update;
+}
+
+bool GraphLocalizer::take_standing_gyro(const std::optional<Pose2>& odometry,
+                                        const std::optional<StandingGyro>& standing_gyro) {
+  if (standing_gyro && odometry)
+    standing_drift_.add(*standing_gyro);
+  const std::optional<double> measured_drift = standing_drift_.drift();
+  if (!measured_drift)
+    return false;
+  heading_drift_ = *measured_drift;
+  std::lock_guard lock(mutex_);
+  status_.heading_drift = *measured_drift;
+  heading_drift_measured_ = true;
+  return true;
+}
+
+bool GraphLocalizer::take_graph_corrections(bool drift_measured) {
+  std::optional<Eigen::Isometry3d> correction;
+  std::optional<Eigen::Vector3d> mounting;
+  {
+    std::lock_guard lock(mutex_);
+    correction = std::exchange(pending_correction_, std::nullopt);
+    if (correction)
+      last_keyframe_frontend_ = *correction * last_keyframe_frontend_;
+    // The graph's fit, where the gyro's standing reading does not tell the drift itself.
+    if (pending_heading_drift_ && !drift_measured)
+      heading_drift_ = *std::exchange(pending_heading_drift_, std::nullopt);
+    mounting = std::exchange(pending_mounting_, std::nullopt);
+  }
+  if (correction)
+    scan_matching_.correct(*correction);
+  if (mounting)
+    scan_matching_.set_gravity_mounting(*mounting);
+  return correction.has_value();
+}
+
+LocalizationUpdate GraphLocalizer::register_with_odometry(const PointCloud& points, const Pose2& odometry,
+                                                          double stamp,
+                                                          const std::optional<GravityReading>& gravity,
+                                                          const std::optional<StandingGyro>& standing_gyro,
+                                                          bool map_moved) {
+  // Seconds of motion since the last scan, over which the odometry's heading drifted: none where it
+  // stood still (a base standing holds its heading), and less the time it stood where the gyro says.
+  double moving = 0.0;
+  if (last_odometry_) {
+    const Pose2 moved = odometry.relative_to(last_odometry_->odometry);
+    if (std::hypot(moved.x, moved.y) > 1e-4 || std::abs(moved.theta) > 1e-5)
+      moving = std::max(0.0, stamp - last_odometry_->stamp - (standing_gyro ? standing_gyro->seconds : 0.0));
+    odometry_heading_ += moved.theta;
+  } else {
+    odometry_heading_ = odometry.theta;
+  }
+  moving_seconds_ += moving;
+  last_odometry_ = OdometryAt{stamp, odometry};
+  // Not across a correction of the map frame: the last pose would be in the old one.
+  const std::optional<Eigen::Isometry3d> second_guess =
+      map_moved ? std::nullopt : scan_motion_.predict_pose(stamp);
+  LocalizationUpdate update = scan_matching_.add_scan(points, odometry, gravity, GuessSource::kOdometry,
+                                                      std::nullopt, second_guess, heading_drift_ * moving);
+  scan_motion_.update(stamp, odometry, update.pose,
+                      update.registration && update.correction != Correction::kNone, map_moved);
+  return update;
+}
+
+LocalizationUpdate GraphLocalizer::register_alone(const PointCloud& points, double stamp,
+                                                  const std::optional<GravityReading>& gravity,
+                                                  bool map_moved) {
+  const Pose2 predicted = motion_.predict(stamp);
+  LocalizationUpdate update = scan_matching_.add_scan(points, predicted, gravity, GuessSource::kPrediction,
+                                                      motion_.uncertainty(stamp));
+  motion_.update(stamp, predicted, update.pose, update.registration && update.correction != Correction::kNone,
+                 map_moved);
+  // The correction is against the prediction's frame, which no one else has: to whoever carries the
+  // base's missing (constant, identity) odometry with it, it must give the scan's pose.
+  update.map_from_odom = update.pose;
   return update;
 }
 

@@ -140,6 +140,20 @@ class GraphLocalizer {
   [[nodiscard]] std::vector<PoseGraphEdge> loops() const;
 
  private:
+  /// Takes the gyro's standing reading: true when it tells the odometry's heading drift by itself.
+  bool take_standing_gyro(const std::optional<Pose2>& odometry,
+                          const std::optional<StandingGyro>& standing_gyro);
+  /// Takes what the last optimization left for the scan path (its correction, the heading drift where the
+  /// gyro does not tell it, the IMU's mounting error): true when the map frame moved.
+  bool take_graph_corrections(bool drift_measured);
+  /// Registers a scan from the odometry's guess, its heading drift taken out, with the scans' own
+  /// motion as the second guess.
+  LocalizationUpdate register_with_odometry(const PointCloud& points, const Pose2& odometry, double stamp,
+                                            const std::optional<GravityReading>& gravity,
+                                            const std::optional<StandingGyro>& standing_gyro, bool map_moved);
+  /// Registers a lidar alone's scan from its constant velocity prediction.
+  LocalizationUpdate register_alone(const PointCloud& points, double stamp,
+                                    const std::optional<GravityReading>& gravity, bool map_moved);
   /// The newest keyframe's height in `graph` (close_loops' copy) optimized in place, where
   /// height_before_loops applies and enough keyframes came since the graph had `optimized_at`.
   [[nodiscard]] std::optional<double> height_before_loops(PoseGraph& graph, std::size_t optimized_at) const;

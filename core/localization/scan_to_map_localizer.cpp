@@ -1,7 +1,6 @@
 #include "core/localization/scan_to_map_localizer.hpp"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <numbers>
 #include <utility>
@@ -32,25 +31,16 @@ double sliding_yaw_weight(const LocalizerOptions& options, const TranslationCons
   return options.sliding_yaw_weight * surfaces * way;
 }
 
-/// A lidar alone's guess carries the last turn on (ConstantVelocityPrediction): where a sharp turn between
-/// two scans starts or stops, it is tens of degrees off, and ICP from it can slide into a wrong place that
-/// still passes fault control. Such a match pairs few of the scan's points: on a real walk through a
-/// building (BALM, every other scan: turns of up to 58 degrees) 44 % against 97 % for the right one, where
-/// every right match paired 58 % or more. So below `kPoorPairing` the registration is tried again from the
-/// guess turned about gravity's axis by each of `kTurns` the prediction may have missed (GuessUncertainty's
-/// rotation: what the angular acceleration can do in the time since the last scan, at least
-/// `kTurnSearchFrom`: a 10 Hz lidar's scans are too close for a turn to hide, and the searches would cost
-/// it six registrations a scan where a car's scans pair poorly), and the match that pairs the most points
-/// is taken, if it pairs clearly more (`kClearlyMore`).
-constexpr double kPoorPairing = 0.75;
-constexpr double kTurnSearchFrom = 0.25;  // radians, 14 degrees
-constexpr double kClearlyMore = 0.15;
-constexpr std::array<double, 6> kTurns = {-1.05, -0.70, -0.35, 0.35, 0.70, 1.05};  // radians: 20, 40, 60 deg
-
+/// The share of the scan's points a registration paired: a wrong match after a turn the prediction
+/// missed pairs few (LocalizerOptions::turn_search).
 double pairing(const RegistrationResult& result) {
   return result.source_points == 0
              ? 0.0
              : static_cast<double>(result.pairs) / static_cast<double>(result.source_points);
+}
+
+Eigen::Matrix3d about_vertical(double angle) {
+  return Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitZ()).toRotationMatrix();
 }
 
 }  // namespace
@@ -107,8 +97,7 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
       gravity && GravityLeveling::usable(*gravity) ? gravity : std::nullopt;
   const Eigen::Isometry3d odometry_guess = global_.pose_isometry(odometry);
   Eigen::Isometry3d guess = odometry_guess;
-  guess.linear() =
-      Eigen::AngleAxisd(heading_drift, Eigen::Vector3d::UnitZ()).toRotationMatrix() * guess.linear();
+  guess.linear() = about_vertical(heading_drift) * guess.linear();
   // Metres driven since the last scan, by the odometry: how far its tilt and heading may be stale.
   const std::optional<double> moved =
       last_odometry_
@@ -124,109 +113,10 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   LocalizationUpdate update;
   update.pose = guess;
   if (registering) {
-    FaultLimits limits = options_.registration.limits;
-    if (uncertainty) {
-      limits.max_translation_jump += uncertainty->translation;
-      limits.max_rotation_jump += uncertainty->rotation;
-    }
-    const bool mapping = saved_registration_ == nullptr;
-    ScanRegistration& registration = mapping ? registration_ : *saved_registration_;
-    if (mapping) {
-      registration_.set_thinned_target(local_map_.points(), local_map_.take_normals(),
-                                       local_map_.viewpoints());
-      registration_.set_source_viewpoint(sensor_origin_);
-    }
-    RegistrationResult result = registration.register_scan(points, guess, limits);
-    const double missable_turn = uncertainty ? uncertainty->rotation : 0.0;
-    if (source == GuessSource::kPrediction && missable_turn >= kTurnSearchFrom &&
-        pairing(result) < kPoorPairing) {
-      // A sharp turn the prediction did not foresee (kTurns): the best of the turned guesses, if clearly.
-      double seconds = result.seconds;
-      std::optional<RegistrationResult> best;
-      double best_turn = 0.0;
-      for (const double turn : kTurns) {
-        if (std::abs(turn) > missable_turn + kTurns.back() - kTurns[kTurns.size() - 2])
-          continue;  // further than the base can have turned unforeseen (and one step of the search)
-        Eigen::Isometry3d turned = guess;
-        turned.linear() =
-            Eigen::AngleAxisd(turn, Eigen::Vector3d::UnitZ()).toRotationMatrix() * guess.linear();
-        RegistrationResult candidate = registration.register_scan(points, turned, limits);
-        seconds += candidate.seconds;
-        if (candidate.accepted() && (!best || pairing(candidate) > pairing(*best))) {
-          best = std::move(candidate);
-          best_turn = turn;
-        }
-      }
-      if (best && pairing(*best) > pairing(result) + kClearlyMore) {
-        result = std::move(*best);
-        guess.linear() =
-            Eigen::AngleAxisd(best_turn, Eigen::Vector3d::UnitZ()).toRotationMatrix() * guess.linear();
-        update.turn_found =
-            best_turn;  // what the weakly constrained directions come from, if any: the turned
-      }
-      result.seconds = seconds;
-    }
-    if (result.assessment.reason == RejectReason::kJumpFromGuess && second_guess) {
-      // Far from the odometry: either ICP slid, or the odometry is off (wheels slipping, a bump). From a
-      // second, independent guess a slide lands elsewhere; a true pose is found again, near that guess.
-      RegistrationResult retry = registration.register_scan(points, *second_guess, limits);
-      const Eigen::Isometry3d between = result.refined.inverse() * retry.refined;
-      if (retry.accepted() && between.translation().norm() < kRetryAgreement &&
-          Eigen::AngleAxisd(between.linear()).angle() < kRetryAgreementAngle) {
-        retry.seconds += result.seconds;
-        result = std::move(retry);
-        guess = *second_guess;  // what the weakly constrained directions come from, if any
-        update.retried = true;
-      }
-    }
-    if (mapping)
-      local_map_.keep_normals(registration_.take_normals());
+    RegistrationResult result = register_from(points, guess, source, uncertainty, second_guess, update);
     // Weak directions come from the guess, unless the guess knows nothing (a lidar alone's first scans).
     const bool guess_informs = !uncertainty || uncertainty->motion_known;
-    const bool weak =
-        guess_informs && (result.constraint.weakest < options_.weak_direction_guard ||
-                          result.constraint.rotation_eigenvalues[0] < options_.weak_rotation_guard);
-    const bool only_degenerate = result.assessment.reason == RejectReason::kDegenerateGeometry;
-    if (weak && (result.accepted() || only_degenerate)) {
-      // Keep ICP's answer except along the directions no surface faces (a corridor's axis; both ways
-      // along an open plane): there, odometry knows better.
-      update.pose = result.refined;
-      // Rotation: remove the turn about weakly constrained axes from ICP's change to the guess.
-      Eigen::AngleAxisd change(result.refined.linear() * guess.linear().transpose());
-      Eigen::Vector3d turn = change.axis() * change.angle();
-      for (int k = 0; k < 3; ++k) {
-        if (result.constraint.rotation_eigenvalues[k] >= options_.weak_rotation_guard)
-          continue;
-        const Eigen::Vector3d axis = result.constraint.rotation_axes.col(k);
-        turn -= axis * axis.dot(turn);
-        update.odometry_axes.push_back(axis);
-      }
-      // A scan that slides has few surfaces: its yaw is weighed against measured odometry's.
-      const bool sliding = result.constraint.weakest < options_.weak_direction_guard;
-      if (sliding && source == GuessSource::kOdometry) {
-        const Eigen::Vector3d vertical = Eigen::Vector3d::UnitZ();
-        const bool taken = std::ranges::any_of(
-            update.odometry_axes, [&](const Eigen::Vector3d& a) { return std::abs(a.dot(vertical)) > 0.9; });
-        const double weight = sliding_yaw_weight(options_, result.constraint, vertical.dot(turn), moved);
-        turn -= vertical * vertical.dot(turn) * (1.0 - weight);
-        if (!taken && weight < 0.5)  // mostly the odometry's: what the status's explanation says
-          update.odometry_axes.push_back(vertical);
-      }
-      update.pose.linear() = rotation_from_vector(turn) * guess.linear();
-      const Eigen::Vector3d offset = guess.translation() - result.refined.translation();
-      for (int k = 0; k < 3; ++k) {
-        if (result.constraint.eigenvalues[k] >= options_.weak_direction_guard)
-          continue;
-        const Eigen::Vector3d d = result.constraint.directions.col(k);
-        update.pose.translation() += d * d.dot(offset);
-        update.odometry_directions.push_back(d);
-      }
-      update.correction = Correction::kPartial;
-    } else if (result.accepted()) {
-      update.pose = result.transform;
-      update.correction = Correction::kFull;
-    }
-    update.registration = std::move(result);
+    use_registration(std::move(result), guess, source, guess_informs, moved, update);
   }
   // Scan matching's tilt, levelled toward gravity by how far each is to be trusted: what stops the
   // height walking (a tilt error becomes height error with every metre). Not after a rejected scan: its
@@ -243,6 +133,129 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   if (saved_map_ == nullptr)
     local_map_.add(transformed(points, update.pose), update.pose * sensor_origin_);
   return update;
+}
+
+RegistrationResult ScanToMapLocalizer::register_from(const PointCloud& points, Eigen::Isometry3d& guess,
+                                                     GuessSource source,
+                                                     const std::optional<GuessUncertainty>& uncertainty,
+                                                     const std::optional<Eigen::Isometry3d>& second_guess,
+                                                     LocalizationUpdate& update) {
+  FaultLimits limits = options_.registration.limits;
+  if (uncertainty) {
+    limits.max_translation_jump += uncertainty->translation;
+    limits.max_rotation_jump += uncertainty->rotation;
+  }
+  const bool mapping = saved_registration_ == nullptr;
+  ScanRegistration& registration = mapping ? registration_ : *saved_registration_;
+  if (mapping) {
+    registration_.set_thinned_target(local_map_.points(), local_map_.take_normals(), local_map_.viewpoints());
+    registration_.set_source_viewpoint(sensor_origin_);
+  }
+  RegistrationResult result = registration.register_scan(points, guess, limits);
+  const double missable_turn = uncertainty ? uncertainty->rotation : 0.0;
+  if (source == GuessSource::kPrediction && missable_turn >= options_.turn_search.from &&
+      pairing(result) < options_.turn_search.poor_pairing) {
+    if (std::optional<double> turn =
+            search_turns(registration, points, guess, limits, missable_turn, result)) {
+      guess.linear() = about_vertical(*turn) * guess.linear();  // what weak directions come from, if any
+      update.turn_found = turn;
+    }
+  }
+  if (result.assessment.reason == RejectReason::kJumpFromGuess && second_guess) {
+    // Far from the odometry: either ICP slid, or the odometry is off (wheels slipping, a bump). From a
+    // second, independent guess a slide lands elsewhere; a true pose is found again, near that guess.
+    RegistrationResult retry = registration.register_scan(points, *second_guess, limits);
+    const Eigen::Isometry3d between = result.refined.inverse() * retry.refined;
+    if (retry.accepted() && between.translation().norm() < kRetryAgreement &&
+        Eigen::AngleAxisd(between.linear()).angle() < kRetryAgreementAngle) {
+      retry.seconds += result.seconds;
+      result = std::move(retry);
+      guess = *second_guess;  // what the weakly constrained directions come from, if any
+      update.retried = true;
+    }
+  }
+  if (mapping)
+    local_map_.keep_normals(registration_.take_normals());
+  return result;
+}
+
+std::optional<double> ScanToMapLocalizer::search_turns(ScanRegistration& registration,
+                                                       const PointCloud& points,
+                                                       const Eigen::Isometry3d& guess,
+                                                       const FaultLimits& limits, double missable_turn,
+                                                       RegistrationResult& result) const {
+  const TurnSearchOptions& search = options_.turn_search;
+  const double step =
+      search.turns.size() >= 2 ? search.turns.back() - search.turns[search.turns.size() - 2] : 0.0;
+  double seconds = result.seconds;
+  std::optional<RegistrationResult> best;
+  double best_turn = 0.0;
+  for (const double turn : search.turns) {
+    if (std::abs(turn) > missable_turn + step)
+      continue;  // further than the base can have turned unforeseen (and one step of the search)
+    Eigen::Isometry3d turned = guess;
+    turned.linear() = about_vertical(turn) * guess.linear();
+    RegistrationResult candidate = registration.register_scan(points, turned, limits);
+    seconds += candidate.seconds;
+    if (candidate.accepted() && (!best || pairing(candidate) > pairing(*best))) {
+      best = std::move(candidate);
+      best_turn = turn;
+    }
+  }
+  const bool clearly_better = best && pairing(*best) > pairing(result) + search.clearly_more;
+  if (clearly_better)
+    result = std::move(*best);
+  result.seconds = seconds;
+  return clearly_better ? std::optional(best_turn) : std::nullopt;
+}
+
+void ScanToMapLocalizer::use_registration(RegistrationResult result, const Eigen::Isometry3d& guess,
+                                          GuessSource source, bool guess_informs, std::optional<double> moved,
+                                          LocalizationUpdate& update) const {
+  const bool weak =
+      guess_informs && (result.constraint.weakest < options_.weak_direction_guard ||
+                        result.constraint.rotation_eigenvalues[0] < options_.weak_rotation_guard);
+  const bool only_degenerate = result.assessment.reason == RejectReason::kDegenerateGeometry;
+  if (weak && (result.accepted() || only_degenerate)) {
+    // Keep ICP's answer except along the directions no surface faces (a corridor's axis; both ways
+    // along an open plane): there, odometry knows better.
+    update.pose = result.refined;
+    // Rotation: remove the turn about weakly constrained axes from ICP's change to the guess.
+    Eigen::AngleAxisd change(result.refined.linear() * guess.linear().transpose());
+    Eigen::Vector3d turn = change.axis() * change.angle();
+    for (int k = 0; k < 3; ++k) {
+      if (result.constraint.rotation_eigenvalues[k] >= options_.weak_rotation_guard)
+        continue;
+      const Eigen::Vector3d axis = result.constraint.rotation_axes.col(k);
+      turn -= axis * axis.dot(turn);
+      update.odometry_axes.push_back(axis);
+    }
+    // A scan that slides has few surfaces: its yaw is weighed against measured odometry's.
+    const bool sliding = result.constraint.weakest < options_.weak_direction_guard;
+    if (sliding && source == GuessSource::kOdometry) {
+      const Eigen::Vector3d vertical = Eigen::Vector3d::UnitZ();
+      const bool taken = std::ranges::any_of(
+          update.odometry_axes, [&](const Eigen::Vector3d& a) { return std::abs(a.dot(vertical)) > 0.9; });
+      const double weight = sliding_yaw_weight(options_, result.constraint, vertical.dot(turn), moved);
+      turn -= vertical * vertical.dot(turn) * (1.0 - weight);
+      if (!taken && weight < 0.5)  // mostly the odometry's: what the status's explanation says
+        update.odometry_axes.push_back(vertical);
+    }
+    update.pose.linear() = rotation_from_vector(turn) * guess.linear();
+    const Eigen::Vector3d offset = guess.translation() - result.refined.translation();
+    for (int k = 0; k < 3; ++k) {
+      if (result.constraint.eigenvalues[k] >= options_.weak_direction_guard)
+        continue;
+      const Eigen::Vector3d d = result.constraint.directions.col(k);
+      update.pose.translation() += d * d.dot(offset);
+      update.odometry_directions.push_back(d);
+    }
+    update.correction = Correction::kPartial;
+  } else if (result.accepted()) {
+    update.pose = result.transform;
+    update.correction = Correction::kFull;
+  }
+  update.registration = std::move(result);
 }
 
 }  // namespace strata

@@ -26,6 +26,23 @@ enum class GuessSource {
   kPrediction,  ///< a motion model over earlier scans (ConstantVelocityPrediction): nothing independent
 };
 
+/// A lidar alone's guess carries the last turn on (ConstantVelocityPrediction): where a sharp turn between
+/// two scans starts or stops, it is tens of degrees off, and ICP from it can slide into a wrong place that
+/// still passes fault control. Such a match pairs few of the scan's points: on a real walk through a
+/// building (BALM, every other scan: turns of up to 58 degrees) 44 % against 97 % for the right one, where
+/// every right match paired 58 % or more. So below `poor_pairing` the registration is tried again from the
+/// guess turned about gravity's axis by each of `turns` the prediction may have missed (GuessUncertainty's
+/// rotation: what the angular acceleration can do in the time since the last scan, at least `from`: a
+/// 10 Hz lidar's scans are too close for a turn to hide, and the searches would cost it six registrations
+/// a scan where a car's scans pair poorly), and the match that pairs the most points is taken, if it pairs
+/// `clearly_more` (docs/benchmarks.md, "Real lidar sequences").
+struct TurnSearchOptions {
+  double poor_pairing = 0.75;                                           ///< share of the scan's points
+  double from = 0.25;                                                   ///< radians, 14 degrees
+  double clearly_more = 0.15;                                           ///< share of the scan's points
+  std::vector<double> turns = {-1.05, -0.70, -0.35, 0.35, 0.70, 1.05};  ///< radians: 20, 40, 60 degrees
+};
+
 struct LocalizerOptions {
   RegistrationOptions registration = default_registration();
   /// The model set: what the last this many registered scans reached, and what the sensor passed in the
@@ -64,6 +81,8 @@ struct LocalizerOptions {
   double sliding_yaw_max_change = 1.0 * std::numbers::pi / 180.0;  // radians
   /// Gravity readings against scan matching's tilt (GravityLeveling).
   GravityLevelingOptions gravity;
+  /// A lidar alone's sharp turns the prediction missed.
+  TurnSearchOptions turn_search;
 
   /// Scan-to-map registration: the target is already in the map frame, so nothing may be cropped around
   /// its origin (the caller crops each scan around its own sensor). Point-to-plane: against a local map the
@@ -185,6 +204,22 @@ class ScanToMapLocalizer {
   void set_sensor_origin(const Eigen::Vector3d& origin) { sensor_origin_ = origin; }
 
  private:
+  /// Registers the scan from `guess` against the local map or the saved map, with the searches that
+  /// correct a bad guess: a lidar alone's missed turn, an odometry jump confirmed from the second guess.
+  /// `guess` becomes what the weak directions are to come from; `update` learns what was retried.
+  RegistrationResult register_from(const PointCloud& points, Eigen::Isometry3d& guess, GuessSource source,
+                                   const std::optional<GuessUncertainty>& uncertainty,
+                                   const std::optional<Eigen::Isometry3d>& second_guess,
+                                   LocalizationUpdate& update);
+  /// The turn search (TurnSearchOptions): the turn whose match replaced `result`, if one did.
+  std::optional<double> search_turns(ScanRegistration& registration, const PointCloud& points,
+                                     const Eigen::Isometry3d& guess, const FaultLimits& limits,
+                                     double missable_turn, RegistrationResult& result) const;
+  /// What of `result` the pose takes: all of it, all but the weak directions (taken from `guess`), or
+  /// nothing (fault control refused it).
+  void use_registration(RegistrationResult result, const Eigen::Isometry3d& guess, GuessSource source,
+                        bool guess_informs, std::optional<double> moved, LocalizationUpdate& update) const;
+
   LocalizerOptions options_;
   ScanRegistration registration_;
   GlobalPose global_;

@@ -434,6 +434,10 @@ int main(int argc, char** argv) {
       const PointCloud& points_deskewed = to_localize.points;
       const LocalizationUpdate& update = localized.update;
       ++in_state[static_cast<std::size_t>(localized.health.state)];
+      if (std::getenv("STRATA_BENCH_STATES") != nullptr)  // the state after each scan, and why
+        std::fprintf(stderr, "t=%7.1f error=%.2f %s: %s\n", scan.stamp,
+                     (update.pose.translation() - scan.truth->position).head<2>().norm(),
+                     std::string(to_string(localized.health.state)).c_str(), localized.health.reason.c_str());
       if (localized.health.state == LocalizationState::kOk)
         max_error_while_ok =
             std::max(max_error_while_ok, (update.pose.translation() - scan.truth->position).head<2>().norm());
