@@ -23,14 +23,15 @@ std::string scans_text(std::size_t scans) {
 }
 
 /// Why a registration was not used, in plain words.
-std::string_view why_kept(RejectReason reason) {
+std::string_view why_kept(RejectReason reason, bool predicted) {
   switch (reason) {
     case RejectReason::kTooFewPairs:
       return "nothing to match";
     case RejectReason::kHighResidual:
       return "the surfaces did not fit";
     case RejectReason::kJumpFromGuess:
-      return "the match was too far from odometry to trust";
+      return predicted ? "the match was too far from the prediction to trust"
+                       : "the match was too far from odometry to trust";
     case RejectReason::kDegenerateGeometry:
       return "too few surfaces to fix the position";
     case RejectReason::kNone:
@@ -115,8 +116,16 @@ void LocalizationHealthClassifier::add_scan(const ScanOutcome& scan) {
   last_position_ = scan.position;
   ++scans_;
   last_ = scan;
-  if (scan.registered && scan.correction != Correction::kNone)
-    loose_fits_ = scan.rmse > options_.loose_fit_rmse ? loose_fits_ + 1 : 0;
+  weak_guess_uncertainty_ =
+      scan.predicted && scan.correction == Correction::kPartial && !scan.odometry_directions.empty()
+          ? scan.guess_uncertainty
+          : 0.0;
+  if (scan.registered && scan.correction != Correction::kNone) {
+    fits_.push_back(scan.rmse);
+    if (fits_.size() > options_.loose_fit_window)
+      fits_.pop_front();
+    loose_fits_ = scan.rmse > loose_fit_limit() ? loose_fits_ + 1 : 0;
+  }
   if (!scan.registered || scan.correction == Correction::kFull) {
     // Matched whole, or the first scan, which the map starts from: nothing rests on odometry.
     unmatched_scans_ = 0;
@@ -143,6 +152,18 @@ void LocalizationHealthClassifier::add_scan(const ScanOutcome& scan) {
   unmatched_distance_ += moved;
 }
 
+double LocalizationHealthClassifier::loose_fit_limit() const {
+  // The run's own fit, this scan's included, once a few scans tell it: a run whose every scan fits at
+  // 11 cm (a road's first keyframes) fits as closely as it can.
+  constexpr std::size_t kEnoughFits = 3;
+  if (fits_.size() < kEnoughFits)
+    return options_.loose_fit_rmse;
+  std::vector<double> sorted(fits_.begin(), fits_.end());
+  std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(sorted.size() / 2),
+                   sorted.end());
+  return std::max(options_.loose_fit_rmse, options_.loose_fit_ratio * sorted[sorted.size() / 2]);
+}
+
 void LocalizationHealthClassifier::placed(double stamp) {
   placed_at_ = stamp;
   lost_.reset();
@@ -165,26 +186,33 @@ LocalizationHealth LocalizationHealthClassifier::health() const {
   using enum LocalizationState;
   if (scans_ == 0)
     return LocalizationHealth::no_scan_yet();
-  const std::string kept =
-      unmatched_scans_ == 1
-          ? "the last scan kept odometry: " + std::string(why_kept(last_.reason))
-          : scans_text(unmatched_scans_) + " in a row kept odometry: " + std::string(why_kept(last_.reason));
-  if (unmatched_scans_ >= options_.lost_unmatched_scans ||
+  // Without odometry, what a refused scan keeps is the prediction from the scans before.
+  const bool predicted = last_.predicted;
+  const std::string source = predicted ? "the prediction" : "odometry";
+  const std::string why = std::string(why_kept(last_.reason, predicted));
+  const std::string kept = unmatched_scans_ == 1
+                               ? "the last scan kept " + source + ": " + why
+                               : scans_text(unmatched_scans_) + " in a row kept " + source + ": " + why;
+  const std::size_t lost_after = predicted ? options_.lost_predicted_scans : options_.lost_unmatched_scans;
+  const std::size_t degraded_after = predicted ? 1 : options_.degraded_unmatched_scans;
+  if (unmatched_scans_ >= lost_after ||
       (unmatched_scans_ > 0 && unmatched_distance_ >= options_.lost_unmatched_distance)) {
     return {kLost, "no scan matched for " + scans_text(unmatched_scans_) + " (" +
                        amount(last_.stamp - last_matched_stamp_, "s") + ", " +
-                       amount(unmatched_distance_, "m") + "): position from odometry only"};
+                       amount(unmatched_distance_, "m") + "): position from " + source + " only"};
   }
   if (lost_)
     return {kLost, *lost_};
   if (placed_at_)
     return {kDegraded, placed_text(*placed_at_)};
-  if (unmatched_scans_ >= options_.degraded_unmatched_scans)
+  if (unmatched_scans_ >= degraded_after)
     return {kDegraded, kept};
   // A turn taken from the gyro carries no distance: said without one.
   const std::string carried = (have_partial_ ? from_odometry(last_partial_) : std::string("position")) +
-                              " from odometry" +
+                              " from " + source +
                               (odometry_distance_ < 0.05 ? "" : " for " + amount(odometry_distance_, "m"));
+  if (weak_guess_uncertainty_ >= options_.degraded_prediction_uncertainty)
+    return {kDegraded, carried + ", which may be " + amount(weak_guess_uncertainty_, "m") + " off"};
   if (odometry_distance_ >= options_.degraded_odometry_distance)
     return {kDegraded, unmatched_scans_ > 0 ? carried + "; " + kept : carried};
   if (unmatched_scans_ > 0)

@@ -6,9 +6,10 @@ namespace strata {
 namespace {
 
 /// What the health classifier is told of one scan.
-ScanOutcome outcome_of(const LocalizationUpdate& update, double stamp) {
+ScanOutcome outcome_of(const LocalizationUpdate& update, const ScanToLocalize& scan) {
   ScanOutcome outcome;
-  outcome.stamp = stamp;
+  outcome.stamp = scan.stamp;
+  outcome.predicted = !scan.odometry;
   outcome.position = update.pose.translation().head<2>();
   outcome.registered = update.registration.has_value();
   outcome.correction = update.correction;
@@ -18,6 +19,8 @@ ScanOutcome outcome_of(const LocalizationUpdate& update, double stamp) {
   }
   outcome.odometry_directions = update.odometry_directions;
   outcome.odometry_axes = update.odometry_axes;
+  if (update.guess_uncertainty)
+    outcome.guess_uncertainty = update.guess_uncertainty->translation;
   return outcome;
 }
 
@@ -75,7 +78,7 @@ Eigen::Isometry3d Localizer::place(const Eigen::Isometry3d& pose, const ScanToLo
 }
 
 void Localizer::judge(const ScanToLocalize& scan, const LocalizationUpdate& update) {
-  health_.add_scan(outcome_of(update, scan.stamp));
+  health_.add_scan(outcome_of(update, scan));
   // A loop closure measured the estimate against the map made long before: what odometry carried since
   // is accounted for.
   const std::size_t loops = graph_.status().loops;

@@ -112,6 +112,8 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   last_odometry_ = odometry;
   LocalizationUpdate update;
   update.pose = guess;
+  if (source == GuessSource::kPrediction)
+    update.guess_uncertainty = uncertainty;
   if (registering) {
     RegistrationResult result = register_from(points, guess, source, uncertainty, second_guess, update);
     // Weak directions come from the guess, unless the guess knows nothing (a lidar alone's first scans).

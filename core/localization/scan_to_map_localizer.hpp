@@ -146,6 +146,9 @@ struct LocalizationUpdate {
   /// Rejected for a jump from the odometry guess, and registered again from the second guess (the scans'
   /// own motion), which found the same pose: the odometry was off (wheels slipping), not the match.
   bool retried = false;
+  /// How far off the guess may have been where it was the motion's prediction (a lidar alone), as the
+  /// jump limits were widened by it; none for odometry's.
+  std::optional<GuessUncertainty> guess_uncertainty;
   /// A lidar alone's prediction matched poorly, and registration from the guess turned by this much about
   /// gravity's axis (radians) matched clearly better: a sharp turn the prediction did not foresee.
   std::optional<double> turn_found;

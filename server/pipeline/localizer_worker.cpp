@@ -296,6 +296,7 @@ void LocalizerWorker::process(ScanEvent event) {
                          .truth = truth,
                          .registered = localized.update.registration.has_value(),
                          .correction = localized.update.correction,
+                         .rmse = localized.update.registration ? localized.update.registration->rmse : 0.0,
                          .state = localized.health.state,
                          .cpu_ms = thread_cpu_ms() - cpu_start_ms});
   }

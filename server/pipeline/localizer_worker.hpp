@@ -34,6 +34,7 @@ class LocalizerWorker final : public LocalizationCommands {
     std::optional<Pose3> truth;                              ///< the driver's truth or reference, if any
     bool registered = false;                                 ///< a registration ran (not the first scan)
     Correction correction = Correction::kNone;
+    double rmse = 0.0;  ///< the registration's, m
     LocalizationState state = LocalizationState::kDegraded;
     double cpu_ms = 0.0;  ///< the localizer thread's CPU time for the scan, preprocessing to hand-on
   };

@@ -104,7 +104,7 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
 
   std::vector<bench::TrackedPose> track;
   std::vector<double> cpu_ms;
-  std::size_t full = 0, partial = 0, kept = 0, lost = 0;
+  std::size_t full = 0, partial = 0, kept = 0, lost = 0, degraded = 0;
   for (std::size_t i = 0; i < observed.outcomes.size(); ++i) {
     const auto& o = observed.outcomes[i];
     cpu_ms.push_back(o.cpu_ms);
@@ -112,14 +112,15 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
     partial += o.correction == Correction::kPartial ? 1 : 0;
     kept += o.registered && o.correction == Correction::kNone ? 1 : 0;
     lost += o.state == LocalizationState::kLost ? 1 : 0;
+    degraded += o.state == LocalizationState::kDegraded ? 1 : 0;
     if (!o.truth)
       continue;
     track.push_back({o.stamp, o.pose, o.truth->to_isometry()});
     if (!settings.quiet) {
       const Eigen::Vector3d offset = o.pose.translation() - track.back().reference.translation();
-      std::fprintf(stderr, "%s scan %zu t=%.3f cpu %.1f ms %s %s horizontal %.3f m 3d %.3f m\n",
+      std::fprintf(stderr, "%s scan %zu t=%.3f cpu %.1f ms %s rmse %.3f m %s horizontal %.3f m 3d %.3f m\n",
                    dir.filename().c_str(), i, o.stamp, o.cpu_ms,
-                   o.registered ? std::string(to_string(o.correction)).c_str() : "first",
+                   o.registered ? std::string(to_string(o.correction)).c_str() : "first", o.rmse,
                    std::string(to_string(o.state)).c_str(), offset.head<2>().norm(), offset.norm());
     }
   }
@@ -128,13 +129,14 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
       "%s  {\"sequence\": \"%s\", \"every\": %zu, \"pace\": \"%s\", \"time_scale\": %.2f, \"mount\": \"%s\", "
       "\"scans\": %zu, "
       "\"processed\": %zu, \"dropped\": %zu, \"full\": %zu, \"partial\": %zu, \"kept_prediction\": %zu, "
-      "\"lost_scans\": %zu, \"ever_lost\": %s, \"path_m\": %.2f, \"max_horizontal_m\": %.3f, \"max_3d_m\": "
+      "\"degraded_scans\": %zu, \"lost_scans\": %zu, \"ever_lost\": %s, \"path_m\": %.2f, "
+      "\"max_horizontal_m\": %.3f, \"max_3d_m\": "
       "%.3f, "
       "\"final_horizontal_m\": %.3f, \"max_heading_deg\": %.2f, \"relative_per_10m_mean_m\": %.3f, "
       "\"relative_per_10m_max_m\": %.3f, \"drift_percent\": %.2f, \"cpu_ms_median\": %.1f, \"wall_s\": %.1f}",
       first ? "" : ",\n", dir.filename().c_str(), settings.every, settings.recorded_pace ? "recorded" : "max",
       settings.time_scale, settings.estimate_mount ? "estimate" : "identity", scans, observed.outcomes.size(),
-      scans - std::min(scans, observed.outcomes.size()), full, partial, kept, lost,
+      scans - std::min(scans, observed.outcomes.size()), full, partial, kept, degraded, lost,
       lost > 0 ? "true" : "false", errors.path_m, errors.max_horizontal_m, errors.max_3d_m,
       errors.final_horizontal_m, errors.max_heading_deg, errors.relative_per_10m_mean_m,
       errors.relative_per_10m_max_m, errors.drift_percent, median(cpu_ms), wall_s);

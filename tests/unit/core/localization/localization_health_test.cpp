@@ -233,9 +233,68 @@ TEST(LocalizationHealth, AContradictedEstimateIsLostUntilConfirmed) {
   EXPECT_EQ(robot.full().state, kOk);
 }
 
+// A lidar alone has no odometry: a refused scan keeps the motion's prediction, which nothing measured.
+TEST(LocalizationHealth, ALidarAlonesRefusedScansAreDegradedAtOnceAndLostAtTheSecond) {
+  Robot robot(1.0, 0.5);
+  robot.first();
+  robot.full();
+  ScanOutcome refused;
+  refused.registered = true;
+  refused.predicted = true;
+  refused.reason = RejectReason::kJumpFromGuess;
+  LocalizationHealth health = robot.add(refused);
+  EXPECT_EQ(health.state, kDegraded);
+  EXPECT_EQ(health.reason,
+            "the last scan kept the prediction: the match was too far from the prediction to trust");
+  health = robot.add(refused);
+  EXPECT_EQ(health.state, kLost);
+  EXPECT_EQ(health.reason, "no scan matched for 2 scans (1.0 s, 2.0 m): position from the prediction only");
+  ScanOutcome matched = refused;
+  matched.correction = Correction::kFull;
+  EXPECT_EQ(robot.add(matched).state, kOk);
+}
+
+// After a gap in a lidar alone's scans, a road's scan matches along the road where the prediction put it.
+TEST(LocalizationHealth, ADirectionFromAnUncertainPredictionIsDegraded) {
+  Robot robot(1.0, 0.5);
+  robot.first();
+  ScanOutcome along_the_road;
+  along_the_road.registered = true;
+  along_the_road.predicted = true;
+  along_the_road.correction = Correction::kPartial;
+  along_the_road.odometry_directions = {Eigen::Vector3d::UnitX()};
+  along_the_road.guess_uncertainty = 0.1;  // the next revolution of a 10 Hz lidar
+  EXPECT_EQ(robot.add(along_the_road).state, kOk);
+  along_the_road.guess_uncertainty = 8.0;  // 4 s since the last scan
+  const LocalizationHealth health = robot.add(along_the_road);
+  EXPECT_EQ(health.state, kDegraded);
+  EXPECT_EQ(health.reason,
+            "corridor: position along x from the prediction for 2.0 m, which may be 8.0 m off");
+}
+
+// How closely scans fit depends on what they see: a road's trees and cars fit looser than walls do.
+TEST(LocalizationHealth, ALooseFitIsLooserThanTheRunsOwn) {
+  Robot walls;
+  walls.first();
+  for (int i = 0; i < 10; ++i)
+    walls.full(0.07);
+  walls.full(0.11);
+  walls.full(0.11);
+  EXPECT_EQ(walls.full(0.11).state, kDegraded) << "1.5 times this run's 7 cm is 10.5 cm";
+  Robot road;
+  road.first();
+  for (int i = 0; i < 10; ++i)
+    road.full(0.10);
+  road.full(0.125);
+  road.full(0.125);
+  EXPECT_EQ(road.full(0.125).state, kOk) << "this run fits at 10 cm: 15 cm is loose";
+}
+
 TEST(LocalizationHealth, ThreeLooseFitsInARowAreDegraded) {
   Robot robot;
   robot.first();
+  for (int i = 0; i < 5; ++i)
+    robot.full(0.05);
   EXPECT_EQ(robot.full(0.11).state, kOk) << "one loose fit happens on any run";
   EXPECT_EQ(robot.full(0.12).state, kOk);
   robot.kept();  // no fit at all: neither ends nor extends the streak
