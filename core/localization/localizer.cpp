@@ -66,7 +66,7 @@ LocalizedScan Localizer::add_scan(ScanToLocalize& scan) {
 std::optional<Eigen::Isometry3d> Localizer::search_before_registering(const ScanToLocalize& scan) {
   if (!tracker_)
     return std::nullopt;
-  if (const std::optional<PoseHint> hint = std::exchange(hint_, std::nullopt))
+  if (const std::optional<PoseEstimate> hint = std::exchange(hint_, std::nullopt))
     return tracker_->search_around(*hint, scan.points, scan.odometry, scan.stamp);
   return tracker_->follow(scan.points, scan.odometry, scan.stamp);
 }
@@ -106,13 +106,13 @@ void Localizer::localize_in(std::shared_ptr<const LocalizationMap> map) {
   loops_seen_ = 0;
 }
 
-std::optional<LatestScanSearch> Localizer::search_with_latest_scan(const PoseHint& hint,
+std::optional<LatestScanSearch> Localizer::search_with_latest_scan(const PoseEstimate& hint,
                                                                    const std::optional<Pose2>& odometry_now) {
   if (!tracker_ || !latest_)
     return std::nullopt;
   // The hint is where the robot is now; the scan was taken where it was then. The odometry since carries
   // it back (nothing, for a robot standing still).
-  PoseHint at_scan = hint;
+  PoseEstimate at_scan = hint;
   if (odometry_now && latest_->odometry) {
     const Pose2 back = Pose2{hint.x, hint.y, hint.yaw}.compose(latest_->odometry->relative_to(*odometry_now));
     at_scan.x = back.x;

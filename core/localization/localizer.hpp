@@ -66,12 +66,12 @@ class Localizer {
   void localize_in(std::shared_ptr<const LocalizationMap> map);
   [[nodiscard]] bool localizing() const { return graph_.localizing(); }
   /// The robot is near `hint` now: searched for around it with the next scan.
-  void search_at_next_scan(const PoseHint& hint) { hint_ = hint; }
+  void search_at_next_scan(const PoseEstimate& hint) { hint_ = hint; }
   /// The same, at once with the latest scan, `hint` carried back to where the robot took it by the
   /// odometry since (`odometry_now`): a stop-and-go scanner standing still takes no next scan. None
   /// without a latest scan or a map.
   [[nodiscard]] std::optional<LatestScanSearch> search_with_latest_scan(
-      const PoseHint& hint, const std::optional<Pose2>& odometry_now);
+      const PoseEstimate& hint, const std::optional<Pose2>& odometry_now);
 
   /// The pose graph's work, off the scan path (GraphLocalizer::close_loops): any thread.
   bool close_loops() { return graph_.close_loops(); }
@@ -94,7 +94,7 @@ class Localizer {
   GraphLocalizer graph_;
   LocalizationHealthClassifier health_;
   std::unique_ptr<RelocalizationTracker> tracker_;  // in a saved map only
-  std::optional<PoseHint> hint_;
+  std::optional<PoseEstimate> hint_;
   std::size_t loops_seen_ = 0;
   /// The latest scan (deskewed), what an estimate is searched with at once.
   std::optional<ScanToLocalize> latest_;

@@ -35,7 +35,7 @@ void RelocalizationTracker::report(RelocalizationReport::Search search, double s
                       .seconds = found.seconds});
 }
 
-std::optional<Eigen::Isometry3d> RelocalizationTracker::search_around(const PoseHint& hint,
+std::optional<Eigen::Isometry3d> RelocalizationTracker::search_around(const PoseEstimate& hint,
                                                                       const PointCloud& points,
                                                                       const std::optional<Pose2>& odometry,
                                                                       double stamp) {

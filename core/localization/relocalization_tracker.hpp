@@ -9,19 +9,12 @@
 
 #include "core/geometry/pose.hpp"
 #include "core/localization/localization_map.hpp"
+#include "core/localization/pose_estimate.hpp"
 #include "core/localization/relocalizer.hpp"
 #include "core/localization/scan_to_map_localizer.hpp"
 #include "core/points/point_cloud.hpp"
 
 namespace strata {
-
-/// An operator's estimate of where the robot is (Set pose), map frame.
-struct PoseHint {
-  double x = 0.0;
-  double y = 0.0;
-  double yaw = 0.0;         ///< radians, counter-clockwise from +x
-  std::optional<double> z;  ///< the level; none: the level the map's robot drove at (x, y)
-};
 
 /// What one search for the robot did, for the status and the log.
 struct RelocalizationReport {
@@ -62,7 +55,8 @@ class RelocalizationTracker {
 
   /// Searches around `hint` (the robot's pose when it took `points`, base frame, at `odometry`). Found:
   /// where to place the robot. Not found: its places, if any, are followed by the next scans.
-  [[nodiscard]] std::optional<Eigen::Isometry3d> search_around(const PoseHint& hint, const PointCloud& points,
+  [[nodiscard]] std::optional<Eigen::Isometry3d> search_around(const PoseEstimate& hint,
+                                                               const PointCloud& points,
                                                                const std::optional<Pose2>& odometry,
                                                                double stamp);
   /// Before a scan registers: the places followed, carried by the odometry since and judged by this scan

@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/localization/pose_estimate.hpp"
 #include "server/control/error_code.hpp"
 #include "server/state/goal_state.hpp"
 #include "server/state/robot_state.hpp"
@@ -66,14 +67,6 @@ struct MapDownload {
 
 /// Saving and loading the map (pipeline::MappingWorker). Names are plain file names inside the configured
 /// maps directory, never paths.
-
-/// Where an operator says the robot is, in the map frame: a hint the localizer searches around.
-struct PoseEstimate {
-  double x = 0.0;
-  double y = 0.0;
-  double yaw = 0.0;         ///< radians, counter-clockwise from +x
-  std::optional<double> z;  ///< the level; none: the level the map's robot drove at (x, y)
-};
 
 /// Telling the localizer where the robot is (pipeline::LocalizerWorker).
 class LocalizationCommands {

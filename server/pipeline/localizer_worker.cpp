@@ -242,8 +242,7 @@ void LocalizerWorker::search_with_latest_scan(const PoseEstimate& estimate) {
   if (const std::optional<RobotSnapshot> now = state_.snapshot())
     odometry_now =
         Pose2{now->sample.odometry.position.x(), now->sample.odometry.position.y(), now->sample.odometry.yaw};
-  const std::optional<LatestScanSearch> search = localizer_.search_with_latest_scan(
-      PoseHint{estimate.x, estimate.y, estimate.yaw, estimate.z}, odometry_now);
+  const std::optional<LatestScanSearch> search = localizer_.search_with_latest_scan(estimate, odometry_now);
   if (!search)
     return;
   report(search->searches);
@@ -262,7 +261,7 @@ void LocalizerWorker::process(ScanEvent event) {
     estimate = std::exchange(pending_estimate_, std::nullopt);
   }
   if (estimate)
-    localizer_.search_at_next_scan(PoseHint{estimate->x, estimate->y, estimate->yaw, estimate->z});
+    localizer_.search_at_next_scan(*estimate);
   PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
   ScanToLocalize scan = to_localize(preprocessed);
   const LocalizedScan localized = localizer_.add_scan(scan);

@@ -102,9 +102,9 @@ TEST(Localizer, ASetPoseFiveMetresOffIsRefusedOrCorrectedWithinFiveScans) {
     for (int i = 0; i < 3; ++i)
       run.next_scan();
     const Pose3 now = run.truth;
-    const PoseHint hint{.x = now.position.x() + 5.0 * std::cos(now.yaw + angle),
-                        .y = now.position.y() + 5.0 * std::sin(now.yaw + angle),
-                        .yaw = now.yaw};
+    const PoseEstimate hint{.x = now.position.x() + 5.0 * std::cos(now.yaw + angle),
+                            .y = now.position.y() + 5.0 * std::sin(now.yaw + angle),
+                            .yaw = now.yaw};
     run.localizer.search_at_next_scan(hint);
     for (int scan = 1; scan <= 5; ++scan) {
       const LocalizedScan localized = run.next_scan();
