@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iterator>
@@ -186,6 +187,27 @@ std::string encode(const MlsMap& map, const LocalizationMap* localization) {
   return out;
 }
 
+/// Refuses a map whose tiles from `low` to `high` span more cells than kMaxMapFileCells, as the tiles are
+/// read: a lying tile index cannot make the load allocate.
+void check_extent(Reader& fields, const TileIndex& low, const TileIndex& high, double resolution) {
+  const auto span = [](int from, int to) {
+    return (static_cast<std::uint64_t>(static_cast<std::int64_t>(to) - from) + 1) * kMlsTileSize;
+  };
+  const std::uint64_t width = span(low.x, high.x);
+  const std::uint64_t height = span(low.y, high.y);
+  // Each side alone first: their product could overflow.
+  if (width <= kMaxMapFileCells && height <= kMaxMapFileCells && width * height <= kMaxMapFileCells)
+    return;
+  char text[200];
+  std::snprintf(text, sizeof text,
+                "the map spans %.0f by %.0f m: more than the %llu million cells (%.2f km^2 at %.2f m) a map "
+                "may cover",
+                static_cast<double>(width) * resolution, static_cast<double>(height) * resolution,
+                static_cast<unsigned long long>(kMaxMapFileCells / 1'000'000),
+                static_cast<double>(kMaxMapFileCells) * resolution * resolution / 1e6, resolution);
+  fields.fail(text);
+}
+
 MapFile decode(std::string_view data, const std::string& name) {
   Reader reader(data, data.size(), name);
   if (data.size() < kHeaderBytes || std::memcmp(data.data(), kMagic, sizeof(kMagic)) != 0)
@@ -231,6 +253,8 @@ MapFile decode(std::string_view data, const std::string& name) {
   MlsMap& map = file.map;
   map.set_version(fields.get<std::uint64_t>());
   const auto tile_count = fields.get<std::uint64_t>();
+  TileIndex low{std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
+  TileIndex high{std::numeric_limits<int>::min(), std::numeric_limits<int>::min()};
   for (std::uint64_t t = 0; t < tile_count; ++t) {
     const TileIndex index{fields.get<std::int32_t>(), fields.get<std::int32_t>()};
     // Every cell of the tile needs an int index: index * kMlsTileSize + (kMlsTileSize - 1) must not overflow.
@@ -239,6 +263,9 @@ MapFile decode(std::string_view data, const std::string& name) {
     if (index.x < kMinTile || index.x > kMaxTile || index.y < kMinTile || index.y > kMaxTile)
       fields.fail("tile index (" + std::to_string(index.x) + ", " + std::to_string(index.y) +
                   ") out of range");
+    low = {std::min(low.x, index.x), std::min(low.y, index.y)};
+    high = {std::max(high.x, index.x), std::max(high.y, index.y)};
+    check_extent(fields, low, high, config.resolution);
     if (map.find_tile(index) != nullptr)
       fields.fail("tile (" + std::to_string(index.x) + ", " + std::to_string(index.y) + ") appears twice");
     map.set_tile_version(index, fields.get<std::uint64_t>());

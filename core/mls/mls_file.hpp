@@ -26,6 +26,12 @@ struct MapFile {
   std::uint32_t format_version = 0;
 };
 
+/// The largest map a file may hold, in cells of its bounding box: the drivable map and the surface grid
+/// are dense over it, about 40 bytes a cell (a file of 310 KB whose one tile lay 150 tiles from the
+/// rest, 23 million cells, took 0.94 GB to load). 25 million is 500 m by 500 m at 0.1 m cells, about
+/// 1 GB. A file beyond it is refused before anything is built from it.
+inline constexpr std::uint64_t kMaxMapFileCells = 25'000'000;
+
 /// The format version this build writes.
 [[nodiscard]] std::uint32_t map_file_format_version();
 

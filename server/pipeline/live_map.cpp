@@ -80,17 +80,33 @@ void LiveMap::replace(MlsMap map, Replacement why) {
   for (const TileIndex& tile : map_.tile_indices())
     if (map.find_tile(tile) == nullptr)
       map.set_tile_version(tile, version);
-  map_ = std::move(map);
-  tiles_.clear();
-  followed_from_.reset();
-  received_at_ = 0.0;  // not from a scan
+  // All or nothing: a map whose drivable map and tiles cannot be made (out of memory) leaves the live map
+  // as it was, rather than half replaced with every later update failing on it.
+  MlsMap previous = std::exchange(map_, std::move(map));
+  auto previous_tiles = std::exchange(tiles_, {});
+  const std::optional<DrivableMap> previous_drivable = drivable_;
+  const std::shared_ptr<const EncodedOccupancy> previous_occupancy = occupancy_;
+  const std::optional<Eigen::Vector3d> previous_followed_from = std::exchange(followed_from_, std::nullopt);
+  const double previous_received_at = std::exchange(received_at_, 0.0);  // not from a scan
   if (why == Replacement::kRebuilt)
     ++rebuilds_;
-  MappingTimes times;
-  const CellRegion all = CellRegion::of_tiles(map_.tile_indices());
-  const CellRegion region =
-      robot_ground_ ? CellRegion::bounding(all, changed_region(map_, version, *robot_ground_)) : all;
-  refresh(region, version - 1, times);
+  try {
+    MappingTimes times;
+    const CellRegion all = CellRegion::of_tiles(map_.tile_indices());
+    const CellRegion region =
+        robot_ground_ ? CellRegion::bounding(all, changed_region(map_, version, *robot_ground_)) : all;
+    refresh(region, version - 1, times);
+  } catch (...) {
+    map_ = std::move(previous);
+    tiles_ = std::move(previous_tiles);
+    drivable_ = previous_drivable;
+    occupancy_ = previous_occupancy;
+    followed_from_ = previous_followed_from;
+    received_at_ = previous_received_at;
+    if (why == Replacement::kRebuilt)
+      --rebuilds_;
+    throw;
+  }
 }
 
 void LiveMap::refresh(const CellRegion& region, std::uint64_t since, MappingTimes& times) {

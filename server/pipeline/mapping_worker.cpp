@@ -306,7 +306,9 @@ CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
       loaded_ = true;
     } catch (const std::exception& failure) {
       live_.set_localizing(mode_ == MapMode::kLocalize);
-      result = CommandResult::failure(ErrorCode::kIoError, failure.what());
+      result = CommandResult::failure(
+          ErrorCode::kIoError,
+          std::string("the map could not be taken up, the live map is unchanged: ") + failure.what());
       return;
     }
     mode_ = mode;

@@ -8,6 +8,7 @@
 #include <string>
 #include <thread>
 
+#include "core/mls/mls_file.hpp"
 #include "integration/clients.hpp"
 #include "integration/server_process.hpp"
 
@@ -131,6 +132,38 @@ TEST(MapsDirectory, LinksInItAreNeitherListedNorLoaded) {
   EXPECT_EQ(server.stop(), 0);
   std::filesystem::remove_all(maps);
   std::filesystem::remove(outside);
+}
+
+TEST(MapsDirectory, AMapSpanningTooFarIsRefusedAndTheLiveMapStays) {
+  // Issue 59 item 6: a checksummed file with one tile 60 million tiles away answered 500, yet became the
+  // live map, and every scan after failed on it. It is refused as read (422), before anything changes.
+  const std::filesystem::path maps = private_temp_path("strata-far", "");
+  std::filesystem::create_directories(maps);
+  MlsPatch patch;
+  patch.evidence = 1;
+  MlsMap small;
+  ASSERT_TRUE(small.append_patch({0, 0}, patch));
+  save_map_file(small, nullptr, maps / "small.strata");
+  MlsMap far;
+  ASSERT_TRUE(far.append_patch({0, 0}, patch));
+  ASSERT_TRUE(far.append_patch({200 * kMlsTileSize, 200 * kMlsTileSize}, patch));
+  save_map_file(far, nullptr, maps / "far.strata");
+  ServerProcess server({"--scanner", "none", "--maps-dir", maps.string()});
+  const auto load = [&](const std::string& name) {
+    return http_request(server.port(), http::verb::post, "/api/v1/maps/" + name + "/load",
+                        R"({"mode":"mapping"})", kTestOperatorToken);
+  };
+  ASSERT_EQ(load("small.strata").result(), http::status::ok);
+  const std::string before = http_get(server.port(), "/api/v1/map?format=strata").body();
+  const auto refused = load("far.strata");
+  EXPECT_EQ(refused.result(), http::status::unprocessable_entity) << refused.body();
+  EXPECT_NE(refused.body().find("the map spans 643 by 643 m: more than the 25 million cells"),
+            std::string::npos)
+      << refused.body();
+  EXPECT_EQ(http_get(server.port(), "/api/v1/map?format=strata").body(), before) << "the live map changed";
+  EXPECT_EQ(load("small.strata").result(), http::status::ok);
+  EXPECT_EQ(server.stop(), 0);
+  std::filesystem::remove_all(maps);
 }
 
 }  // namespace

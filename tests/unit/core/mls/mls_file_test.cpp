@@ -240,6 +240,37 @@ TEST_F(MlsFileTest, TileIndexOutOfRangeIsRejected) {
   EXPECT_TRUE(deserialize_mls_map(resealed(bytes, 0, ""), "good.smls").same_content(scene_map()));
 }
 
+// A file whose tiles lie far apart would make the load build dense grids over the space between (issue 59
+// item 6: one tile 60 million tiles away, and one 150 tiles away that took 0.94 GB): refused as read.
+TEST_F(MlsFileTest, AMapSpanningMoreThanAMapMayIsRejected) {
+  MlsMap far = scene_map();
+  MlsPatch patch;
+  patch.mean = 0.0F;
+  patch.evidence = 1;
+  ASSERT_TRUE(far.append_patch({200 * kMlsTileSize, 200 * kMlsTileSize}, patch));  // 640 m away
+  try {
+    static_cast<void>(deserialize_mls_map(serialize_mls_map(far), "far.smls"));
+    ADD_FAILURE() << "loaded a map 640 m across";
+  } catch (const MlsFileError& error) {
+    EXPECT_NE(std::string(error.what()).find("the map spans"), std::string::npos) << error.what();
+  }
+  const std::string bytes = serialize_mls_map(scene_map());
+  constexpr std::size_t kFirstTileX = 112;
+  const std::int32_t sixty_million = 60'000'000;
+  try {
+    static_cast<void>(deserialize_mls_map(
+        resealed(bytes, kFirstTileX, std::string(reinterpret_cast<const char*>(&sixty_million), 4)),
+        "x.smls"));
+    ADD_FAILURE() << "loaded a tile 60 million tiles away";
+  } catch (const MlsFileError& error) {
+    EXPECT_NE(std::string(error.what()).find("the map spans"), std::string::npos) << error.what();
+  }
+  // Up to the bound is fine: 150 m across.
+  MlsMap wide = scene_map();
+  ASSERT_TRUE(wide.append_patch({1500, 0}, patch));
+  EXPECT_TRUE(deserialize_mls_map(serialize_mls_map(wide), "wide.smls").same_content(wide));
+}
+
 TEST_F(MlsFileTest, ExportsRosMapAndPly) {
   const MlsMap map = scene_map();
   const CellRegion region{map.cell_of(-7, -5), 140, 100};
