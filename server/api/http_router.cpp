@@ -9,6 +9,7 @@
 
 #include "server/api/responses.hpp"
 #include "server/api/static_files.hpp"
+#include "server/auth/log_throttle.hpp"
 #include "server/auth/request_auth.hpp"
 #include "server/protocol/messages.hpp"
 
@@ -43,7 +44,10 @@ protocol::HttpResponse HttpRouter::handle(const protocol::HttpRequest& request) 
     }
     return serve_static(request, path);
   } catch (const std::exception& error) {
-    spdlog::error("{} {}: {}", std::string(request.method_string()), std::string(path), error.what());
+    static auth::LogThrottle internal_errors_log;
+    if (const auto held = internal_errors_log.admit())
+      spdlog::error("{} {}: {}{}", std::string(request.method_string()), auth::loggable(path), error.what(),
+                    auth::held_back(*held));
     return error_response(request, http::status::internal_server_error, ErrorCode::kInternal,
                           "internal error");
   }

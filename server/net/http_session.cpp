@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "server/auth/host_policy.hpp"
+#include "server/auth/log_throttle.hpp"
 #include "server/auth/request_auth.hpp"
 #include "server/net/websocket_session.hpp"
 #include "server/protocol/messages.hpp"
@@ -21,6 +22,11 @@ namespace beast = boost::beast;
 constexpr auto kRequestTimeout = std::chrono::seconds(30);
 constexpr auto kTlsTimeout = std::chrono::seconds(10);  // handshake and close_notify
 constexpr std::uint64_t kMaxRequestBodyBytes = 1024 * 1024;
+
+// What a client's refused requests put into the log, one throttle a kind (LogThrottle).
+auth::LogThrottle refused_origin_log;
+auth::LogThrottle refused_full_log;
+auth::LogThrottle refused_host_log;
 
 }  // namespace
 
@@ -105,8 +111,10 @@ void HttpSession<Stream>::upgrade_to_websocket() {
   } else if (!auth::origin_allowed(request, context_->services.network.allowed_origins)) {
     // Before the token: a page from another site gets nothing, not even the answer whether a token is right.
     context_->metrics.ws_refused_origin.fetch_add(1, std::memory_order_relaxed);
-    spdlog::info("refused a WebSocket from the browser origin {} (not this server's, not in allowed-origins)",
-                 std::string(request[http::field::origin]));
+    if (const auto held = refused_origin_log.admit())
+      spdlog::info(
+          "refused a WebSocket from the browser origin {} (not this server's, not in allowed-origins){}",
+          auth::loggable(request[http::field::origin]), auth::held_back(*held));
     refusal = protocol::HttpResponse{http::status::forbidden, request.version()};
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kForbidden,
                                           "WebSocket connections from this page's origin are not allowed "
@@ -125,8 +133,9 @@ void HttpSession<Stream>::upgrade_to_websocket() {
     return;
   } else {
     context_->metrics.ws_refused_full.fetch_add(1, std::memory_order_relaxed);
-    spdlog::warn("refused a WebSocket client: {} are connected already, the limit (max-clients)",
-                 context_->websocket_clients.max());
+    if (const auto held = refused_full_log.admit())
+      spdlog::warn("refused a WebSocket client: {} are connected already, the limit (max-clients){}",
+                   context_->websocket_clients.max(), auth::held_back(*held));
     refusal = protocol::HttpResponse{http::status::service_unavailable, request.version()};
     refusal.set(http::field::retry_after, "10");
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kUnavailable,
@@ -142,8 +151,9 @@ void HttpSession<Stream>::refuse_host() {
   // Every request, the app's files and the WebSocket upgrade included: a rebound page must get nothing.
   const protocol::HttpRequest& request = parser_->get();
   context_->metrics.refused_host.fetch_add(1, std::memory_order_relaxed);
-  spdlog::debug("refused a request for the host {} (not this server's, not in allowed-hosts)",
-                std::string(request[http::field::host]));
+  if (const auto held = refused_host_log.admit())
+    spdlog::debug("refused a request for the host {} (not this server's, not in allowed-hosts){}",
+                  auth::loggable(request[http::field::host]), auth::held_back(*held));
   protocol::HttpResponse refusal{http::status::forbidden, request.version()};
   refusal.body() = protocol::rest_error(protocol::ErrorCode::kForbidden,
                                         "this server does not answer to the host name in the request's Host "

@@ -12,6 +12,7 @@
 
 #include "drivers/io/text_fields.hpp"
 #include "server/api/operator_commands.hpp"
+#include "server/auth/log_throttle.hpp"
 #include "server/control/server_clock.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/protocol/protocol.hpp"
@@ -33,6 +34,11 @@ constexpr double kMessageBurst = 80.0;
 // A write that has not completed in this long means the client stopped reading: drop it, so its socket
 // buffers and queue are freed and nobody waits for it.
 constexpr auto kStalledWriteTimeout = std::chrono::seconds(10);
+
+// What clients coming, going and misbehaving put into the log (LogThrottle): a client reconnecting in a
+// loop would otherwise write two lines a connection.
+auth::LogThrottle clients_log(2.0, 20.0);
+auth::LogThrottle misbehaving_log;
 
 }  // namespace
 
@@ -74,8 +80,10 @@ WebSocketSession<Stream>::~WebSocketSession() {
   }
   // Last: once the status no longer counts this client, its goal is already cancelled.
   context_->hub.leave(this);
-  if (open_)
-    spdlog::info("websocket client left ({} connected)", context_->hub.size());
+  if (open_) {
+    if (const auto held = clients_log.admit())
+      spdlog::info("websocket client left ({} connected){}", context_->hub.size(), auth::held_back(*held));
+  }
 }
 
 template <class Stream>
@@ -99,7 +107,8 @@ void WebSocketSession<Stream>::run(protocol::HttpRequest request) {
 template <class Stream>
 void WebSocketSession<Stream>::on_accept(beast::error_code error) {
   if (error) {
-    spdlog::warn("websocket handshake failed: {}", error.message());
+    if (const auto held = misbehaving_log.admit())
+      spdlog::warn("websocket handshake failed: {}{}", error.message(), auth::held_back(*held));
     return;
   }
   open_ = true;
@@ -123,8 +132,11 @@ void WebSocketSession<Stream>::on_accept(beast::error_code error) {
   }
   for (auto& message : context_->current_state())
     enqueue(std::move(message));
-  spdlog::info("websocket client joined as {} ({} connected)",
-               role_ == auth::Role::kOperator ? "operator" : "viewer", context_->hub.size());
+  if (const auto held = clients_log.admit()) {
+    spdlog::info("websocket client joined as {} ({} connected){}",
+                 role_ == auth::Role::kOperator ? "operator" : "viewer", context_->hub.size(),
+                 auth::held_back(*held));
+  }
   read_next();
 }
 
@@ -137,8 +149,9 @@ template <class Stream>
 void WebSocketSession<Stream>::on_read(beast::error_code error, std::size_t /*bytes*/) {
   if (error) {
     if (error == websocket::error::message_too_big) {
-      spdlog::warn("websocket client sent a message over {} bytes; closing",
-                   protocol::kMaxClientMessageBytes);
+      if (const auto held = misbehaving_log.admit())
+        spdlog::warn("websocket client sent a message over {} bytes; closing{}",
+                     protocol::kMaxClientMessageBytes, auth::held_back(*held));
     }
     return;  // closed or failed: the session ends when its last handler completes
   }
@@ -255,7 +268,8 @@ void WebSocketSession<Stream>::enqueue(streams::OutgoingMessage message) {
 
 template <class Stream>
 void WebSocketSession<Stream>::drop_client(std::string_view why) {
-  spdlog::warn("websocket client is not keeping up ({}); disconnecting", why);
+  if (const auto held = misbehaving_log.admit())
+    spdlog::warn("websocket client is not keeping up ({}); disconnecting{}", why, auth::held_back(*held));
   context_->metrics.ws_slow_dropped.fetch_add(1, std::memory_order_relaxed);
   open_ = false;
   context_->hub.leave(this);

@@ -104,5 +104,31 @@ TEST(AcceptBackOff, AServerOutOfDescriptorsRecoversWithoutFloodingItsLog) {
   std::filesystem::remove(log);
 }
 
+TEST(LogFlood, RefusedOriginsCannotFloodTheLog) {
+  // Issue 59 item 7: each refused upgrade logged its whole Origin header, unthrottled: 80 MB in 2.5 s.
+  const auto log =
+      std::filesystem::temp_directory_path() / ("strata-log-flood-" + std::to_string(getpid()) + ".log");
+  ServerProcess server({"--scanner", "none"}, ProcessLimits{.log_file = log});
+  const std::string origin = "https://" + std::string(6000, 'e') + ".example";
+  const auto start = std::chrono::steady_clock::now();
+  for (int i = 0; i < 200; ++i)
+    ASSERT_EQ(websocket_upgrade(server.port(), {{http::field::origin, origin}}).result(),
+              http::status::forbidden);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1100));  // a token for one more line at least
+  ASSERT_EQ(websocket_upgrade(server.port(), {{http::field::origin, origin}}).result(),
+            http::status::forbidden);
+  // A burst of 10 and one line a second after: however slow the machine, far fewer than the refusals.
+  const auto seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const auto most = static_cast<std::size_t>(10.0 + seconds + 1.0);
+  EXPECT_EQ(server.stop(), 0);
+  const std::size_t refused = lines_containing(log, "refused a WebSocket from the browser origin");
+  EXPECT_GE(refused, 2U);
+  EXPECT_LE(refused, most) << "201 refusals in " << seconds << " s";
+  EXPECT_GE(lines_containing(log, "more like it not logged"), 1U);
+  // Each line is cut to the Origin's first 80 bytes: the headers alone are 1.2 MB.
+  EXPECT_LT(std::filesystem::file_size(log), 4000U + 300U * most);
+  std::filesystem::remove(log);
+}
+
 }  // namespace
 }  // namespace strata::testing
