@@ -79,6 +79,11 @@ void HttpSession<Stream>::on_read(beast::error_code error, std::size_t /*bytes*/
   if (error == http::error::end_of_stream)
     return shutdown();
   if (error) {
+    // A request that could not be parsed gets a status saying why before the connection closes; one the
+    // client abandoned (closed, timed out mid-message) gets nothing.
+    if (error.category() == beast::error_code(http::error::bad_field).category() &&
+        error != http::error::partial_message)
+      return refuse_malformed(error);
     if (error != beast::error::timeout && error != boost::asio::error::operation_aborted &&
         error != boost::asio::error::connection_reset) {
       spdlog::debug("http read failed: {}", error.message());
@@ -87,6 +92,13 @@ void HttpSession<Stream>::on_read(beast::error_code error, std::size_t /*bytes*/
   }
   const protocol::HttpRequest& request = parser_->get();
   context_->metrics.http_requests.fetch_add(1, std::memory_order_relaxed);
+  // Two Host headers: the checks below would see the first and a proxy or cache might act on the second.
+  if (request.count(http::field::host) > 1) {
+    protocol::HttpResponse refusal{http::status::bad_request, request.version()};
+    refusal.body() =
+        protocol::rest_error(protocol::ErrorCode::kBadRequest, "the request has more than one Host header");
+    return send_refusal(std::move(refusal));
+  }
   if (!auth::host_allowed(request[http::field::host], context_->services.network.allowed_hosts))
     return refuse_host();
   if (beast::websocket::is_upgrade(request))
@@ -158,6 +170,22 @@ void HttpSession<Stream>::refuse_host() {
   refusal.body() = protocol::rest_error(protocol::ErrorCode::kForbidden,
                                         "this server does not answer to the host name in the request's Host "
                                         "header (the server's allowed-hosts option)");
+  send_refusal(std::move(refusal));
+}
+
+template <class Stream>
+void HttpSession<Stream>::refuse_malformed(beast::error_code error) {
+  http::status status = http::status::bad_request;
+  std::string message = "malformed HTTP request: " + error.message();
+  if (error == http::error::header_limit) {
+    status = http::status::request_header_fields_too_large;
+    message = "the request's headers are over 16 KiB";
+  } else if (error == http::error::body_limit) {
+    status = http::status::payload_too_large;
+    message = "the request's body is over 1 MiB";
+  }
+  protocol::HttpResponse refusal{status, 11};
+  refusal.body() = protocol::rest_error(protocol::ErrorCode::kBadRequest, message);
   send_refusal(std::move(refusal));
 }
 

@@ -30,6 +30,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   void read_next();
   void on_read(boost::beast::error_code error, std::size_t bytes);
   void upgrade_to_websocket();
+  /// A request that could not be read (`error`: the parser's): 400, 413 or 431 with the reason, then closes.
+  void refuse_malformed(boost::beast::error_code error);
   void refuse_host();
   /// Writes a JSON error response (its status and body set) and closes the connection after it.
   void send_refusal(protocol::HttpResponse refusal);

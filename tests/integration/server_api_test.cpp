@@ -114,6 +114,42 @@ TEST_F(ServerApi, GarbageRequestDoesNotHurtTheServer) {
   EXPECT_EQ(http_get(port(), "/healthz").result(), http::status::ok);
 }
 
+/// Sends `bytes` on a connection of its own and returns all the server answers before it closes.
+std::string raw_exchange(std::uint16_t port, const std::string& bytes) {
+  boost::asio::io_context io;
+  tcp::socket socket(io);
+  socket.connect({boost::asio::ip::make_address("127.0.0.1"), port});
+  boost::asio::write(socket, boost::asio::buffer(bytes));
+  beast::error_code error;
+  socket.shutdown(tcp::socket::shutdown_send, error);
+  std::string answer;
+  char chunk[4096];
+  while (!error)
+    answer.append(chunk, socket.read_some(boost::asio::buffer(chunk), error));
+  return answer;
+}
+
+TEST_F(ServerApi, MalformedRequestsGetAStatusSayingWhy) {
+  // Issue 59 item 11: these were closed without an answer, and two Host headers were taken (the first).
+  const std::string host = "Host: 127.0.0.1\r\n";
+  const auto expect_status = [&](const std::string& request, const std::string& status,
+                                 const std::string& why) {
+    const std::string answer = raw_exchange(port(), request);
+    EXPECT_TRUE(answer.starts_with("HTTP/1.1 " + status)) << why << ": " << answer.substr(0, 200);
+    EXPECT_NE(answer.find("\"bad_request\""), std::string::npos) << why << ": " << answer;
+  };
+  expect_status("GET /healthz HTTP/1.1\r\n" + host + "X-Big: " + std::string(20'000, 'a') + "\r\n\r\n", "431",
+                "headers over 16 KiB");
+  expect_status("POST /api/v1/goal HTTP/1.1\r\n" + host + "Content-Length: 2000000\r\n\r\n", "413",
+                "a body over 1 MiB");
+  expect_status("POST /api/v1/goal HTTP/1.1\r\n" + host + "Content-Length: 1x\r\n\r\n", "400",
+                "a bad Content-Length");
+  expect_status("GET /healthz HTTP/1.1\r\n" + host + std::string("X-Nul: a\0b\r\n\r\n", 14), "400",
+                "a NUL byte");
+  expect_status("GET /healthz HTTP/1.1\r\n" + host + "Host: evil.example\r\n\r\n", "400", "two Host headers");
+  EXPECT_EQ(http_get(port(), "/healthz").result(), http::status::ok);
+}
+
 TEST(ServerLifecycle, StopsCleanlyOnSigterm) {
   ServerProcess server;
   EXPECT_EQ(http_get(server.port(), "/healthz").result(), http::status::ok);
