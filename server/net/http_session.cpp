@@ -11,6 +11,7 @@
 #include "server/auth/host_policy.hpp"
 #include "server/auth/log_throttle.hpp"
 #include "server/auth/request_auth.hpp"
+#include "server/auth/security_headers.hpp"
 #include "server/net/websocket_session.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/protocol/protocol.hpp"
@@ -201,6 +202,7 @@ void HttpSession<Stream>::send_refusal(protocol::HttpResponse refusal) {
 
 template <class Stream>
 void HttpSession<Stream>::write(protocol::HttpResponse response) {
+  auth::add_security_headers(response);  // every response leaves here, refusals too
   response_ = std::make_shared<protocol::HttpResponse>(std::move(response));
   const bool keep_alive = response_->keep_alive();
   http::async_write(stream_, *response_,

@@ -53,6 +53,13 @@ std::shared_ptr<ssl::context> make_tls_context(const std::filesystem::path& cert
   auto context = std::make_shared<ssl::context>(ssl::context::tls_server);
   context->set_options(ssl::context::default_workarounds | ssl::context::no_sslv2 | ssl::context::no_sslv3 |
                        ssl::context::no_tlsv1 | ssl::context::no_tlsv1_1 | ssl::context::single_dh_use);
+  // TLS 1.2 with forward secrecy and AEAD only (Mozilla's "intermediate" list): no CBC suites with SHA-1
+  // MACs, no static RSA key exchange. TLS 1.3's suites are all of that kind already.
+  if (SSL_CTX_set_cipher_list(context->native_handle(),
+                              "ECDHE-ECDSA-AES128-GCM-SHA256:ECDHE-RSA-AES128-GCM-SHA256:"
+                              "ECDHE-ECDSA-AES256-GCM-SHA384:ECDHE-RSA-AES256-GCM-SHA384:"
+                              "ECDHE-ECDSA-CHACHA20-POLY1305:ECDHE-RSA-CHACHA20-POLY1305") != 1)
+    throw std::runtime_error("TLS: OpenSSL refused the cipher list");
   // An encrypted key would make OpenSSL ask for its passphrase on the terminal: refuse it instead.
   context->set_password_callback([](std::size_t, ssl::context::password_purpose) { return std::string(); });
   boost::system::error_code error;

@@ -72,6 +72,18 @@ TEST_F(ServerApi, ServesTheWebApp) {
   ASSERT_EQ(response.result(), http::status::ok);
   EXPECT_EQ(response[http::field::content_type], "text/html; charset=utf-8");
   EXPECT_NE(response.body().find("<title>Strata</title>"), std::string::npos);
+  // Issue 59 item 12: the page loads from this server alone and no other site may frame it.
+  const std::string policy(response["Content-Security-Policy"]);
+  EXPECT_NE(policy.find("default-src 'self'"), std::string::npos) << policy;
+  EXPECT_NE(policy.find("frame-ancestors 'none'"), std::string::npos) << policy;
+  EXPECT_EQ(response[http::field::x_frame_options], "DENY");
+  EXPECT_EQ(response["X-Content-Type-Options"], "nosniff");
+}
+
+TEST_F(ServerApi, EveryResponseSaysItsTypeIsWhatItIs) {
+  EXPECT_EQ(http_get(port(), "/api/v1/info")["X-Content-Type-Options"], "nosniff");
+  EXPECT_EQ(http_get(port(), "/api/v1/no-such-thing")["X-Content-Type-Options"], "nosniff");
+  EXPECT_EQ(http_get(port(), "/api/v1/info")["Content-Security-Policy"], "") << "for pages only";
 }
 
 TEST_F(ServerApi, SimWorldMatchesItsSchema) {

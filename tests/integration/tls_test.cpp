@@ -1,8 +1,10 @@
 // TLS (`serve --tls-cert FILE --tls-key FILE`): a self-signed certificate made at test time with the
 // openssl CLI, the real server started with it, real clients over TLS (https://, wss://) and in the clear.
 #include <gtest/gtest.h>
+#include <openssl/ssl.h>
 #include <unistd.h>
 
+#include <boost/asio/ssl.hpp>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -92,6 +94,22 @@ TEST_F(Tls, TheServerPresentsTheConfiguredCertificate) {
   const Certificate other = make_self_signed(dir_->path(), "other");
   const auto other_trust = trusting(other.certificate.string());
   EXPECT_THROW(https_request(*other_trust, port(), http::verb::get, "/api/v1/info"), beast::system_error);
+}
+
+TEST_F(Tls, Tls12WithACbcSha1SuiteIsRefused) {
+  // Issue 59 item 12: TLS 1.2 offered CBC suites with SHA-1 MACs.
+  ssl::context old_client(ssl::context::tls_client);
+  old_client.load_verify_file(certificate_.certificate.string());
+  old_client.set_verify_mode(ssl::verify_peer);
+  SSL_CTX_set_max_proto_version(old_client.native_handle(), TLS1_2_VERSION);
+  ASSERT_EQ(SSL_CTX_set_cipher_list(old_client.native_handle(), "ECDHE-RSA-AES128-SHA:AES128-SHA"), 1);
+  EXPECT_THROW(https_request(old_client, port(), http::verb::get, "/healthz"), beast::system_error);
+  // TLS 1.2 with an AEAD suite is served.
+  ssl::context tls12(ssl::context::tls_client);
+  tls12.load_verify_file(certificate_.certificate.string());
+  tls12.set_verify_mode(ssl::verify_peer);
+  SSL_CTX_set_max_proto_version(tls12.native_handle(), TLS1_2_VERSION);
+  EXPECT_EQ(https_request(tls12, port(), http::verb::get, "/healthz").result(), http::status::ok);
 }
 
 TEST_F(Tls, WssOperatorGetsTheLateJoinerStateAndIsServed) {
