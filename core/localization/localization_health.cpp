@@ -169,7 +169,7 @@ void LocalizationHealthClassifier::placed(double stamp) {
   lost_.reset();
 }
 
-void LocalizationHealthClassifier::confirm(std::string /*why*/) {
+void LocalizationHealthClassifier::confirm() {
   placed_at_.reset();
   lost_.reset();
   odometry_distance_ = 0.0;

@@ -107,8 +107,8 @@ class LocalizationHealthClassifier {
   /// (confirm()) or contradict it (lose()).
   void placed(double stamp);
   /// Something besides the scan path confirmed the estimate (a loop closure, a place the next scans
-  /// matched from, `why`): what odometry carried before it is forgiven, and a lost state ends.
-  void confirm(std::string why);
+  /// matched from): what odometry carried before it is forgiven, and a lost state ends.
+  void confirm();
   /// The estimate was contradicted (`why`): lost until confirm().
   void lose(std::string why);
 

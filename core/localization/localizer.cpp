@@ -83,12 +83,12 @@ void Localizer::judge(const ScanToLocalize& scan, const LocalizationUpdate& upda
   // is accounted for.
   const std::size_t loops = graph_.status().loops;
   if (loops > std::exchange(loops_seen_, loops))
-    health_.confirm("a loop closure");
+    health_.confirm();
   if (!tracker_)
     return;
   switch (tracker_->check_placement(update, scan.stamp)) {
     case PlacementCheck::kConfirmed:
-      health_.confirm("the scans after a search's place matched there");
+      health_.confirm();  // the scans after a search's place matched there
       break;
     case PlacementCheck::kContradicted:
       health_.lose("the place a search found was wrong: the next scans were refused there");

@@ -200,7 +200,7 @@ TEST(LocalizationHealth, ALoopClosureEndsAStretchOnOdometry) {
   for (int i = 0; i < 6; ++i)
     robot.corridor();
   ASSERT_EQ(robot.classifier.health().state, kDegraded);
-  robot.classifier.confirm("a loop closure");
+  robot.classifier.confirm();  // a loop closure
   EXPECT_EQ(robot.classifier.health().state, kOk) << robot.classifier.health().reason;
   EXPECT_EQ(robot.corridor().reason, "corridor: position along x from odometry for 2.0 m")
       << "counted again from the loop";
@@ -215,7 +215,7 @@ TEST(LocalizationHealth, APlaceASearchFoundIsDegradedUntilTheNextScansConfirmIt)
   EXPECT_EQ(health.state, kDegraded);
   EXPECT_EQ(health.reason, "placed by a search at t=20.0: waiting for the next scans to match there");
   EXPECT_EQ(robot.full().state, kDegraded) << "a matched scan alone does not confirm it";
-  robot.classifier.confirm("the next scans matched there");
+  robot.classifier.confirm();  // the next scans matched there
   EXPECT_EQ(robot.classifier.health().state, kOk);
 }
 
@@ -229,7 +229,7 @@ TEST(LocalizationHealth, AContradictedEstimateIsLostUntilConfirmed) {
   EXPECT_EQ(robot.full().state, kLost) << "the scans register from the wrong place";
   robot.classifier.placed(30.0);
   EXPECT_EQ(robot.classifier.health().state, kDegraded) << "a new place, waiting for confirmation";
-  robot.classifier.confirm("the next scans matched there");
+  robot.classifier.confirm();  // the next scans matched there
   EXPECT_EQ(robot.full().state, kOk);
 }
 
