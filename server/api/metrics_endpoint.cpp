@@ -2,8 +2,10 @@
 #include <spdlog/fmt/fmt.h>
 
 #include <initializer_list>
+#include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "server/api/http_router.hpp"
 #include "server/api/responses.hpp"
@@ -23,6 +25,32 @@ void one_hot(std::string& out, std::string_view name, std::string_view help, std
   out += fmt::format("# HELP {} {}\n# TYPE {} gauge\n", name, help, name);
   for (const std::string_view value : values)
     out += fmt::format("{}{{{}=\"{}\"}} {}\n", name, label, value, value == current ? 1 : 0);
+}
+
+/// One series per connected client, labelled with its number and role: how far behind it is.
+void per_client(std::string& out, const std::vector<streams::ClientStats>& clients) {
+  const auto series = [&](std::string_view name, std::string_view type, std::string_view help,
+                          auto value_of) {
+    out += fmt::format("# HELP {} {}\n# TYPE {} {}\n", name, help, name, type);
+    for (const auto& client : clients) {
+      const std::optional<double> value = value_of(client);
+      if (value) {
+        out += fmt::format("{}{{client=\"{}\",role=\"{}\"}} {}\n", name, client.id,
+                           client.operator_role ? "operator" : "viewer", *value);
+      }
+    }
+  };
+  series("strata_ws_client_queued_bytes", "gauge", "bytes waiting in the client's send queue",
+         [](const auto& c) { return std::optional<double>(static_cast<double>(c.queued_bytes)); });
+  series("strata_ws_client_socket_bytes", "gauge",
+         "bytes in the client's socket that it has not acknowledged yet",
+         [](const auto& c) { return std::optional<double>(static_cast<double>(c.socket_bytes)); });
+  series("strata_ws_client_superseded_total", "counter",
+         "messages replaced by a newer one (a pose, a tile) before they could be written to the client",
+         [](const auto& c) { return std::optional<double>(static_cast<double>(c.superseded)); });
+  series("strata_ws_client_pose_age_seconds", "gauge",
+         "age of the last pose written to the client, when its write completed",
+         [](const auto& c) { return c.pose_age_s; });
 }
 
 }  // namespace
@@ -47,7 +75,9 @@ protocol::HttpResponse HttpRouter::metrics(const protocol::HttpRequest& request)
   metric(out, "strata_ws_stale_teleop_total", "counter",
          "teleop commands that would have moved the robot, refused as stale or out of order",
          count(metrics_.ws_stale_teleop));
-  metric(out, "strata_ws_slow_clients_dropped_total", "counter", "clients disconnected for not keeping up",
+  metric(out, "strata_ws_slow_clients_dropped_total", "counter",
+         "clients disconnected for not keeping up: a write stalled, too many replies unread, or silent "
+         "(no answer to the ping)",
          count(metrics_.ws_slow_dropped));
   metric(out, "strata_ws_bytes_sent_total", "counter", "payload bytes sent to WebSocket clients",
          count(metrics_.ws_bytes_out));
@@ -62,6 +92,7 @@ protocol::HttpResponse HttpRouter::metrics(const protocol::HttpRequest& request)
   metric(out, "strata_http_refused_full_total", "counter",
          "connections refused with 503: the HTTP connection limit was reached",
          count(metrics_.http_refused_full));
+  per_client(out, hub_.stats());
   metric(out, "strata_http_refused_host_total", "counter",
          "requests refused: a Host header that is not this server's (DNS rebinding)",
          count(metrics_.refused_host));

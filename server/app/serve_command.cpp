@@ -221,6 +221,12 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
   command
+      ->add_option("--client-timeout", options.network.client_timeout_s,
+                   "Seconds a WebSocket client may stay silent before it is dropped: the server pings it "
+                   "after half of this, and a client that neither answers nor sends is gone or not reading")
+      ->capture_default_str()
+      ->check(CLI::Range(2.0, 3600.0));
+  command
       ->add_option("--allowed-hosts", options.network.allowed_hosts,
                    "Host names requests may be addressed to besides IP addresses, localhost and this "
                    "machine's name (and name.local), e.g. a DNS name of the robot; * allows any. Requests "

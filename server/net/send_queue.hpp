@@ -1,20 +1,25 @@
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <deque>
 #include <optional>
 #include <string>
 #include <unordered_map>
-#include <utility>
+#include <variant>
 
 #include "server/streams/outgoing_message.hpp"
 
 namespace strata::net {
 
-/// A client's outgoing queue: bounded, with coalescing. Beast allows one write in flight per stream,
-/// so the session writes `front()` and calls `pop()` when that write completes. Not thread-safe: it
-/// lives on the session's strand.
+/// A client's outgoing queue: bounded, with coalescing, in two lanes. Beast allows one write in flight per
+/// stream, so the session writes what `start_write()` gives and calls `finish_write()` when that write
+/// completes. Not thread-safe: it lives on the session's strand.
+///
+/// Lanes: the next write is the oldest prompt message (pose, status, goal, replies) if there is one, else
+/// the oldest bulk one (map tiles, the occupancy image). A map that streams to a late joiner or after a
+/// rebuild therefore holds the pose back by one tile at most, over any link.
 ///
 /// Bounds: coalescing messages (pose, each tile, the occupancy image, ...) hold at most one unsent entry
 /// per key, so they are bounded by the number of keys (the map's tiles), and their payloads are shared by
@@ -26,80 +31,52 @@ class SendQueue {
 
   enum class PushResult { kQueued, kCoalesced, kStale, kOverflow };
 
-  /// Queues `message`, replacing an unsent message with the same coalesce key in place. The message
-  /// being written (the front, once `writing()`) is never replaced. kStale: a coalescing message with an
-  /// order not after the last one queued for its key, dropped. kOverflow: too many messages that cannot
-  /// be dropped are waiting; the client is not keeping up.
-  PushResult push(streams::OutgoingMessage message) {
-    if (message.coalesce_key.empty()) {
-      if (plain_ >= capacity_)
-        return PushResult::kOverflow;
-      ++plain_;
-      queue_.push_back(std::move(message));
-      return PushResult::kQueued;
-    }
-    // A stream only moves forward: drop what is not newer than the last message queued for the key.
-    auto [key, inserted] = keys_.try_emplace(message.coalesce_key);
-    if (!inserted && message.order && key->second.order && *message.order <= *key->second.order)
-      return PushResult::kStale;
-    key->second.order = message.order;
-    if (!inserted && key->second.queued && key->second.position >= first_unsent_position()) {
-      queue_[key->second.position - popped_] = std::move(message);
-      return PushResult::kCoalesced;
-    }
-    key->second.queued = true;
-    key->second.position = popped_ + queue_.size();
-    queue_.push_back(std::move(message));
-    return PushResult::kQueued;
-  }
+  /// Queues `message`, replacing an unsent message with the same coalesce key in its place. The message
+  /// being written is never replaced. kStale: a coalescing message with an order not after the last one
+  /// queued for its key, dropped. kOverflow: too many messages that cannot be dropped are waiting; the
+  /// client is not keeping up.
+  PushResult push(streams::OutgoingMessage message);
 
   /// The next message to write, marking it in flight; nullptr when empty or a write is in flight.
-  const streams::OutgoingMessage* start_write() {
-    if (writing_ || queue_.empty())
-      return nullptr;
-    writing_ = true;
-    return &queue_.front();
-  }
-  /// The write of the front message completed.
-  void finish_write() {
-    if (!writing_)
-      return;
-    writing_ = false;
-    streams::OutgoingMessage& front = queue_.front();
-    if (front.coalesce_key.empty()) {
-      --plain_;
-    } else if (auto key = keys_.find(front.coalesce_key);
-               key != keys_.end() && key->second.position == popped_) {
-      key->second.queued = false;
-    }
-    queue_.pop_front();
-    ++popped_;
-  }
+  const streams::OutgoingMessage* start_write();
+  /// The write of the message in flight completed.
+  void finish_write();
 
-  [[nodiscard]] bool writing() const { return writing_; }
-  [[nodiscard]] std::size_t size() const { return queue_.size(); }
-  /// Bytes of payload waiting (shared payloads counted once per queue), for metrics and tests.
-  [[nodiscard]] std::size_t bytes() const {
-    std::size_t total = 0;
-    for (const auto& message : queue_)
-      total += message.payload ? message.payload->size() : 0;
-    return total;
+  [[nodiscard]] bool writing() const { return in_flight_.has_value(); }
+  /// The message being written; nullptr when none is.
+  [[nodiscard]] const streams::OutgoingMessage* in_flight() const {
+    return in_flight_ ? &*in_flight_ : nullptr;
   }
+  /// Messages waiting, the one being written included.
+  [[nodiscard]] std::size_t size() const { return unsent_ + (writing() ? 1 : 0); }
+  /// Payload bytes waiting, the one being written included (shared payloads count once per queue).
+  [[nodiscard]] std::size_t bytes() const { return bytes_; }
+  /// Messages replaced by a newer one of their key before they were written: what a lagging client did
+  /// not get.
+  [[nodiscard]] std::uint64_t superseded() const { return superseded_; }
 
  private:
+  /// A lane holds plain messages themselves and coalescing ones by key (the message waits in its key).
+  using Entry = std::variant<streams::OutgoingMessage, std::string>;
   struct KeyState {
-    std::optional<double> order;  // of the last message queued under the key
-    bool queued = false;          // an entry for the key is in the queue
-    std::uint64_t position = 0;   // its absolute position (popped_ + index) when queued
+    std::optional<double> order;                     // of the last message queued under the key
+    std::optional<streams::OutgoingMessage> unsent;  // waiting in its lane, not yet written
   };
-  [[nodiscard]] std::uint64_t first_unsent_position() const { return popped_ + (writing_ ? 1 : 0); }
+  static std::size_t size_of(const streams::OutgoingMessage& message) {
+    return message.payload ? message.payload->size() : 0;
+  }
+  std::deque<Entry>& lane_of(const streams::OutgoingMessage& message) {
+    return lanes_[static_cast<std::size_t>(message.lane)];
+  }
 
   std::size_t capacity_;
-  std::deque<streams::OutgoingMessage> queue_;
+  std::array<std::deque<Entry>, 2> lanes_;  // indexed by OutgoingMessage::Lane, prompt first
   std::unordered_map<std::string, KeyState> keys_;
-  std::uint64_t popped_ = 0;  // messages written and removed so far: absolute position of the front
-  std::size_t plain_ = 0;     // queued messages without a coalesce key
-  bool writing_ = false;
+  std::optional<streams::OutgoingMessage> in_flight_;
+  std::size_t unsent_ = 0;  // entries in the lanes
+  std::size_t plain_ = 0;   // queued messages without a coalesce key, the one in flight included
+  std::size_t bytes_ = 0;
+  std::uint64_t superseded_ = 0;
 };
 
 }  // namespace strata::net

@@ -1,7 +1,12 @@
 #include "server/net/websocket_session.hpp"
 
+#include <linux/sockios.h>
+#include <netinet/in.h>
+#include <netinet/tcp.h>
 #include <spdlog/spdlog.h>
+#include <sys/ioctl.h>
 
+#include <algorithm>
 #include <boost/asio/post.hpp>
 #include <boost/beast/websocket/ssl.hpp>
 #include <chrono>
@@ -35,6 +40,16 @@ constexpr double kMessageBurst = 80.0;
 // buffers and queue are freed and nobody waits for it.
 constexpr auto kStalledWriteTimeout = std::chrono::seconds(10);
 
+// Unsent bytes the kernel may hold for a client (TCP_NOTSENT_LOWAT). Whatever waits beyond it waits in the
+// session's queue, where a newer pose replaces an older one and the pose goes ahead of map tiles; bytes
+// handed to the kernel can only be sent in order, however stale. 4 KiB is 0.16 s of the slowest link we
+// serve (0.2 Mbit/s), so a pose waits behind that and one tile at most. The bytes on the wire are TCP's to
+// bound (its window), not ours.
+constexpr int kSocketUnsentBytes = 4 * 1024;
+
+// Clients are numbered in /metrics and the log by the order they came.
+std::atomic<std::uint64_t> next_client_id{1};
+
 // What clients coming, going and misbehaving put into the log (LogThrottle): a client reconnecting in a
 // loop would otherwise write two lines a connection.
 auth::LogThrottle clients_log(2.0, 20.0);
@@ -64,7 +79,8 @@ WebSocketSession<Stream>::WebSocketSession(Stream&& stream, std::shared_ptr<Serv
       slot_(std::move(slot)),
       role_(role),
       queue_(kSendQueueCapacity),
-      limiter_(kMessagesPerSecond, kMessageBurst) {}
+      limiter_(kMessagesPerSecond, kMessageBurst),
+      id_(next_client_id.fetch_add(1, std::memory_order_relaxed)) {}
 
 template <class Stream>
 WebSocketSession<Stream>::~WebSocketSession() {
@@ -87,10 +103,23 @@ WebSocketSession<Stream>::~WebSocketSession() {
 }
 
 template <class Stream>
+void WebSocketSession<Stream>::bound_what_the_socket_holds() {
+  auto& socket = beast::get_lowest_layer(ws_).socket();
+  beast::error_code ignored;
+  // Small messages (a pose) leave at once instead of waiting for the next segment to fill.
+  socket.set_option(boost::asio::ip::tcp::no_delay(true), ignored);
+  socket.set_option(
+      boost::asio::detail::socket_option::integer<IPPROTO_TCP, TCP_NOTSENT_LOWAT>(kSocketUnsentBytes),
+      ignored);
+}
+
+template <class Stream>
 void WebSocketSession<Stream>::run(protocol::HttpRequest request) {
+  bound_what_the_socket_holds();
   auto timeouts = websocket::stream_base::timeout::suggested(beast::role_type::server);
   // Pings at half the idle time: a client that stops answering (gone, or not reading) is dropped.
-  timeouts.idle_timeout = std::chrono::seconds(20);
+  timeouts.idle_timeout = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+      std::chrono::duration<double>(context_->services.network.client_timeout_s));
   timeouts.keep_alive_pings = true;
   ws_.set_option(timeouts);
   ws_.read_message_max(protocol::kMaxClientMessageBytes);
@@ -152,6 +181,12 @@ void WebSocketSession<Stream>::on_read(beast::error_code error, std::size_t /*by
       if (const auto held = misbehaving_log.admit())
         spdlog::warn("websocket client sent a message over {} bytes; closing{}",
                      protocol::kMaxClientMessageBytes, auth::held_back(*held));
+    } else if (error == beast::error::timeout && open_) {
+      // Neither a message nor an answer to the ping: gone, or not reading what it is sent.
+      context_->metrics.ws_slow_dropped.fetch_add(1, std::memory_order_relaxed);
+      if (const auto held = misbehaving_log.admit())
+        spdlog::warn("websocket client {} silent for {} s (no answer to the ping); disconnecting{}", id_,
+                     context_->services.network.client_timeout_s, auth::held_back(*held));
     }
     return;  // closed or failed: the session ends when its last handler completes
   }
@@ -264,6 +299,7 @@ void WebSocketSession<Stream>::enqueue(streams::OutgoingMessage message) {
   if (queue_.push(std::move(message)) == SendQueue::PushResult::kOverflow)
     return drop_client(std::to_string(queue_.size()) + " messages queued");
   write_next();
+  publish_stats(nullptr);
 }
 
 template <class Stream>
@@ -290,13 +326,41 @@ void WebSocketSession<Stream>::write_next() {
 
 template <class Stream>
 void WebSocketSession<Stream>::on_write(beast::error_code error, std::size_t bytes) {
-  queue_.finish_write();
   if (error) {
+    queue_.finish_write();
     open_ = false;
     return;
   }
   context_->metrics.ws_bytes_out.fetch_add(bytes, std::memory_order_relaxed);
+  publish_stats(queue_.in_flight());
+  queue_.finish_write();
   write_next();
+}
+
+template <class Stream>
+void WebSocketSession<Stream>::publish_stats(const streams::OutgoingMessage* written) {
+  queued_bytes_.store(queue_.bytes(), std::memory_order_relaxed);
+  superseded_.store(queue_.superseded(), std::memory_order_relaxed);
+  if (written == nullptr)
+    return;
+  if (written->stream == static_cast<std::uint8_t>(protocol::Stream::kPose)) {
+    pose_age_s_.store(std::chrono::duration<double>(std::chrono::steady_clock::now() - written->made).count(),
+                      std::memory_order_relaxed);
+  }
+  int unacknowledged = 0;  // SIOCOUTQ: bytes in the send buffer, sent or not, that the peer has not acked
+  if (::ioctl(beast::get_lowest_layer(ws_).socket().native_handle(), SIOCOUTQ, &unacknowledged) == 0)
+    socket_bytes_.store(static_cast<std::size_t>(std::max(unacknowledged, 0)), std::memory_order_relaxed);
+}
+
+template <class Stream>
+streams::ClientStats WebSocketSession<Stream>::stats() const {
+  const double pose_age = pose_age_s_.load(std::memory_order_relaxed);
+  return {.id = id_,
+          .operator_role = role_ == auth::Role::kOperator,
+          .queued_bytes = queued_bytes_.load(std::memory_order_relaxed),
+          .socket_bytes = socket_bytes_.load(std::memory_order_relaxed),
+          .superseded = superseded_.load(std::memory_order_relaxed),
+          .pose_age_s = pose_age < 0.0 ? std::nullopt : std::optional<double>(pose_age)};
 }
 
 template class WebSocketSession<PlainStream>;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <atomic>
 #include <boost/asio/ip/tcp.hpp>
 #include <boost/beast/core.hpp>
 #include <boost/beast/websocket.hpp>
@@ -36,8 +37,10 @@ class WebSocketSession : public streams::ClientConnection,
   /// Completes the upgrade `request` asked for, then starts streaming.
   void run(protocol::HttpRequest request);
   void send(streams::OutgoingMessage message) override;
+  [[nodiscard]] streams::ClientStats stats() const override;
 
  private:
+  void bound_what_the_socket_holds();
   void on_accept(boost::beast::error_code error);
   void read_next();
   void on_read(boost::beast::error_code error, std::size_t bytes);
@@ -48,6 +51,7 @@ class WebSocketSession : public streams::ClientConnection,
   void drop_client(std::string_view why);
   void write_next();
   void on_write(boost::beast::error_code error, std::size_t bytes);
+  void publish_stats(const streams::OutgoingMessage* written);
 
   boost::beast::websocket::stream<Stream> ws_;
   boost::beast::flat_buffer buffer_;
@@ -62,6 +66,12 @@ class WebSocketSession : public streams::ClientConnection,
   bool teleoperating_ = false;
   TeleopFreshness teleop_freshness_;  // refuses moving teleops that are stale or out of order
   std::uint64_t goal_id_ = 0;         // the last goal this connection set: cancelled when it closes
+  // What stats() reads from other threads; written on the strand as the queue and the writes move.
+  std::uint64_t id_ = 0;
+  std::atomic<std::size_t> queued_bytes_{0};
+  std::atomic<std::size_t> socket_bytes_{0};
+  std::atomic<std::uint64_t> superseded_{0};
+  std::atomic<double> pose_age_s_{-1.0};  // negative: no pose written yet
 };
 
 extern template class WebSocketSession<PlainStream>;

@@ -1,5 +1,6 @@
 #include "server/streams/client_hub.hpp"
 
+#include <algorithm>
 #include <vector>
 
 namespace strata::streams {
@@ -27,6 +28,23 @@ void ClientHub::broadcast(const OutgoingMessage& message) {
     if (auto client = weak.lock())
       client->send(message);
   }
+}
+
+std::vector<ClientStats> ClientHub::stats() const {
+  std::vector<std::shared_ptr<ClientConnection>> clients;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [key, client] : clients_) {
+      if (auto alive = client.lock())
+        clients.push_back(std::move(alive));
+    }
+  }
+  std::vector<ClientStats> stats;
+  stats.reserve(clients.size());
+  for (const auto& client : clients)
+    stats.push_back(client->stats());
+  std::ranges::sort(stats, {}, &ClientStats::id);
+  return stats;
 }
 
 std::size_t ClientHub::size() const {

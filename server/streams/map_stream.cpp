@@ -27,7 +27,7 @@ std::vector<streams::OutgoingMessage> MapStream::poll() {
       next.emplace(key, std::move(known->second));
       continue;
     }
-    auto message = streams::OutgoingMessage::binary_frame(
+    auto message = streams::OutgoingMessage::map_frame(
         protocol::encode_tile_frame(*tile), tile_key(tile->tile_x, tile->tile_y), ++sequence_, tiles_stream);
     changed.push_back(message);
     next.emplace(key, TileFrame{tile, std::move(message)});
@@ -38,16 +38,16 @@ std::vector<streams::OutgoingMessage> MapStream::poll() {
     if (next.contains(key))
       continue;
     EncodedTile gone{key.first, key.second, snapshot->version, 0, {}};
-    changed.push_back(streams::OutgoingMessage::binary_frame(
+    changed.push_back(streams::OutgoingMessage::map_frame(
         protocol::encode_tile_frame(gone), tile_key(key.first, key.second), ++sequence_, tiles_stream));
   }
   tiles_ = std::move(next);
 
   if (snapshot->occupancy && snapshot->occupancy.get() != occupancy_identity_) {
     occupancy_identity_ = snapshot->occupancy.get();
-    occupancy_ = streams::OutgoingMessage::binary_frame(
-        protocol::encode_occupancy_frame(*snapshot->occupancy), "occupancy", ++sequence_,
-        static_cast<std::uint8_t>(protocol::Stream::kOccupancy));
+    occupancy_ = streams::OutgoingMessage::map_frame(protocol::encode_occupancy_frame(*snapshot->occupancy),
+                                                     "occupancy", ++sequence_,
+                                                     static_cast<std::uint8_t>(protocol::Stream::kOccupancy));
     changed.push_back(*occupancy_);
   }
   last_ = snapshot.get();

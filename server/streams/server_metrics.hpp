@@ -13,7 +13,7 @@ struct ServerMetrics {
   std::atomic<std::uint64_t> ws_errors_sent{0};     ///< client messages refused
   std::atomic<std::uint64_t> ws_rate_limited{0};    ///< client messages refused for the rate limit
   std::atomic<std::uint64_t> ws_stale_teleop{0};    ///< moving teleops refused as stale or out of order
-  std::atomic<std::uint64_t> ws_slow_dropped{0};    ///< clients disconnected for not keeping up
+  std::atomic<std::uint64_t> ws_slow_dropped{0};    ///< clients disconnected: not reading, or silent
   std::atomic<std::uint64_t> ws_bytes_out{0};       ///< payload bytes written to WebSocket clients
   std::atomic<std::uint64_t> auth_failures{0};      ///< requests or upgrades with a wrong token
   std::atomic<std::uint64_t> ws_refused_origin{0};  ///< upgrades from a browser origin not allowed

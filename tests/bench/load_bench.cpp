@@ -48,7 +48,10 @@
 #include <thread>
 #include <vector>
 
+#include "bench/percentile.hpp"
 #include "integration/server_process.hpp"
+
+using strata::bench::percentile;
 
 namespace {
 
@@ -111,14 +114,6 @@ Options parse(int argc, char** argv) {
 
 double wall_now() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-}
-
-double percentile(std::vector<double> values, double p) {
-  if (values.empty())
-    return -1.0;
-  std::sort(values.begin(), values.end());
-  const auto index = static_cast<std::size_t>(p * static_cast<double>(values.size() - 1) + 0.5);
-  return values[std::min(index, values.size() - 1)];
 }
 
 json latency_summary(const std::vector<double>& ms) {

@@ -19,9 +19,12 @@
 #include <string>
 #include <vector>
 
+#include "bench/percentile.hpp"
 #include "core/planning/grid_planner.hpp"
 #include "drivers/io/map_server_reader.hpp"
 #include "drivers/io/movingai_reader.hpp"
+
+using strata::bench::percentile;
 
 namespace {
 
@@ -41,13 +44,6 @@ double thread_cpu_seconds() {
   timespec now{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &now);
   return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
-}
-
-double percentile(std::vector<double> values, double fraction) {
-  if (values.empty())
-    return 0.0;
-  std::sort(values.begin(), values.end());
-  return values[static_cast<std::size_t>(fraction * static_cast<double>(values.size() - 1) + 0.5)];
 }
 
 void bench_movingai(const fs::path& data) {

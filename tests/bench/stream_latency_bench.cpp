@@ -20,7 +20,10 @@
 #include <thread>
 #include <vector>
 
+#include "bench/percentile.hpp"
 #include "integration/server_process.hpp"
+
+using strata::bench::percentile;
 
 namespace {
 
@@ -86,14 +89,6 @@ void run_client(std::uint16_t port, std::atomic<bool>& stop, Samples& samples) {
   samples.tile_ms.insert(samples.tile_ms.end(), tile_ms.begin(), tile_ms.end());
   samples.tile_bytes += tile_bytes;
   samples.tiles += tiles;
-}
-
-double percentile(std::vector<double> values, double p) {
-  if (values.empty())
-    return -1.0;
-  std::sort(values.begin(), values.end());
-  const auto index = static_cast<std::size_t>(p * static_cast<double>(values.size() - 1) + 0.5);
-  return values[std::min(index, values.size() - 1)];
 }
 
 }  // namespace

@@ -7,7 +7,9 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <deque>
+#include <limits>
 #include <stdexcept>
 #include <string>
 
@@ -16,8 +18,16 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-int connect_to(std::uint16_t port) {
+/// `receive_buffer` > 0: the socket's receive buffer, set before connecting so the window is that small.
+int connect_to(std::uint16_t port, int receive_buffer) {
   const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  if (receive_buffer > 0) {
+    ::setsockopt(fd, SOL_SOCKET, SO_RCVBUF, &receive_buffer, sizeof(receive_buffer));
+    // Wi-Fi's segment size, not loopback's 64 KiB: the window then opens a segment at a time as the link
+    // drains, as it does behind a real link, instead of in bursts of half the buffer.
+    const int segment = 1448;
+    ::setsockopt(fd, IPPROTO_TCP, TCP_MAXSEG, &segment, sizeof(segment));
+  }
   sockaddr_in address{};
   address.sin_family = AF_INET;
   address.sin_port = htons(port);
@@ -77,7 +87,8 @@ void LinkProxy::accept_loop() {
       continue;
     const int one = 1;
     ::setsockopt(client, IPPROTO_TCP, TCP_NODELAY, &one, sizeof(one));
-    const int server = connect_to(server_port_);
+    // With a rate, the server's bytes must wait in the server's socket, not in loopback's large buffers.
+    const int server = connect_to(server_port_, conditions_.bytes_per_second > 0.0 ? 4096 : 0);
     if (server < 0) {
       ::close(client);
       continue;
@@ -92,20 +103,30 @@ void LinkProxy::accept_loop() {
 
 void LinkProxy::pump(int from, int to) {
   std::deque<Chunk> in_flight;
+  std::size_t held = 0;  // bytes in in_flight
+  // What the link holds at most: what is on the wire (rate x delay) and its queue. No rate: no bound.
+  const std::size_t capacity =
+      conditions_.bytes_per_second > 0.0
+          ? static_cast<std::size_t>(conditions_.bytes_per_second *
+                                     std::chrono::duration<double>(conditions_.delay).count()) +
+                conditions_.queue_bytes
+          : std::numeric_limits<std::size_t>::max();
   bool from_open = true;
   double credit = 0.0;  // bytes the rate limit allows now
   auto last_credit = Clock::now();
   while (!stopping_.load() && (from_open || !in_flight.empty())) {
-    if (from_open) {
+    if (from_open && held < capacity) {
       pollfd readable{from, POLLIN, 0};
       if (::poll(&readable, 1, 5) > 0) {
         char buffer[16384];
-        const ssize_t n = ::read(from, buffer, sizeof(buffer));
-        if (n <= 0)
+        const ssize_t n = ::read(from, buffer, std::min(sizeof(buffer), capacity - held));
+        if (n <= 0) {
           from_open = false;
-        else
+        } else {
           in_flight.push_back(
               {std::string(buffer, static_cast<std::size_t>(n)), Clock::now() + conditions_.delay});
+          held += static_cast<std::size_t>(n);
+        }
       }
     } else {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -132,6 +153,7 @@ void LinkProxy::pump(int from, int to) {
         break;
       }
       credit -= static_cast<double>(written);
+      held -= static_cast<std::size_t>(written);
       chunk.bytes.erase(0, static_cast<std::size_t>(written));
       if (chunk.bytes.empty())
         in_flight.pop_front();

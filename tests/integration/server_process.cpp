@@ -44,7 +44,9 @@ std::vector<std::string> child_environment() {
 
 pid_t spawn(const std::vector<std::string>& args, int stdout_fd, int stderr_fd,
             const ProcessLimits& limits = {}) {
-  std::vector<std::string> argv_storage{STRATA_BINARY};
+  // STRATA_SERVER_BINARY: another build's binary, for a benchmark's "before" figures.
+  const char* other_binary = std::getenv("STRATA_SERVER_BINARY");
+  std::vector<std::string> argv_storage{other_binary != nullptr ? other_binary : STRATA_BINARY};
   argv_storage.insert(argv_storage.end(), args.begin(), args.end());
   std::vector<char*> argv;
   for (auto& arg : argv_storage)

@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <string>
+#include <vector>
+
 namespace strata::net {
 namespace {
 
@@ -122,6 +125,51 @@ TEST(SendQueue, AZeroStampIsAnOrderLikeAnyOther) {
   // Unordered messages (status) always supersede.
   EXPECT_EQ(queue.push(streams::OutgoingMessage::text("s1", "status")), SendQueue::PushResult::kQueued);
   EXPECT_EQ(queue.push(streams::OutgoingMessage::text("s2", "status")), SendQueue::PushResult::kCoalesced);
+}
+
+streams::OutgoingMessage tile(std::string body, int tile_id, double version) {
+  return streams::OutgoingMessage::map_frame(std::move(body), "tile:" + std::to_string(tile_id), version, 0);
+}
+
+TEST(SendQueue, ThePoseGoesAheadOfTheMapButNeverCutsIntoAWrite) {
+  SendQueue queue(8);
+  for (int id = 0; id < 3; ++id)
+    queue.push(tile("t" + std::to_string(id), id, 1));
+  EXPECT_EQ(body(queue.start_write()), "t0");
+  // The pose and a reply arrive while the first tile is being written: both go before the other tiles,
+  // in the order they came, and the tile being written finishes first.
+  queue.push(streams::OutgoingMessage::text("pose1", "pose", 1.0));
+  queue.push(streams::OutgoingMessage::text("ack"));
+  EXPECT_EQ(queue.start_write(), nullptr);
+  queue.finish_write();
+  std::vector<std::string> sent;
+  while (const streams::OutgoingMessage* next = queue.start_write()) {
+    sent.push_back(*next->payload);
+    queue.finish_write();
+    if (sent.size() == 3)
+      queue.push(streams::OutgoingMessage::text("pose2", "pose", 2.0));  // between two tiles
+  }
+  EXPECT_EQ(sent, (std::vector<std::string>{"pose1", "ack", "t1", "pose2", "t2"}));
+}
+
+TEST(SendQueue, CountsTheBytesWaitingAndWhatALaggingClientDidNotGet) {
+  SendQueue queue(8);
+  queue.push(tile("12345", 0, 1));
+  queue.push(streams::OutgoingMessage::text("pose-1", "pose", 1.0));
+  queue.push(streams::OutgoingMessage::text("pose-22", "pose", 2.0));   // supersedes pose-1
+  queue.push(streams::OutgoingMessage::text("pose-333", "pose", 3.0));  // and pose-22
+  queue.push(streams::OutgoingMessage::text("ok"));
+  EXPECT_EQ(queue.bytes(), 5u + 8u + 2u);
+  EXPECT_EQ(queue.superseded(), 2u);
+  EXPECT_EQ(queue.size(), 3u);
+  EXPECT_EQ(body(queue.start_write()), "pose-333");
+  EXPECT_EQ(queue.bytes(), 15u);  // the message in flight still counts
+  queue.finish_write();
+  EXPECT_EQ(queue.bytes(), 7u);
+  while (queue.start_write() != nullptr)
+    queue.finish_write();
+  EXPECT_EQ(queue.bytes(), 0u);
+  EXPECT_EQ(queue.size(), 0u);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <memory>
 #include <string>
 #include <vector>
@@ -12,8 +13,13 @@ namespace {
 // A client that records what it is sent (the hub's contract is only "send must not block").
 class RecordingClient : public ClientConnection {
  public:
+  explicit RecordingClient(std::uint64_t id = 0) : id_(id) {}
   void send(OutgoingMessage message) override { received.push_back(*message.payload); }
+  [[nodiscard]] ClientStats stats() const override { return {.id = id_, .queued_bytes = received.size()}; }
   std::vector<std::string> received;
+
+ private:
+  std::uint64_t id_;
 };
 
 TEST(ClientHub, BroadcastReachesEveryJoinedClient) {
@@ -47,6 +53,23 @@ TEST(ClientHub, ExpiredClientsAreSkipped) {
   SUCCEED();
 }
 
+TEST(ClientHub, StatsListEveryLiveClientInTheOrderTheyCame) {
+  ClientHub hub;
+  auto third = std::make_shared<RecordingClient>(3);
+  auto first = std::make_shared<RecordingClient>(1);
+  auto gone = std::make_shared<RecordingClient>(2);
+  hub.join(third);
+  hub.join(first);
+  hub.join(gone);
+  gone.reset();
+  hub.broadcast(OutgoingMessage::text("x"));
+  const auto stats = hub.stats();
+  ASSERT_EQ(stats.size(), 2u);
+  EXPECT_EQ(stats[0].id, 1u);
+  EXPECT_EQ(stats[1].id, 3u);
+  EXPECT_EQ(stats[1].queued_bytes, 1u);
+}
+
 TEST(ClientHub, PayloadIsSharedNotCopied) {
   ClientHub hub;
   std::vector<const std::string*> seen;
@@ -54,6 +77,7 @@ TEST(ClientHub, PayloadIsSharedNotCopied) {
    public:
     explicit PointerClient(std::vector<const std::string*>& out) : out_(out) {}
     void send(OutgoingMessage message) override { out_.push_back(message.payload.get()); }
+    [[nodiscard]] ClientStats stats() const override { return {}; }
 
    private:
     std::vector<const std::string*>& out_;
