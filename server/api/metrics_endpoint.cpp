@@ -92,6 +92,9 @@ protocol::HttpResponse HttpRouter::metrics(const protocol::HttpRequest& request)
   metric(out, "strata_http_refused_full_total", "counter",
          "connections refused with 503: the HTTP connection limit was reached",
          count(metrics_.http_refused_full));
+  metric(out, "strata_refused_address_total", "counter",
+         "connections refused with 503: their address held max-connections-per-address already",
+         count(metrics_.refused_address));
   per_client(out, hub_.stats());
   metric(out, "strata_http_refused_host_total", "counter",
          "requests refused: a Host header that is not this server's (DNS rebinding)",

@@ -221,6 +221,12 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
       ->capture_default_str()
       ->check(CLI::Range(1, 100000));
   command
+      ->add_option("--max-connections-per-address", options.network.max_connections_per_address,
+                   "Connections of every kind (HTTP, WebSocket) at once from one IP address; one more is "
+                   "answered HTTP 503 and closed, so one host cannot lock the others out")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100000));
+  command
       ->add_option("--client-timeout", options.network.client_timeout_s,
                    "Seconds a WebSocket client may stay silent before it is dropped: the server pings it "
                    "after half of this, and a client that neither answers nor sends is gone or not reading")

@@ -31,6 +31,8 @@ struct NetworkOptions {
   std::vector<std::string> allowed_hosts;
   std::size_t max_clients = 256;           ///< WebSocket clients; one more is refused with 503
   std::size_t max_http_connections = 512;  ///< other TCP connections; one more is answered 503
+  /// Connections of every kind from one IP address at once; one more is answered 503.
+  std::size_t max_connections_per_address = 64;
   /// Seconds a WebSocket client may stay silent (no message, no answer to the server's ping at half of
   /// it) before it is dropped and counted as not keeping up.
   double client_timeout_s = 20.0;

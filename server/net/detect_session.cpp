@@ -21,9 +21,9 @@ constexpr auto kDrainTimeout = std::chrono::seconds(5);
 
 DetectSession::DetectSession(boost::asio::ip::tcp::socket&& socket,
                              std::shared_ptr<boost::asio::ssl::context> tls,
-                             std::shared_ptr<ServerContext> context, ConnectionLimit::Slot http_slot)
+                             std::shared_ptr<ServerContext> context, ConnectionPlaces places)
     : stream_(std::move(socket)), tls_(std::move(tls)), context_(std::move(context)) {
-  http_slot_.emplace(std::move(http_slot));
+  places_.emplace(std::move(places));
 }
 
 void DetectSession::run() {
@@ -40,7 +40,7 @@ void DetectSession::on_detect(beast::error_code error, bool is_tls) {
   if (is_tls) {
     // The bytes read so far are the start of the handshake; the HTTP session hands them to OpenSSL.
     std::make_shared<HttpSession<TlsStream>>(TlsStream(std::move(stream_), *tls_), std::move(buffer_),
-                                             context_, std::move(*http_slot_))
+                                             context_, std::move(*places_))
         ->run();
     return;
   }

@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 
+#include "server/net/connection_places.hpp"
 #include "server/net/server_context.hpp"
 #include "server/net/transport.hpp"
 #include "server/protocol/http_types.hpp"
@@ -21,7 +22,7 @@ namespace strata::net {
 class DetectSession : public std::enable_shared_from_this<DetectSession> {
  public:
   DetectSession(boost::asio::ip::tcp::socket&& socket, std::shared_ptr<boost::asio::ssl::context> tls,
-                std::shared_ptr<ServerContext> context, ConnectionLimit::Slot http_slot);
+                std::shared_ptr<ServerContext> context, ConnectionPlaces places);
   void run();
 
  private:
@@ -36,7 +37,7 @@ class DetectSession : public std::enable_shared_from_this<DetectSession> {
   std::shared_ptr<ServerContext> context_;
   std::optional<http::request_parser<http::empty_body>> plain_request_;
   std::shared_ptr<protocol::HttpResponse> refusal_;
-  std::optional<ConnectionLimit::Slot> http_slot_;  // handed on to the HttpSession
+  std::optional<ConnectionPlaces> places_;  // handed on to the HttpSession
 };
 
 }  // namespace strata::net

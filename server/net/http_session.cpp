@@ -33,11 +33,11 @@ auth::LogThrottle refused_host_log;
 
 template <class Stream>
 HttpSession<Stream>::HttpSession(Stream&& stream, beast::flat_buffer&& buffer,
-                                 std::shared_ptr<ServerContext> context, ConnectionLimit::Slot http_slot)
+                                 std::shared_ptr<ServerContext> context, ConnectionPlaces places)
     : stream_(std::move(stream)),
       buffer_(std::move(buffer)),
       context_(std::move(context)),
-      http_slot_(std::move(http_slot)) {}
+      places_(std::move(places)) {}
 
 template <class Stream>
 void HttpSession<Stream>::run() {
@@ -113,6 +113,7 @@ void HttpSession<Stream>::upgrade_to_websocket() {
   const std::string_view target = request.target();
   protocol::HttpResponse refusal;
   const auto auth = auth::authenticate(request, context_->services.network.operator_token);
+  const auto role = auth == auth::AuthOutcome::kOperator ? auth::Role::kOperator : auth::Role::kViewer;
   if (target.substr(0, target.find('?')) != "/ws") {
     refusal = protocol::HttpResponse{http::status::not_found, request.version()};
     refusal.body() = protocol::rest_error(protocol::ErrorCode::kNotFound, "WebSocket endpoint is /ws");
@@ -138,10 +139,10 @@ void HttpSession<Stream>::upgrade_to_websocket() {
     refusal = protocol::HttpResponse{http::status::unauthorized, request.version()};
     refusal.body() =
         protocol::rest_error(protocol::ErrorCode::kUnauthorized, std::string(auth::refusal_reason(auth)));
-  } else if (auto slot = context_->websocket_clients.try_acquire()) {
+  } else if (auto slot = context_->websocket_place(role)) {
     beast::get_lowest_layer(stream_).expires_never();  // the WebSocket stream has its own timeouts
-    const auto role = auth == auth::AuthOutcome::kOperator ? auth::Role::kOperator : auth::Role::kViewer;
-    std::make_shared<WebSocketSession<Stream>>(std::move(stream_), context_, role, std::move(*slot))
+    std::make_shared<WebSocketSession<Stream>>(std::move(stream_), context_, role, std::move(*slot),
+                                               std::move(places_.address))
         ->run(parser_->release());
     return;
   } else {

@@ -6,6 +6,7 @@
 #include <memory>
 #include <optional>
 
+#include "server/net/connection_places.hpp"
 #include "server/net/server_context.hpp"
 #include "server/net/transport.hpp"
 #include "server/protocol/http_types.hpp"
@@ -19,10 +20,11 @@ template <class Stream>
 class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
  public:
   /// `buffer`: bytes already read from the connection (by the TLS detection), used before reading more.
-  /// `http_slot`: the connection's place in the HTTP connection limit, given back when the session ends
-  /// (after an upgrade, the WebSocket session holds a WebSocket place instead).
+  /// `places`: the connection's places under the limits, given back when the session ends (after an
+  /// upgrade, the WebSocket session takes its address's place and holds a WebSocket place instead of the
+  /// HTTP one).
   HttpSession(Stream&& stream, boost::beast::flat_buffer&& buffer, std::shared_ptr<ServerContext> context,
-              ConnectionLimit::Slot http_slot);
+              ConnectionPlaces places);
   void run();
 
  private:
@@ -44,7 +46,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   std::shared_ptr<ServerContext> context_;
   std::optional<http::request_parser<http::string_body>> parser_;
   std::shared_ptr<protocol::HttpResponse> response_;  // kept alive until its async_write completes
-  ConnectionLimit::Slot http_slot_;
+  ConnectionPlaces places_;
 };
 
 extern template class HttpSession<PlainStream>;

@@ -82,24 +82,42 @@ void Listener::on_accept_failed(const boost::system::error_code& error) {
 }
 
 void Listener::start_session(boost::asio::ip::tcp::socket socket) {
+  boost::system::error_code error;
+  const auto peer = socket.remote_endpoint(error);
+  if (error)
+    return;  // gone already
+  // The address's limit first: one host that holds its every place must not take the server's too.
+  auto address_slot = context_->connections_per_address.try_acquire(peer.address());
+  if (!address_slot) {
+    context_->metrics.refused_address.fetch_add(1, std::memory_order_relaxed);
+    return refuse(std::move(socket), "too many connections from your address: the server takes at most " +
+                                         std::to_string(context_->connections_per_address.max()) +
+                                         " at once from one address; try again later");
+  }
   auto slot = context_->http_connections.try_acquire();
-  if (!slot)
-    return refuse(std::move(socket));
+  if (!slot) {
+    context_->metrics.http_refused_full.fetch_add(1, std::memory_order_relaxed);
+    return refuse(std::move(socket), "too many HTTP connections: the server takes at most " +
+                                         std::to_string(context_->http_connections.max()) +
+                                         " at once; try again later");
+  }
+  ConnectionPlaces places{std::move(*address_slot), std::move(*slot)};
   if (tls_) {
-    std::make_shared<DetectSession>(std::move(socket), tls_, context_, std::move(*slot))->run();
+    std::make_shared<DetectSession>(std::move(socket), tls_, context_, std::move(places))->run();
   } else {
     std::make_shared<HttpSession<PlainStream>>(PlainStream(std::move(socket)), boost::beast::flat_buffer(),
-                                               context_, std::move(*slot))
+                                               context_, std::move(places))
         ->run();
   }
 }
 
-void Listener::refuse(boost::asio::ip::tcp::socket socket) {
-  context_->metrics.http_refused_full.fetch_add(1, std::memory_order_relaxed);
+void Listener::refuse(boost::asio::ip::tcp::socket socket, std::string why) {
   ++refusals_unlogged_;
   if (refusal_log_.allow(RateLimiter::Clock::now())) {
-    spdlog::warn("refused {} connection(s): {} HTTP connections are open, the limit (max-http-connections)",
-                 refusals_unlogged_, context_->http_connections.max());
+    spdlog::warn(
+        "refused {} connection(s), the last one: {} (max-http-connections, "
+        "max-connections-per-address)",
+        refusals_unlogged_, why);
     refusals_unlogged_ = 0;
   }
   if (tls_) {
@@ -108,7 +126,7 @@ void Listener::refuse(boost::asio::ip::tcp::socket socket) {
     socket.close(ignored);
     return;
   }
-  std::make_shared<RefusedConnection>(std::move(socket), context_->http_connections.max())->run();
+  std::make_shared<RefusedConnection>(std::move(socket), std::move(why))->run();
 }
 
 }  // namespace strata::net

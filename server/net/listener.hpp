@@ -33,7 +33,8 @@ class Listener : public std::enable_shared_from_this<Listener> {
   void accept_next();
   void on_accept_failed(const boost::system::error_code& error);
   void start_session(boost::asio::ip::tcp::socket socket);
-  void refuse(boost::asio::ip::tcp::socket socket);
+  /// Answers 503 with `why` (plain HTTP) or closes (TLS), and logs it at most once per 10 s.
+  void refuse(boost::asio::ip::tcp::socket socket, std::string why);
 
   boost::asio::io_context& io_;
   boost::asio::ip::tcp::acceptor acceptor_;

@@ -16,14 +16,12 @@ namespace beast = boost::beast;
 namespace http = beast::http;
 constexpr auto kTimeout = std::chrono::seconds(2);
 
-std::string refusal(std::size_t limit) {
+std::string refusal(const std::string& why) {
   http::response<http::string_body> response{http::status::service_unavailable, 11};
   response.set(http::field::server, "strata");
   response.set(http::field::content_type, "application/json");
   response.set(http::field::retry_after, "10");
-  response.body() = protocol::rest_error(protocol::ErrorCode::kUnavailable,
-                                         "too many HTTP connections: the server takes at most " +
-                                             std::to_string(limit) + " at once; try again later");
+  response.body() = protocol::rest_error(protocol::ErrorCode::kUnavailable, why);
   response.keep_alive(false);
   response.prepare_payload();
   std::ostringstream out;
@@ -33,8 +31,8 @@ std::string refusal(std::size_t limit) {
 
 }  // namespace
 
-RefusedConnection::RefusedConnection(boost::asio::ip::tcp::socket&& socket, std::size_t limit)
-    : stream_(std::move(socket)), response_(refusal(limit)) {}
+RefusedConnection::RefusedConnection(boost::asio::ip::tcp::socket&& socket, const std::string& why)
+    : stream_(std::move(socket)), response_(refusal(why)) {}
 
 void RefusedConnection::run() {
   boost::asio::dispatch(stream_.get_executor(), [self = shared_from_this()] {

@@ -8,14 +8,14 @@
 
 namespace strata::net {
 
-/// A plain HTTP connection over the HTTP connection limit: answered 503 `unavailable` with Retry-After
+/// A plain HTTP connection over a connection limit: answered 503 `unavailable` with Retry-After
 /// without reading its request (whatever it asked, the answer is the same), then closed. What the client
 /// sent is read and dropped until it closes, for at most a few seconds: closing with unread data would
 /// reset the connection and the client could lose the answer.
 class RefusedConnection : public std::enable_shared_from_this<RefusedConnection> {
  public:
-  /// `limit`: the HTTP connection limit, for the message.
-  RefusedConnection(boost::asio::ip::tcp::socket&& socket, std::size_t limit);
+  /// `why`: the error's message, saying which limit.
+  RefusedConnection(boost::asio::ip::tcp::socket&& socket, const std::string& why);
   void run();
 
  private:

@@ -7,8 +7,10 @@
 
 #include "drivers/sim/world/world.hpp"
 #include "server/api/http_router.hpp"
+#include "server/auth/operator_token.hpp"
 #include "server/control/robot_commands.hpp"
 #include "server/control/server_services.hpp"
+#include "server/net/address_limit.hpp"
 #include "server/net/connection_limit.hpp"
 #include "server/protocol/messages.hpp"
 #include "server/state/map_state.hpp"
@@ -31,6 +33,7 @@ struct ServerContext {
                                              : std::string()),
         websocket_clients(services.network.max_clients),
         http_connections(services.network.max_http_connections),
+        connections_per_address(services.network.max_connections_per_address),
         status(*services.robot, services.map, hub),
         map_stream(services.map ? std::make_unique<streams::MapStream>(*services.map) : nullptr),
         navigation_stream(services.motion ? std::make_unique<streams::NavigationStream>(*services.motion)
@@ -57,6 +60,20 @@ struct ServerContext {
   /// A connection holds a slot from its accept until it closes or is upgraded to a WebSocket (then it
   /// counts as a WebSocket client only).
   ConnectionLimit http_connections;
+  AddressLimit connections_per_address;  ///< every connection, from its accept until it closes
+  /// Places for operators (the right token) beyond max-clients: viewers cannot lock the operator out.
+  ConnectionLimit operator_reserve{kOperatorReserve};
+  static constexpr std::size_t kOperatorReserve = 4;
+
+  /// A WebSocket place for a client of `role`: one of max-clients, or for an operator when those are all
+  /// taken, one of the reserve.
+  [[nodiscard]] std::optional<ConnectionLimit::Slot> websocket_place(auth::Role role) {
+    if (auto slot = websocket_clients.try_acquire())
+      return slot;
+    if (role == auth::Role::kOperator)
+      return operator_reserve.try_acquire();
+    return std::nullopt;
+  }
   streams::ServerMetrics metrics;
   streams::StatusStream status;
   std::unique_ptr<streams::MapStream> map_stream;

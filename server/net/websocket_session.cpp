@@ -73,10 +73,12 @@ bool accepts_subprotocol(std::string_view offered) {
 
 template <class Stream>
 WebSocketSession<Stream>::WebSocketSession(Stream&& stream, std::shared_ptr<ServerContext> context,
-                                           auth::Role role, ConnectionLimit::Slot slot)
+                                           auth::Role role, ConnectionLimit::Slot slot,
+                                           AddressLimit::Slot address_slot)
     : ws_(std::move(stream)),
       context_(std::move(context)),
       slot_(std::move(slot)),
+      address_slot_(std::move(address_slot)),
       role_(role),
       queue_(kSendQueueCapacity),
       limiter_(kMessagesPerSecond, kMessageBurst),

@@ -10,6 +10,7 @@
 
 #include "server/auth/operator_token.hpp"
 #include "server/control/teleop_freshness.hpp"
+#include "server/net/address_limit.hpp"
 #include "server/net/connection_limit.hpp"
 #include "server/net/rate_limiter.hpp"
 #include "server/net/send_queue.hpp"
@@ -29,9 +30,10 @@ template <class Stream>
 class WebSocketSession : public streams::ClientConnection,
                          public std::enable_shared_from_this<WebSocketSession<Stream>> {
  public:
-  /// `slot`: this client's place under the WebSocket client limit, held until the session ends.
+  /// `slot`, `address_slot`: this client's places under the WebSocket client limit and its address's,
+  /// held until the session ends.
   WebSocketSession(Stream&& stream, std::shared_ptr<ServerContext> context, auth::Role role,
-                   ConnectionLimit::Slot slot);
+                   ConnectionLimit::Slot slot, AddressLimit::Slot address_slot);
   ~WebSocketSession() override;
 
   /// Completes the upgrade `request` asked for, then starts streaming.
@@ -57,6 +59,7 @@ class WebSocketSession : public streams::ClientConnection,
   boost::beast::flat_buffer buffer_;
   std::shared_ptr<ServerContext> context_;
   ConnectionLimit::Slot slot_;  // after context_: given back before the context can go
+  AddressLimit::Slot address_slot_;
   auth::Role role_;
   SendQueue queue_;
   RateLimiter limiter_;

@@ -19,6 +19,7 @@ struct ServerMetrics {
   std::atomic<std::uint64_t> ws_refused_origin{0};  ///< upgrades from a browser origin not allowed
   std::atomic<std::uint64_t> ws_refused_full{0};    ///< upgrades refused at the WebSocket client limit
   std::atomic<std::uint64_t> http_refused_full{0};  ///< connections refused at the HTTP connection limit
+  std::atomic<std::uint64_t> refused_address{0};    ///< connections refused at the per-address limit
   std::atomic<std::uint64_t> refused_host{0};       ///< requests naming a Host that is not allowed
 };
 

@@ -6,6 +6,8 @@
 #include <boost/asio/connect.hpp>
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/ip/tcp.hpp>
+#include <boost/beast/core/flat_buffer.hpp>
+#include <boost/beast/http.hpp>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -34,6 +36,27 @@ std::unique_ptr<tcp::socket> idle_connection(boost::asio::io_context& io, std::u
   auto socket = std::make_unique<tcp::socket>(io);
   socket->connect({boost::asio::ip::make_address("127.0.0.1"), port});
   return socket;
+}
+
+/// A TCP connection from `source` (any 127.x.y.z is this machine): another host, as the server sees it.
+std::unique_ptr<tcp::socket> connection_from(boost::asio::io_context& io, const std::string& source,
+                                             std::uint16_t port) {
+  auto socket = std::make_unique<tcp::socket>(io);
+  socket->open(tcp::v4());
+  socket->bind({boost::asio::ip::make_address(source), 0});
+  socket->connect({boost::asio::ip::make_address("127.0.0.1"), port});
+  return socket;
+}
+
+/// GET `target` over `socket`; the response.
+http::response<http::string_body> get_over(tcp::socket& socket, const std::string& target) {
+  http::request<http::empty_body> request{http::verb::get, target, 11};
+  request.set(http::field::host, "127.0.0.1");
+  http::write(socket, request);
+  beast::flat_buffer buffer;
+  http::response<http::string_body> response;
+  http::read(socket, buffer, response);
+  return response;
 }
 
 std::size_t lines_containing(const std::filesystem::path& file, const std::string& text) {
@@ -69,6 +92,36 @@ TEST(HttpConnectionLimit, OneConnectionOverTheLimitGets503UntilOneCloses) {
   const auto metrics = get_once_a_place_is_free(server.port(), "/metrics").body();
   EXPECT_EQ(metrics.find("strata_http_refused_full_total 0\n"), std::string::npos) << metrics;
   first.read_op("pose");  // the WebSocket clients were not disturbed
+}
+
+TEST(ConnectionLimits, OneHostCannotLockTheOthersOrTheOperatorOut) {
+  ServerProcess server({"--scanner", "none", "--max-connections-per-address", "6", "--max-clients", "2"});
+  // One host (127.0.0.2) opens its every place and one more: that one gets 503 saying why.
+  boost::asio::io_context io;
+  std::vector<std::unique_ptr<tcp::socket>> crowd;
+  for (int i = 0; i < 6; ++i)
+    crowd.push_back(connection_from(io, "127.0.0.2", server.port()));
+  EXPECT_EQ(get_over(*crowd.front(), "/healthz").result(), http::status::ok);  // all six were accepted
+  auto one_more = connection_from(io, "127.0.0.2", server.port());
+  const auto refused = get_over(*one_more, "/healthz");
+  EXPECT_EQ(refused.result(), http::status::service_unavailable);
+  const auto body = nlohmann::json::parse(refused.body());
+  expect_schema("rest", "error", body);
+  EXPECT_NE(body["error"]["message"].get<std::string>().find("from your address"), std::string::npos) << body;
+  // Other hosts are served.
+  EXPECT_EQ(http_get(server.port(), "/healthz").result(), http::status::ok);
+
+  // Viewers take every WebSocket place (max-clients 2): one more viewer is refused, the operator is not.
+  WsClient first(server.port());
+  first.read_op("hello");
+  WsClient second(server.port());
+  second.read_op("hello");
+  EXPECT_EQ(websocket_upgrade(server.port(), {}).result(), http::status::service_unavailable);
+  auto op = WsClient::operator_client(server.port(), kTestOperatorToken);
+  EXPECT_EQ(op->read_op("hello")["role"], "operator");
+  const auto metrics = http_get(server.port(), "/metrics").body();
+  EXPECT_NE(metrics.find("strata_refused_address_total 1\n"), std::string::npos) << metrics;
+  EXPECT_EQ(server.stop(), 0);
 }
 
 TEST(AcceptBackOff, AServerOutOfDescriptorsRecoversWithoutFloodingItsLog) {
