@@ -53,6 +53,16 @@ protocol::HttpResponse HttpRouter::handle(const protocol::HttpRequest& request) 
   }
 }
 
+bool HttpRouter::works_on_the_whole_map(const protocol::HttpRequest& request) {
+  const std::string_view target = request.target();
+  const std::string_view path = target.substr(0, target.find('?'));
+  if (path == "/api/v1/map")
+    return true;
+  // POST /api/v1/maps saves, POST /api/v1/maps/{name}/load loads; GET only lists.
+  return request.method() == http::verb::post &&
+         (path == "/api/v1/maps" || path.starts_with("/api/v1/maps/"));
+}
+
 std::optional<protocol::HttpResponse> HttpRouter::route_api(const protocol::HttpRequest& request,
                                                             std::string_view path,
                                                             std::string_view query) const {

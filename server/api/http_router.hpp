@@ -20,6 +20,9 @@ class HttpRouter {
              const streams::StatusStream& status, const streams::ServerMetrics& metrics);
 
   [[nodiscard]] protocol::HttpResponse handle(const protocol::HttpRequest& request) const;
+  /// Whether answering `request` works on the whole map: a download, a save, a load. That takes seconds on
+  /// a big map, so the sessions answer it off the network threads, a few at a time.
+  [[nodiscard]] static bool works_on_the_whole_map(const protocol::HttpRequest& request);
 
  private:
   [[nodiscard]] std::optional<protocol::HttpResponse> route_api(const protocol::HttpRequest& request,

@@ -113,6 +113,7 @@ protocol::HttpResponse HttpRouter::map_download(const protocol::HttpRequest& req
     response.set(http::field::content_disposition, fmt::format("attachment; filename=\"{}\"", kind.file));
     response.set(http::field::cache_control, "no-store");
     response.set("X-Strata-Version", std::to_string(download.version));
+    response.set("X-Strata-Export", download.reused ? "reused" : "made");
     return response;
   }
   return error_response(request, http::status::bad_request, ErrorCode::kBadParams,

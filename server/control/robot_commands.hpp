@@ -63,6 +63,7 @@ struct MapDownload {
   std::vector<std::uint8_t> bytes;  ///< empty: nothing to download yet, or the version asked for is gone
   std::uint64_t version = 0;        ///< of the map the bytes show
   bool version_gone = false;        ///< a version was asked for that the server no longer has
+  bool reused = false;              ///< the bytes of an earlier request for the same map and format
 };
 
 /// Saving and loading the map (pipeline::MappingWorker). Names are plain file names inside the configured

@@ -3,11 +3,13 @@
 #include <spdlog/spdlog.h>
 
 #include <boost/asio/dispatch.hpp>
+#include <boost/asio/post.hpp>
 #include <boost/beast/websocket.hpp>
 #include <boost/beast/websocket/ssl.hpp>
 #include <chrono>
 #include <utility>
 
+#include "server/api/responses.hpp"
 #include "server/auth/host_policy.hpp"
 #include "server/auth/log_throttle.hpp"
 #include "server/auth/request_auth.hpp"
@@ -104,7 +106,30 @@ void HttpSession<Stream>::on_read(beast::error_code error, std::size_t /*bytes*/
     return refuse_host();
   if (beast::websocket::is_upgrade(request))
     return upgrade_to_websocket();
+  if (api::HttpRouter::works_on_the_whole_map(request))
+    return answer_off_the_network();
   write(context_->router.handle(request));
+}
+
+template <class Stream>
+void HttpSession<Stream>::answer_off_the_network() {
+  auto place = context_->map_work_places.try_acquire();
+  if (!place) {
+    auto busy = api::error_response(parser_->get(), http::status::service_unavailable,
+                                    protocol::ErrorCode::kUnavailable,
+                                    "the server is busy with " + std::to_string(ServerContext::kMapWork) +
+                                        " map downloads, saves or loads; try again in a few seconds");
+    busy.set(http::field::retry_after, "5");
+    return write(std::move(busy));
+  }
+  // The parser (and its request) stays as it is until the answer is written: nothing else reads it.
+  boost::asio::post(
+      context_->map_work, [self = this->shared_from_this(), place = std::move(*place)]() mutable {
+        auto response = self->context_->router.handle(self->parser_->get());
+        boost::asio::post(self->stream_.get_executor(), [self, response = std::move(response)]() mutable {
+          self->write(std::move(response));
+        });
+      });
 }
 
 template <class Stream>

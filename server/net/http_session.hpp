@@ -32,6 +32,8 @@ class HttpSession : public std::enable_shared_from_this<HttpSession<Stream>> {
   void read_next();
   void on_read(boost::beast::error_code error, std::size_t bytes);
   void upgrade_to_websocket();
+  /// Answers a request that works on the whole map on ServerContext::map_work, or 503 when that is busy.
+  void answer_off_the_network();
   /// A request that could not be read (`error`: the parser's): 400, 413 or 431 with the reason, then closes.
   void refuse_malformed(boost::beast::error_code error);
   void refuse_host();

@@ -107,6 +107,8 @@ void NetworkServer::run() {
   io_.run();
   for (auto& thread : threads)
     thread.join();
+  // A download, save or load under way finishes before the robot's pipeline stops; its answer is not sent.
+  context_->map_work.join();
 }
 
 }  // namespace strata::net

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <boost/asio/thread_pool.hpp>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -79,6 +80,13 @@ struct ServerContext {
   std::unique_ptr<streams::MapStream> map_stream;
   std::unique_ptr<streams::NavigationStream> navigation_stream;
   api::HttpRouter router;
+  /// Requests that work on the whole map (HttpRouter::works_on_the_whole_map) run here, off the network
+  /// threads, and at most kMapWork of them wait or run at once: eight clients downloading the map must not
+  /// stall /healthz or the streams (issue 59 item 10). Last member: joined first, while the rest still
+  /// exists.
+  static constexpr std::size_t kMapWork = 4;
+  ConnectionLimit map_work_places{kMapWork};
+  boost::asio::thread_pool map_work{1};
 };
 
 }  // namespace strata::net

@@ -258,6 +258,10 @@ void WebSocketSession<Stream>::handle_request(const protocol::ClientRequest& req
       return reply(fresh, op, id);
     }
   }
+  if (std::holds_alternative<protocol::SaveMapRequest>(request) ||
+      std::holds_alternative<protocol::LoadMapRequest>(request)) {
+    return run_off_the_network(request, op, id);
+  }
   const CommandResult result = api::run_operator_command(context_->services, request, now);
   if (teleop != nullptr) {
     teleoperating_ = teleoperating_ || result.ok;
@@ -269,6 +273,26 @@ void WebSocketSession<Stream>::handle_request(const protocol::ClientRequest& req
   if (result.ok && std::holds_alternative<protocol::SetGoalRequest>(request))
     goal_id_ = result.goal_id;
   reply(result, op, id);
+}
+
+template <class Stream>
+void WebSocketSession<Stream>::run_off_the_network(const protocol::ClientRequest& request,
+                                                   std::string_view op, const nlohmann::json& id) {
+  auto place = context_->map_work_places.try_acquire();
+  if (!place) {
+    return reply(CommandResult::failure(ErrorCode::kUnavailable,
+                                        "the server is busy with " + std::to_string(ServerContext::kMapWork) +
+                                            " map downloads, saves or loads; try again in a few seconds"),
+                 op, id);
+  }
+  boost::asio::post(context_->map_work, [self = this->shared_from_this(), request, op = std::string(op), id,
+                                         place = std::move(*place)]() mutable {
+    const CommandResult result =
+        api::run_operator_command(self->context_->services, request, std::chrono::steady_clock::now());
+    boost::asio::post(self->ws_.get_executor(), [self, result, op = std::move(op), id = std::move(id)] {
+      self->reply(result, op, id);
+    });
+  });
 }
 
 template <class Stream>

@@ -48,6 +48,9 @@ class WebSocketSession : public streams::ClientConnection,
   void on_read(boost::beast::error_code error, std::size_t bytes);
   void handle_client_message(std::string_view text);
   void handle_request(const protocol::ClientRequest& request, std::string_view op, const nlohmann::json& id);
+  /// A save or load: runs on ServerContext::map_work, off the network threads; the reply comes after.
+  void run_off_the_network(const protocol::ClientRequest& request, std::string_view op,
+                           const nlohmann::json& id);
   void reply(const CommandResult& result, std::string_view op, const nlohmann::json& id);
   void enqueue(streams::OutgoingMessage message);
   void drop_client(std::string_view why);

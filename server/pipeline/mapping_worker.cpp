@@ -339,18 +339,27 @@ std::vector<MapFileInfo> MappingWorker::list_maps() const {
 MapDownload MappingWorker::download(const std::string& format, std::optional<std::uint64_t> version) const {
   MapDownload result;
   run_on_mapping_thread([&] {
+    const std::uint64_t map_version = live_.map().version();
+    if (last_download_ && last_download_->format == format && last_download_->asked == version &&
+        last_download_->map_version == map_version) {
+      result = last_download_->download;
+      result.reused = true;
+      return;
+    }
     try {
-      result.version = live_.map().version();
+      result.version = map_version;
       if (format != "pgm" && format != "yaml") {
         result.bytes = MapStore::download(format, live_.map(), nullptr, result.version);
-        return;
+      } else {
+        const LiveMap::WholeLevel level = live_.whole_level(version);
+        result.version_gone = level.gone;
+        if (level.drivable) {
+          result.version = level.version;
+          result.bytes = MapStore::download(format, live_.map(), level.drivable.get(), level.version);
+        }
       }
-      const LiveMap::WholeLevel level = live_.whole_level(version);
-      result.version_gone = level.gone;
-      if (level.drivable) {
-        result.version = level.version;
-        result.bytes = MapStore::download(format, live_.map(), level.drivable.get(), level.version);
-      }
+      if (!result.bytes.empty())
+        last_download_ = LastDownload{format, version, map_version, result};
     } catch (const std::exception& error) {
       spdlog::error("map download as {} failed: {}", format, error.what());
       result.bytes.clear();

@@ -8,6 +8,8 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <thread>
 #include <variant>
 #include <vector>
@@ -147,6 +149,15 @@ class MappingWorker final : public MapCommands {
   MappingStatus status_;
   bool running_ = false;
   std::thread thread_;
+  /// The last download made (mapping thread only), answered again while the map has not changed: clients
+  /// fetching the same export at once cost one encoding (issue 59 item 10). One kept, the newest.
+  struct LastDownload {
+    std::string format;
+    std::optional<std::uint64_t> asked;  // the version the request named
+    std::uint64_t map_version = 0;       // of the live map it was made from
+    MapDownload download;
+  };
+  mutable std::optional<LastDownload> last_download_;
 };
 
 }  // namespace strata::pipeline

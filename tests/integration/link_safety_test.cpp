@@ -214,6 +214,38 @@ TEST(LinkSafety, ASilentClientIsDroppedAndCounted) {
   EXPECT_EQ(server.stop(), 0);
 }
 
+TEST(HostileInput, ClientsFetchingTheSameExportCostOneEncoding) {
+  // The sensor goes quiet after 10 simulated seconds: the map stops changing, as when the robot stands.
+  ServerProcess server({"--time-scale", "5", "--sim-sensor-outage", "10,100000"});
+  WsClient observer(server.port());
+  int version = -1;
+  for (int i = 0; i < 120; ++i) {
+    const int now = observer.read_op("status", 2000)["map"]["version"].get<int>();
+    if (now > 0 && now == version)
+      break;
+    version = now;
+  }
+  ASSERT_GT(version, 0) << "no map";
+  std::vector<HttpResponse> downloads(4);  // as many as the server works on at once
+  std::vector<std::thread> clients;
+  for (auto& download : downloads)
+    clients.emplace_back([&] { download = http_get(server.port(), "/api/v1/map?format=ply"); });
+  for (auto& client : clients)
+    client.join();
+  int made = 0;
+  for (const auto& download : downloads) {
+    ASSERT_EQ(download.result(), http::status::ok) << download.body();
+    EXPECT_EQ(download.body(), downloads.front().body());
+    EXPECT_EQ(download["X-Strata-Version"], std::to_string(version));
+    made += download["X-Strata-Export"] == "made" ? 1 : 0;
+  }
+  EXPECT_EQ(made, 1) << "four clients asked for the same export at once: it is made once";
+  // Another format is another export; the first is not lost for it.
+  EXPECT_EQ(http_get(server.port(), "/api/v1/map?format=strata")["X-Strata-Export"], "made");
+  EXPECT_EQ(http_get(server.port(), "/healthz").result(), http::status::ok);
+  EXPECT_EQ(server.stop(), 0);
+}
+
 /// `depth` nested arrays around a number: "[[[...1...]]]".
 std::string nested_arrays(std::size_t depth) {
   return std::string(depth, '[') + "1" + std::string(depth, ']');
