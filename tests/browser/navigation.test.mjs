@@ -1,6 +1,6 @@
 // Driving from the page: tap a spot on the map to set a goal, see the path, the robot reaches it (the
-// simulator sped up); the joystick drives the robot and letting go stops it. Needs a server with the
-// navigator; against one without it (set_goal answers `unavailable`) these tests are skipped, saying so.
+// simulator sped up); the joystick drives the robot and letting go stops it. The simulated robot always has
+// a navigator: a server without one (goal commands answer `unavailable`) fails here, never skips.
 // Usage: node --test navigation.test.mjs   (env STRATA_BINARY, STRATA_ARTIFACTS)
 import assert from 'node:assert/strict';
 import { mkdirSync, mkdtempSync } from 'node:fs';
@@ -22,10 +22,9 @@ const mapsDir = mkdtempSync(path.join(tmpdir(), 'strata-maps-'));
 const server = await startServer(binary, ['--time-scale', '4', '--operator-token', TOKEN, '--maps-dir', mapsDir]);
 const browser = await launchBrowser();
 
-// Does this server navigate? Cancelling (no goal) answers 503 `unavailable` when there is no navigator.
+// Cancelling (no goal) answers 503 `unavailable` when there is no navigator.
 const probe = await fetch(`${server.url}/api/v1/goal`, { method: 'DELETE', headers: { Authorization: `Bearer ${TOKEN}` } });
-const navigation = probe.status !== 503;
-const skip = navigation ? false : 'this strata has no navigator (goal commands answer `unavailable`)';
+assert.notEqual(probe.status, 503, 'this strata has no navigator: goal commands answer `unavailable`');
 
 after(async () => {
   await browser.close();
@@ -36,7 +35,7 @@ const distance2d = ([x0, y0], [x1, y1]) => Math.hypot(x1 - x0, y1 - y0);
 
 // First, while the robot still faces along the demo route: after a goal it may stand facing a wall it
 // stopped short of, and pushed forward the simulated bumper holds it (seen once: it did not move 0.4 m).
-test('the joystick drives the robot, and letting go stops it', { skip }, async () => {
+test('the joystick drives the robot, and letting go stops it', async () => {
   const page = await openApp(browser, server.url, { touch: true, token: TOKEN });
   await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
   await until(page, () => window.strata.robotVisible());
@@ -73,7 +72,7 @@ test('the joystick drives the robot, and letting go stops it', { skip }, async (
   await page.context().close();
 });
 
-test('tapping a spot on the map sets a goal there; the path appears and the robot reaches it', { skip }, async () => {
+test('tapping a spot on the map sets a goal there; the path appears and the robot reaches it', async () => {
   const page = await openApp(browser, server.url, { touch: true, token: TOKEN });
   await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
   await until(page, () => window.strata.drawnPatches() > 1000 && window.strata.robotVisible(), null, 90000);
@@ -143,7 +142,7 @@ test('tapping a spot on the map sets a goal there; the path appears and the robo
   await page.context().close();
 });
 
-test('a goal that is no place for the robot fails, and the panel says why in the server\'s words', { skip }, async () => {
+test('a goal that is no place for the robot fails, and the panel says why in the server\'s words', async () => {
   // Issue 21: the panel said "no way to the goal (unreachable)" where the log said what was wrong. A goal
   // inside the lab's shelf (0.3 m behind its face, 3 m from the start, seen in the first scan) is no place for
   // the robot (a spot on the face itself is floor too near an edge, and moves to room):

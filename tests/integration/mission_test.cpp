@@ -11,7 +11,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <thread>
+#include <vector>
 
 #include "core/mls/mls_tile.hpp"
 #include "integration/clients.hpp"
@@ -216,16 +218,46 @@ TEST_F(Mission, TeleopMovesTheRobotAndStopsWhenTheCommandsStop) {
 
 TEST_F(Mission, ClosingTheConnectionStopsATeleoperatedRobot) {
   WsClient observer(port());
+  wait_for_map(observer, 1);  // the robot stands still at the start (its first scan, the gyro's bias)
+  const auto before = nlohmann::json::parse(http_get(port(), "/api/v1/pose").body())["truth"];
   {
     auto op = WsClient::operator_client(port(), kTestOperatorToken);
     TeleopStamper stamper(op->read_op("hello"));
-    for (int i = 0; i < 10; ++i) {
+    for (int i = 0; i < 20; ++i) {  // 1 s: up to speed
       // An id asks for an ack: proof each command was taken.
       op->send_text(stamper.command(-0.2, 0.0, 1));
       op->read_op("ack");
+      std::this_thread::sleep_for(std::chrono::milliseconds(50));
     }
   }  // closed while the last command is still valid
-  wait_until_still(observer);
+  const double closed_at =
+      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+  // Where the robot was when the connection closed (the last pose the server made before), and where it
+  // came to rest. The lease alone would have driven it 0.5 s more: 0.2 m at 0.2 m/s and 2x real time, and
+  // then it slows down (0.03 m).
+  std::optional<nlohmann::json> at_close;
+  std::vector<nlohmann::json> recent;
+  for (int i = 0; i < 5000; ++i) {
+    const auto message = observer.read();
+    if (message["op"] != "pose")
+      continue;
+    if (message["server_time"].get<double>() <= closed_at)
+      at_close = message["truth"];
+    recent.push_back(message["truth"]);
+    if (recent.size() >= 20 && at_close && message["server_time"].get<double>() > closed_at &&
+        std::hypot(recent.back()["x"].get<double>() - recent[recent.size() - 20]["x"].get<double>(),
+                   recent.back()["y"].get<double>() - recent[recent.size() - 20]["y"].get<double>()) < 1e-3)
+      break;
+  }
+  ASSERT_TRUE(at_close) << "no pose from before the close";
+  const double driven = std::hypot((*at_close)["x"].get<double>() - before["x"].get<double>(),
+                                   (*at_close)["y"].get<double>() - before["y"].get<double>());
+  EXPECT_GT(driven, 0.02) << "the teleop commands did not drive the robot";
+  const double after_close = std::hypot(recent.back()["x"].get<double>() - (*at_close)["x"].get<double>(),
+                                        recent.back()["y"].get<double>() - (*at_close)["y"].get<double>());
+  std::printf("teleoperated robot: %.3f m driven, %.3f m after its operator's connection closed\n", driven,
+              after_close);
+  EXPECT_LT(after_close, 0.12) << "the close did not stop the robot: the lease did";
 }
 
 /// Reads status messages until the server counts `clients` WebSocket clients.

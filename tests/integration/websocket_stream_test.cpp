@@ -158,8 +158,14 @@ TEST_F(WebSocketStream, OversizedMessageClosesOnlyThatClient) {
 
 TEST_F(WebSocketStream, UnsupportedSubprotocolIsRefused) {
   EXPECT_THROW(WsClient(port(), "strata.v999"), beast::system_error);
-  EXPECT_NO_THROW(WsClient(port(), "something.else, strata.v1"));
-  EXPECT_NO_THROW(WsClient(port(), ""));  // plain clients get v1
+  // Ours among others: the server picks ours and says so.
+  WsClient listing_ours(port(), "something.else, strata.v1");
+  EXPECT_EQ(listing_ours.handshake_response()[http::field::sec_websocket_protocol], "strata.v1");
+  EXPECT_EQ(listing_ours.read()["op"], "hello");
+  // None at all (a plain client): v1, and no subprotocol named back that the client did not offer.
+  WsClient plain(port(), "");
+  EXPECT_EQ(plain.handshake_response().count(http::field::sec_websocket_protocol), 0u);
+  EXPECT_EQ(plain.read()["op"], "hello");
 }
 
 TEST_F(WebSocketStream, UpgradeElsewhereIsRefused) {

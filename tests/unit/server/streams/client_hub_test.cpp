@@ -47,10 +47,13 @@ TEST(ClientHub, LeftClientsGetNothing) {
 TEST(ClientHub, ExpiredClientsAreSkipped) {
   ClientHub hub;
   auto a = std::make_shared<RecordingClient>();
+  auto b = std::make_shared<RecordingClient>();
   hub.join(a);
-  a.reset();  // destroyed without leaving: broadcasting must not touch it
+  hub.join(b);
+  a.reset();  // destroyed without leaving: broadcasting must not touch it (ASan would see it)
   hub.broadcast(OutgoingMessage::text("x"));
-  SUCCEED();
+  EXPECT_EQ(b->received, std::vector<std::string>{"x"});  // the others still get it
+  EXPECT_EQ(hub.stats().size(), 1u);                      // and only they are listed
 }
 
 TEST(ClientHub, StatsListEveryLiveClientInTheOrderTheyCame) {
