@@ -116,9 +116,7 @@ void HttpSession<Stream>::answer_off_the_network() {
   auto place = context_->map_work_places.try_acquire();
   if (!place) {
     auto busy = api::error_response(parser_->get(), http::status::service_unavailable,
-                                    protocol::ErrorCode::kUnavailable,
-                                    "the server is busy with " + std::to_string(ServerContext::kMapWork) +
-                                        " map downloads, saves or loads; try again in a few seconds");
+                                    protocol::ErrorCode::kUnavailable, ServerContext::map_work_busy());
     busy.set(http::field::retry_after, "5");
     return write(std::move(busy));
   }

@@ -85,6 +85,11 @@ struct ServerContext {
   /// stall /healthz or the streams (issue 59 item 10). Last member: joined first, while the rest still
   /// exists.
   static constexpr std::size_t kMapWork = 4;
+  /// What a request over that bound is told (REST 503 and the WebSocket's `unavailable` alike).
+  static std::string map_work_busy() {
+    return "the server is busy with " + std::to_string(kMapWork) +
+           " map downloads, saves or loads; try again in a few seconds";
+  }
   ConnectionLimit map_work_places{kMapWork};
   boost::asio::thread_pool map_work{1};
 };

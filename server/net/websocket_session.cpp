@@ -280,10 +280,7 @@ void WebSocketSession<Stream>::run_off_the_network(const protocol::ClientRequest
                                                    std::string_view op, const nlohmann::json& id) {
   auto place = context_->map_work_places.try_acquire();
   if (!place) {
-    return reply(CommandResult::failure(ErrorCode::kUnavailable,
-                                        "the server is busy with " + std::to_string(ServerContext::kMapWork) +
-                                            " map downloads, saves or loads; try again in a few seconds"),
-                 op, id);
+    return reply(CommandResult::failure(ErrorCode::kUnavailable, ServerContext::map_work_busy()), op, id);
   }
   boost::asio::post(context_->map_work, [self = this->shared_from_this(), request, op = std::string(op), id,
                                          place = std::move(*place)]() mutable {
