@@ -201,6 +201,17 @@ bool MlsMap::add_point(MlsTile& tile, int local, float z, float variance) {
     const float sum = patch.variance + variance;
     patch.mean = (variance * patch.mean + patch.variance * z) / sum;
     patch.variance = patch.variance * variance / sum;
+  } else if (patch.vertical() && z > patch.top() && z - patch.top() <= tolerance) {
+    // The top of a vertical patch is a surface as well (a slab's: a bridge deck seen from below and from
+    // above): a point above it within the noise of the two refines it as a horizontal patch's height is
+    // refined. Raised to every point above, it stood at the highest noise seen, up to 0.12 m above the
+    // deck around it: a step no wheel takes (issue 58). Points below the top are inside the patch and
+    // never lower it, so a curb is no lower than its points say.
+    const float bottom = patch.bottom();
+    const float sum = patch.variance + variance;
+    patch.mean = (variance * patch.mean + patch.variance * z) / sum;
+    patch.variance = patch.variance * variance / sum;
+    patch.depth = patch.mean - bottom;
   } else {
     // Heights spanning more than tau without a gap: a vertical structure from its lowest to highest point.
     const float top = std::max(patch.top(), z);

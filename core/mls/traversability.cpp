@@ -68,7 +68,7 @@ SurfaceGrid::SurfaceGrid(const MlsMap& map, const CellRegion& region, const Trav
   drive_over_seams();
 }
 
-bool SurfaceGrid::neighbour_height(int col, int row, float height, float& out) const {
+bool SurfaceGrid::neighbour_height(int col, int row, float height, float& out, bool slabs) const {
   if (col < 0 || row < 0 || col >= region_.width || row >= region_.height)
     return false;
   const std::size_t c = cell(col, row);
@@ -84,7 +84,7 @@ bool SurfaceGrid::neighbour_height(int col, int row, float height, float& out) c
   float best = 0.5F;
   bool found = false;
   for (const Surface& s : surfaces(c)) {
-    if (s.vertical)
+    if (s.vertical && !slabs)
       continue;
     const float difference = std::abs(s.top - height);
     if (difference < best) {
@@ -207,12 +207,19 @@ void SurfaceGrid::classify() {
   // 25 heights does not.
   const double max_step = config_.max_step;
   const double gradient_per_cell = max_gradient * cell_size_;
-  const auto plane_gradient = [&](int col, int row, float height) {
+  // The plane's gradient, and on which sides of the cell its neighbours lie (kLeft | kRight | ...).
+  enum Side : unsigned { kLeft = 1U, kRight = 2U, kBelow = 4U, kAbove = 8U, kEverySide = 15U };
+  struct Plane {
+    double gradient = 0.0;
+    unsigned sides = 0U;
+  };
+  const auto fit_plane = [&](int col, int row, float height, bool slabs) {
+    Plane plane;
     double n = 1.0, sx = 0.0, sy = 0.0, sz = 0.0, sxx = 0.0, syy = 0.0, sxy = 0.0, sxz = 0.0, syz = 0.0;
     for (int dr = -2; dr <= 2; ++dr)
       for (int dc = -2; dc <= 2; ++dc) {
         float neighbour = 0.0F;
-        if ((dr == 0 && dc == 0) || !neighbour_height(col + dc, row + dr, height, neighbour))
+        if ((dr == 0 && dc == 0) || !neighbour_height(col + dc, row + dr, height, neighbour, slabs))
           continue;
         // The surface itself is at (0, 0, 0).
         const double x = dc, y = dr, z = static_cast<double>(neighbour - height);
@@ -220,14 +227,17 @@ void SurfaceGrid::classify() {
           continue;
         n += 1.0;
         sx += x, sy += y, sz += z, sxx += x * x, syy += y * y, sxy += x * y, sxz += x * z, syz += y * z;
+        plane.sides |=
+            (dc < 0 ? kLeft : 0U) | (dc > 0 ? kRight : 0U) | (dr < 0 ? kBelow : 0U) | (dr > 0 ? kAbove : 0U);
       }
     const double cxx = sxx - sx * sx / n, cyy = syy - sy * sy / n, cxy = sxy - sx * sy / n;
     const double cxz = sxz - sx * sz / n, cyz = syz - sy * sz / n;
     const double det = cxx * cyy - cxy * cxy;
     if (det > 1e-6)
-      return std::hypot((cyy * cxz - cxy * cyz) / det, (cxx * cyz - cxy * cxz) / det);
-    // The neighbours on one line (or none): its gradient per axis (on a diagonal, sqrt(2) too steep).
-    return std::hypot(cxx > 1e-9 ? cxz / cxx : 0.0, cyy > 1e-9 ? cyz / cyy : 0.0);
+      plane.gradient = std::hypot((cyy * cxz - cxy * cyz) / det, (cxx * cyz - cxy * cxz) / det);
+    else  // the neighbours on one line (or none): its gradient per axis (on a diagonal, sqrt(2) too steep)
+      plane.gradient = std::hypot(cxx > 1e-9 ? cxz / cxx : 0.0, cyy > 1e-9 ? cyz / cyy : 0.0);
+    return plane;
   };
   for (int row = 0; row < region_.height; ++row)
     for (int col = 0; col < region_.width; ++col) {
@@ -236,15 +246,21 @@ void SurfaceGrid::classify() {
       const std::uint32_t end = begin_[index + 1];
       for (std::uint32_t i = begin; i < end; ++i) {
         Surface& s = surfaces_[i];
-        if (s.vertical)
-          continue;
-        if (s.driven) {
+        if (s.driven && !s.vertical) {
           s.traversable = true;
           continue;
         }
         if (i + 1 < end && surfaces_[i + 1].bottom - s.top < robot_height)
           continue;  // the patch above leaves too little room
-        s.traversable = plane_gradient(col, row, s.top) <= gradient_per_cell;
+        // A vertical patch is a slab, not a wall, where level ground or other slabs continue its top on
+        // every side: a bridge deck or an upper floor, seen from below as well as from above, is one
+        // patch from its underside to its top (the gap rule), and stood as a wall across the deck (issue
+        // 58: no goal on the campus bridge). A wall's top, a curb or a drop's edge has ground at its
+        // height on one side at most.
+        const Plane plane = fit_plane(col, row, s.top, s.vertical);
+        if (s.vertical && plane.sides != kEverySide)
+          continue;
+        s.traversable = plane.gradient <= gradient_per_cell;
       }
     }
 }

@@ -115,8 +115,9 @@ class SurfaceGrid {
   [[nodiscard]] std::size_t cell_of_surface(std::uint32_t index) const;
 
  private:
-  /// Height of the horizontal surface in (col, row) nearest `height` (within 0.5 m), if any.
-  [[nodiscard]] bool neighbour_height(int col, int row, float height, float& out) const;
+  /// Height of the horizontal surface in (col, row) nearest `height` (within 0.5 m), if any; with `slabs`,
+  /// of the top of any surface.
+  [[nodiscard]] bool neighbour_height(int col, int row, float height, float& out, bool slabs = false) const;
   void classify();
   /// Where one structure ends against another (a ramp's end under a bridge deck), the cell at the seam
   /// holds the end face seen from below and the surface seen from above: one vertical patch. Its top is

@@ -8,10 +8,13 @@
 //
 //   strata_goal_drive_bench [--world yard|campus] [--scanner tilting|lidar] [--warmup S] [--goals N]
 //                           [--timeout S] [--time-scale X] [--seed K] [--dump DIR] [--record DIR]
+//                           [--goals-at X,Y,Z;X,Y,Z...]
 //   defaults: yard, tilting, 60 simulated seconds of demo route, 20 goals, 240 simulated seconds per goal,
 //   time scale 20, seed 1 (picks the goals; the simulator's own seed is the server's default); with --dump,
 //   the map downloaded before each goal that was not reached is saved as DIR/goal_<i>.strata; with
-//   --record, the server records its scans and odometry there (`strata serve --replay` plays them again)
+//   --record, the server records its scans and odometry there (`strata serve --replay` plays them again);
+//   with --goals-at, the goals are these places (true coordinates) in turn instead of random seen ground,
+//   e.g. up and down the campus bridge ramp: --goals-at "84,-28.75,3;44,-28.75,0" (issue 58)
 //
 //   goal     i, where from and to, distance; phase it ended in (reached, failed, timeout) and the reason;
 //            accepted: the server planned a way and drove (it did not refuse the goal); simulated seconds;
@@ -28,7 +31,9 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <random>
+#include <stdexcept>
 #include <string>
 #include <thread>
 #include <vector>
@@ -56,9 +61,28 @@ struct Options {
   double timeout = 240.0;
   std::string time_scale = "20";
   unsigned seed = 1;
-  std::string dump;    ///< a folder for the maps of goals not reached; empty: none saved
-  std::string record;  ///< a folder the server records the run into; empty: not recorded
+  std::string dump;                       ///< a folder for the maps of goals not reached; empty: none saved
+  std::string record;                     ///< a folder the server records the run into; empty: not recorded
+  std::vector<Eigen::Vector3d> goals_at;  ///< fixed goals, taken in turn; empty: random seen ground
 };
+
+/// "X,Y,Z;X,Y,Z..." as places; throws on anything else, so a typo never runs as random goals.
+std::vector<Eigen::Vector3d> parse_places(const std::string& text) {
+  std::vector<Eigen::Vector3d> places;
+  std::size_t start = 0;
+  while (start < text.size()) {
+    const std::size_t end = std::min(text.find(';', start), text.size());
+    Eigen::Vector3d place;
+    int used = 0;
+    const std::string item = text.substr(start, end - start);
+    if (std::sscanf(item.c_str(), "%lf,%lf,%lf%n", &place.x(), &place.y(), &place.z(), &used) != 3 ||
+        used != static_cast<int>(item.size()))
+      throw std::invalid_argument("--goals-at: \"" + item + "\" is not X,Y,Z");
+    places.push_back(place);
+    start = end + 1;
+  }
+  return places;
+}
 
 Options parse(int argc, char** argv) {
   Options options;
@@ -83,6 +107,8 @@ Options parse(int argc, char** argv) {
       options.dump = value;
     else if (key == "--record")
       options.record = value;
+    else if (key == "--goals-at")
+      options.goals_at = parse_places(value);
   }
   return options;
 }
@@ -175,7 +201,9 @@ int main(int argc, char** argv) {
   const std::uint16_t port = server.port();
   // Surveyed while the robot warms up: surveying takes seconds in which the demo route drives on, so done
   // between reading where the robot is and sending it a goal, it made goals 10 m off their distance.
-  const PatchGraph truth = test::surveyed_graph(world, kMapResolution, kNavigatorGraph);
+  std::optional<PatchGraph> truth;
+  if (options.goals_at.empty())
+    truth = test::surveyed_graph(world, kMapResolution, kNavigatorGraph);
   while (get_json(port, "/api/v1/pose").value("stamp", 0.0) < options.warmup)
     std::this_thread::sleep_for(std::chrono::milliseconds(200));
 
@@ -192,10 +220,14 @@ int main(int argc, char** argv) {
     std::string map_file;
     const PatchGraph seen = download_graph(port, map_file);
     std::vector<Eigen::Vector3d> spots;
-    for (const Eigen::Vector3d& spot : test::seen_goal_spots(truth, seen, robot)) {
-      const double distance = std::hypot(spot.x() - robot.x(), spot.y() - robot.y());
-      if (distance >= 2.0 && distance <= 20.0)
-        spots.push_back(spot);
+    if (!options.goals_at.empty()) {
+      spots.push_back(options.goals_at[static_cast<std::size_t>(i) % options.goals_at.size()]);
+    } else {
+      for (const Eigen::Vector3d& spot : test::seen_goal_spots(*truth, seen, robot)) {
+        const double distance = std::hypot(spot.x() - robot.x(), spot.y() - robot.y());
+        if (distance >= 2.0 && distance <= 20.0)
+          spots.push_back(spot);
+      }
     }
     if (spots.empty()) {
       std::printf("goal i=%d from=%.2f,%.2f,%.2f none: no seen ground 2-20 m away\n", i, robot.x(), robot.y(),

@@ -7,11 +7,12 @@
 //
 //   strata_live_navigation_bench [--world yard|campus] [--scanner tilting|lidar] [--seconds S]
 //                                [--spacing M] [--max-gap M] [--track 0|1] [--ascii FILE]
-//                                [--map FILE --at X,Y,Z]
+//                                [--map FILE --at X,Y,Z] [--save-map FILE]
 //
 //   --max-gap: the longest unseen gap inferred as ground (0: none)
 //   --track: 1 (default) marks the ground the robot drove over, as the live map does; 0 does not
 //   --map, --at: a map saved by the server, and where the robot stands on it, instead of a simulated drive
+//   --save-map: writes the map the goals are tried on (a native map file)
 //   map     scans mapped, cells and patches of the live map, graph nodes, ms to build the graph
 //   goals   per distance band from the robot: goals tried, planned (a way found; strata_goal_drive_bench
 //           drives them), and why the others failed;
@@ -50,6 +51,7 @@ struct Options {
   std::string ascii;
   std::string map;              ///< a saved map instead of a simulated drive (with `at`)
   Eigen::Vector3d at{0, 0, 0};  ///< where the robot stands on that map
+  std::string save_map;         ///< where to write the map; empty: not written
 };
 
 Options parse(int argc, char** argv) {
@@ -73,6 +75,8 @@ Options parse(int argc, char** argv) {
       options.ascii = value;
     else if (key == "--map")
       options.map = value;
+    else if (key == "--save-map")
+      options.save_map = value;
     else if (key == "--at")
       std::sscanf(value, "%lf,%lf,%lf", &options.at.x(), &options.at.y(), &options.at.z());
   }
@@ -133,6 +137,8 @@ int main(int argc, char** argv) {
       ++scans;
     }
   }
+  if (!options.save_map.empty())
+    save_mls_map(live, options.save_map);
   const Eigen::Vector3d robot = options.map.empty() ? simulator.sample().truth->position : options.at;
 
   PatchGraphConfig graph_config{.clearance_weight = 2.0};  // the navigator's

@@ -8,6 +8,11 @@
 //
 // Usage: strata_sequence_bench DIR [--pace max|recorded] [--time-scale X] [--mount estimate|identity]
 //        [--every N] [--quiet]   (--every N: every n-th scan only: scans dropped, turns n times as sharp)
+//        [--odometry none|recorded] [--save-map FILE]
+//   --odometry recorded: the dataset's odometry (a recording's odometry.csv, e.g. `strata serve --record`
+//                        of the simulator), instead of the lidar alone
+//   --save-map FILE: the map at the end, as Download "strata" gives it (for strata_live_navigation_bench
+//   --map)
 //        strata_sequence_bench --all [--data DIR] [options]: every sequence in DATA/sequences
 //        strata_sequence_bench DIR --lay-out OUT: only writes OUT/scans.csv, for `strata serve --replay OUT`
 // DIR: a scans.csv with truth_* columns, or a layout of ../shared/data/sequences
@@ -22,6 +27,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <mutex>
 #include <optional>
@@ -47,6 +53,8 @@ struct Settings {
   bool estimate_mount = true;  // as a scans.csv without mount columns replays
   bool quiet = false;
   std::size_t every = 1;  // keep every n-th scan
+  bool recorded_odometry = false;
+  std::string save_map;  // empty: not saved
 };
 
 /// What the pipeline's observer saw, on the localizer's thread.
@@ -68,7 +76,8 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
   const fs::path list = test::scan_list_for(dir, scratch, settings.every);
   replay::ReplayOptions options;
   options.pacing = {.time_scale = settings.time_scale, .as_fast_as_possible = !settings.recorded_pace};
-  options.odometry = replay::OdometrySource::kNone;
+  options.odometry =
+      settings.recorded_odometry ? replay::OdometrySource::kDataset : replay::OdometrySource::kNone;
   if (!settings.estimate_mount)
     options.mount = Eigen::Isometry3d::Identity();
   replay::Dataset dataset = replay::open_dataset(list);
@@ -99,6 +108,12 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
     }
   }
   const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!settings.save_map.empty()) {
+    const MapDownload map = robot.services().maps->download("strata", std::nullopt);
+    std::ofstream(settings.save_map, std::ios::binary)
+        .write(reinterpret_cast<const char*>(map.bytes.data()),
+               static_cast<std::streamsize>(map.bytes.size()));
+  }
   robot.stop();
   fs::remove_all(scratch);
 
@@ -178,6 +193,10 @@ int main(int argc, char** argv) {
       settings.recorded_pace = std::string(argv[++i]) == "recorded";
     else if (arg == "--time-scale" && has_value)
       settings.time_scale = std::atof(argv[++i]);
+    else if (arg == "--odometry" && has_value)
+      settings.recorded_odometry = std::string(argv[++i]) == "recorded";
+    else if (arg == "--save-map" && has_value)
+      settings.save_map = argv[++i];
     else if (arg == "--mount" && has_value)
       settings.estimate_mount = std::string(argv[++i]) != "identity";
     else if (!arg.starts_with("--"))

@@ -144,6 +144,29 @@ TEST(MlsMap, WallIsAVerticalPatchAndOccupied) {
   EXPECT_EQ(drivable.connected[drivable.grid.index(drivable.grid.cell_of({2.3, 0.05}))], 0);
 }
 
+// A slab seen from below and from above (a bridge deck, an upper floor) is one vertical patch from its
+// underside to its top. Its top is a surface: points from afar scatter about it, and it must stay where
+// they are, not climb to the highest of them, or the deck's cells stand as steps among their neighbours.
+TEST(MlsMap, ASlabsTopIsItsSurfaceNotTheHighestNoiseSeenOnIt) {
+  MlsMap map(static_scene_config());
+  PointCloud top;
+  test::add_plane(top, 0, 0.1, 0, 0.1, 1.5, 0.02);
+  map.insert_scan(top, {0, 0, 2.5});
+  map.insert_scan(PointCloud{{0.05, 0.05, 1.2}}, {0, 0, 0.5});  // the underside, from below
+  PointCloud far;  // the top seen again from 10 m away, scattered 5 cm
+  test::add_surface(
+      far, 0, 0.1, 0, 0.1, [](double, double) { return 1.5; }, 0.005, 0.05, 3);
+  map.insert_scan(far, {10, 0, 2.5});
+  const auto slab = patches_at(map, 0.05, 0.05);
+  ASSERT_EQ(slab.size(), 1U);
+  EXPECT_TRUE(slab[0].vertical());
+  EXPECT_NEAR(slab[0].top(), 1.5F, 0.02F) << "the highest of " << far.size() << " points is far above";
+  EXPECT_NEAR(slab[0].bottom(), 1.2F, 0.01F);
+  // What stands well above the top still raises it: a wall is as high as its highest point.
+  map.insert_scan(PointCloud{{0.05, 0.05, 2.0}}, {0, 0, 2.5});
+  EXPECT_NEAR(patches_at(map, 0.05, 0.05)[0].top(), 2.0F, 1e-4F);
+}
+
 TEST(MlsMap, FloorUnderATableIsDrivableForALowRobotOnly) {
   // gamma at the low robot's height, so the table top (0.75 m) is a surface of its own above the floor.
   MlsMap map(static_scene_config(0.5));

@@ -12,10 +12,12 @@
 
 #include "core/mls/drivable_map.hpp"
 #include "core/navigation/patch_graph.hpp"
+#include "core/navigation/patch_graph_planner.hpp"
 #include "drivers/sim/simulator.hpp"
 #include "drivers/sim/world/world_file.hpp"
 #include "tests/support/navigation_scenes.hpp"
 #include "tests/support/seen_goals.hpp"
+#include "tests/unit/core/mls/mls_scenes.hpp"
 
 namespace strata {
 namespace {
@@ -104,6 +106,60 @@ TEST(SurfaceGridRules, TheRobotStandsOnAnyHorizontalPatchThePlannerOnlyOnTravers
   EXPECT_FALSE(surfaces.surface(*beside_wall).vertical);
   EXPECT_NE(surfaces.cell_of_surface(*beside_wall), surfaces.cell(wall_col, wall_row));
   EXPECT_FALSE(surfaces.nearest_surface(col, row, std::nan(""), 0.5, 3, SurfaceGrid::Standing::kHorizontal));
+}
+
+// Issue 58: on the campus bridge, the deck's underside, seen from the road, and its top made one vertical
+// patch in most of the deck's cells, and no goal on the deck could be reached. A slab's top is ground
+// where ground continues it on every side; the railings along it and the deck's edge are not.
+TEST(SurfaceGridRules, ADeckSeenFromBelowAndAboveIsDrivenOnItsRailingsAreNot) {
+  MlsMap map(test::scene_config());
+  PointCloud road, top, underside, railings;
+  test::add_plane(road, -6, 6, -4, 4, 0.0, 0.05);
+  test::add_surface(
+      top, -4, 4, -1.25, 1.25, [](double, double) { return 1.5; }, 0.05, 0.02);
+  // Seen from below in blobs, as a lidar on the road sees it between the pillars: squares of 0.5 m.
+  test::add_surface(
+      underside, -4, 4, -1.25, 1.25, [](double, double) { return 1.2; }, 0.05, 0.0);
+  std::erase_if(underside, [](const Eigen::Vector3d& p) {
+    return (static_cast<int>(std::floor(p.x() / 0.5)) + static_cast<int>(std::floor(p.y() / 0.5))) % 2 != 0;
+  });
+  test::add_vertical_face(railings, -4, -1.32, 4, -1.32, 1.5, 2.5, 0.05);
+  test::add_vertical_face(railings, -4, 1.32, 4, 1.32, 1.5, 2.5, 0.05);
+  map.insert_scan(road, {0, 0, 0.5});
+  map.insert_scan(underside, {0, 0, 0.5});
+  map.insert_scan(top, {0, 0, 2.5});
+  map.insert_scan(railings, {0, 0, 2.5});
+
+  const SurfaceGrid grid(map, CellRegion::of_tiles(map.tile_indices()), TraversabilityConfig{});
+  std::size_t slabs = 0, slabs_traversable = 0, railing = 0, railing_traversable = 0;
+  for (std::size_t c = 0; c + 1 < grid.region().width * static_cast<std::size_t>(grid.region().height); ++c)
+    for (const SurfaceGrid::Surface& s : grid.surfaces(c)) {
+      if (s.vertical && s.top > 1.4F && s.top < 1.6F && s.bottom < 1.3F) {
+        ++slabs;
+        slabs_traversable += s.traversable ? 1 : 0;
+      }
+      if (s.top > 2.4F) {
+        ++railing;
+        railing_traversable += s.traversable ? 1 : 0;
+      }
+    }
+  ASSERT_GT(slabs, 1000U) << "half the deck's cells are slabs";
+  EXPECT_GT(static_cast<double>(slabs_traversable), 0.85 * static_cast<double>(slabs)) << "all but the edges";
+  ASSERT_GT(railing, 100U);
+  EXPECT_EQ(railing_traversable, 0U) << "a railing's top is not ground";
+
+  PatchGraphConfig graph_config;
+  const PatchGraph graph(std::make_shared<const SurfaceGrid>(grid), map.resolution(), graph_config);
+  const PatchPath across = plan_on_patches(graph, {-3.0, 0.05, 1.5}, {.x = 3.0, .y = 0.05, .z = 1.5});
+  EXPECT_TRUE(across.found()) << describe(across.status);
+  EXPECT_NEAR(across.length, 6.0, 0.5);
+  // The deck's edges have ground at its height on one side only: its top there is not ground, and it
+  // holds no robot (the deck is 2.5 m wide, the robot 0.9 m).
+  const auto edge = graph.locate(0.05, 1.25, 1.5, 0.1);
+  EXPECT_TRUE(!edge || !graph.passable(*edge));
+  // Under the deck, the road: clear for the robot, 1.2 m below the underside.
+  const PatchPath under = plan_on_patches(graph, {-5.5, 0.05, 0.0}, {.x = 5.5, .y = 0.05, .z = 0.0});
+  EXPECT_TRUE(under.found()) << describe(under.status);
 }
 
 /// Of the horizontal surfaces the map holds over a box (x, y within it, top within [z0, z1]), the share
