@@ -2,7 +2,7 @@
 // state, which a black canvas would pass. Here the server maps one scan and keeps that map (--max-scans 1),
 // the robot is stopped, and screenshots are compared with what the server says the map is: the drivable
 // view cell by cell with the server's occupancy image, the 3D view's pixels with the classes of the patches
-// they show, in the map's documented colours.
+// they show, in the map's documented colours; and the screen with the WebGL canvas's own frame.
 // Usage: node --test map_pixels.test.mjs   (env STRATA_BINARY, STRATA_ARTIFACTS)
 import assert from 'node:assert/strict';
 import { mkdirSync, writeFileSync } from 'node:fs';
@@ -119,6 +119,12 @@ async function screenshot(page, name) {
   const png = await page.screenshot();
   writeFileSync(path.join(artifacts, name), png);
   return decodePng(png);
+}
+
+/** What the WebGL canvas holds, decoded: its last frame (the page keeps it, preserveDrawingBuffer). */
+async function canvasBuffer(page) {
+  const url = await page.evaluate(() => document.querySelector('#view canvas').toDataURL('image/png'));
+  return decodePng(Buffer.from(url.slice(url.indexOf(',') + 1), 'base64'));
 }
 
 const BACKGROUND = [0x11, 0x15, 0x1c]; // the scene's background (scene_view.js), where nothing is drawn
@@ -286,6 +292,39 @@ test('the 3D view draws the tiles\' floors and walls in their colours, where the
     assert.ok(entry?.samples >= 50, `at least 50 samples show ${name}: ${detail}`);
     assert.ok(entry.matched >= least * entry.samples, `where the map has ${name}, the view shows it: ${detail}`);
   }
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});
+
+// Where no GPU is usable Chromium composites in software, as in these tests: there an opaque bar over the
+// top of the WebGL canvas made it leave out the canvas's bottom strip, as tall as the bar (as if what the bar
+// hides were worked out from the wrong end of the upside-down WebGL image). Wherever nothing covers the
+// canvas, the screen shows the canvas's last frame.
+test('the screen shows all of the map that nothing covers', async (t) => {
+  const { image, originX, originY, resolution: r, level } = occupancy;
+  const page = await openApp(browser, server.url); // the robot's 1280 x 800 screen
+  await until(page, (version) => window.strata.occupancy()?.version === version, occupancy.version);
+  // The drivable map from near by fills the screen: no part of it the background colour.
+  await page.getByRole('button', { name: 'Drivable' }).click();
+  await page.getByRole('button', { name: 'Follow robot' }).click();
+  await until(page, () => window.strata.occupancy().visible);
+  await aimCamera(page, [originX + (image.width * r) / 2, originY + (image.height * r) / 2, level], 5);
+  const grid = [];
+  for (let y = 2; y < 800; y += 6) for (let x = 2; x < 1280; x += 6) grid.push({ x, y });
+  const { fromScreen } = await locate(page, { screenPoints: grid });
+  const shot = await screenshot(page, 'pixels_canvas.png');
+  const buffer = await canvasBuffer(page);
+  const rows = new Set(); // where the screen is not the canvas
+  let samples = 0;
+  for (const p of fromScreen.filter((q) => q.shown)) {
+    samples += 1;
+    const [a, b] = [rgbAt(shot, p.x, p.y), rgbAt(buffer, p.x, p.y)];
+    if (Math.max(...a.map((c, i) => Math.abs(c - b[i]))) > 2) rows.add(p.y);
+  }
+  const differ = [...rows].sort((a, b) => a - b);
+  t.diagnostic(`${samples} samples; rows where the screen differs: ${differ.length ? `${differ[0]} to ${differ.at(-1)}` : 'none'}`);
+  assert.ok(samples > grid.length / 2, `the canvas is in sight: ${samples} of ${grid.length} samples`);
+  assert.deepEqual(differ, [], 'the screen shows the canvas wherever nothing covers it');
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });
