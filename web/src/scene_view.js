@@ -51,6 +51,7 @@ export class SceneView {
     this.level = 0; // m: the height of the ground the robot stands on
     this.view = null;
     this.frames = 0;
+    this.complete = false;
     this.onFrame = null;
     this.uncoveredArea = null; // client px: where the bar and the panel leave the map in sight
     applyView(this, '3d');
@@ -228,8 +229,10 @@ export class SceneView {
     this.dirty = false;
     this.urgent = false;
     // Tiles whose detail is still being built are drawn again when due, finer.
-    if (this.tiles.group.visible && this.tiles.update(this.camera, this.renderer)) this.dirty = true;
+    const pending = this.tiles.group.visible && this.tiles.update(this.camera, this.renderer);
+    if (pending) this.dirty = true;
     this.renderer.render(this.scene, this.camera);
+    this.complete = !pending; // every shown tile drawn at the detail it calls for (tests wait for it)
     this.frames += 1;
     this.onFrame?.(performance.now() - start);
   }

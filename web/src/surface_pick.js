@@ -31,6 +31,11 @@ export function surfaceAt(sceneView, clientX, clientY) {
   return { x: patch.x, y: patch.y, z: patch.z };
 }
 
+/** The map's patch under a screen position, wall or floor: { x, y, z (its top), vertical }, or null. */
+export function patchAt(sceneView, clientX, clientY) {
+  return sceneView.tiles.pick(rayThrough(sceneView, clientX, clientY).ray);
+}
+
 /** Where the line of sight through a screen position meets the horizontal plane at height z, or null. */
 export function pointAtHeight(sceneView, clientX, clientY, z) {
   const ray = rayThrough(sceneView, clientX, clientY).ray;

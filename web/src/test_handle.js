@@ -1,6 +1,7 @@
 // window.strata: a read-only handle for the browser tests and benchmarks, and for poking around in the
 // console. Its names are what tests/browser/ reads: keep them.
 import * as THREE from 'three';
+import { patchAt } from './surface_pick.js';
 import { CLASS_TRAVERSABLE, CLASS_VERTICAL } from './tile_decoder.js';
 
 /** The nearest drawn, traversable, horizontal patch to (x, y) within `radius` m (and within 0.5 m of
@@ -56,7 +57,12 @@ export function installTestHandle({ view, goals, poses, joystick, notices, perf,
     cameraDistance: () => view.controls.getDistance(),
     cameraAzimuth: () => view.controls.getAzimuthalAngle(),
     frames: () => view.frames,
-    occupancy: () => (view.occupancy.frames ? { frames: view.occupancy.frames, visible: view.occupancy.plane.visible, ...view.occupancy.census() } : null),
+    frameComplete: () => view.complete, // the last frame drew no tile coarser than it should
+    // The drivable map's mosaic: how many frames, the map version of the newest, and its pixel census.
+    occupancy: () => {
+      const { frames, plane, latest } = view.occupancy;
+      return frames ? { frames, version: latest.version, visible: plane.visible, ...view.occupancy.census() } : null;
+    },
     goal: () => ({ ...goals.lastGoal }),
     goalSent: () => goals.lastGoalSent && { ...goals.lastGoalSent },
     goalArmed: () => goals.tool.armed,
@@ -74,6 +80,7 @@ export function installTestHandle({ view, goals, poses, joystick, notices, perf,
     findSurfaces: (query) => findSurfaces(view, query),
     screenPoint: (point) => screenPoint(view, point),
     surfaceAt: (clientX, clientY) => goals.tool.surfaceAt(clientX, clientY), // what a tap there would pick
+    patchAt: (clientX, clientY) => patchAt(view, clientX, clientY), // the patch drawn there, wall or floor
     // For bench_render.mjs: draw again now (to measure frame rates), aim the camera, what a frame cost.
     redraw: () => view.requestRender({ now: true }),
     aimCamera: (target, distance) => aimCamera(view, target, distance),
