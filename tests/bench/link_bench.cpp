@@ -5,7 +5,7 @@
 //   late joiner: at 0.5 Mbit/s, the gaps between poses while its map snapshot streams, and when the first
 //           pose came;
 //   outage: at 2 Mbit/s, the link down 3 s: how many poses older than 1 s arrive after it returns.
-// Usage: strata_link_bench [seconds=20] [extra strata serve options...]
+// Usage: strata_link_bench [seconds=20] [--warmup S (default 45)] [extra strata serve options...]
 // Set STRATA_SERVER_BINARY to measure another build. Prints one JSON object.
 #include <algorithm>
 #include <chrono>
@@ -147,11 +147,16 @@ nlohmann::json outage(std::uint16_t port, double mbit) {
 
 int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::stod(argv[1]) : 20.0;
+  double warmup_s = 45.0;  // a map to stream: ~225 s of the simulated drive
   std::vector<std::string> extra{"--time-scale", "5"};
-  for (int i = 2; i < argc; ++i)
-    extra.emplace_back(argv[i]);
+  for (int i = 2; i < argc; ++i) {
+    if (std::string(argv[i]) == "--warmup" && i + 1 < argc)
+      warmup_s = std::stod(argv[++i]);
+    else
+      extra.emplace_back(argv[i]);
+  }
   strata::testing::ServerProcess server(extra);
-  std::this_thread::sleep_for(45s);  // a map to stream: ~225 s of the simulated drive
+  std::this_thread::sleep_for(std::chrono::duration<double>(warmup_s));
   nlohmann::json result;
   result["late_joiner"] = late_joiner(server.port(), 0.5);
   result["steady_2mbit"] = steady(server.port(), 2.0, seconds);
