@@ -41,16 +41,31 @@ LiveMap::LiveMap(LiveMapOptions options) : options_(std::move(options)), map_(op
 
 MappingTimes LiveMap::add_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
                                const Eigen::Vector3d& robot_ground, double received_at) {
+  MappingTimes times = insert_scan(points, sensor_origin, robot_ground, received_at);
+  refresh_pending(times);
+  return times;
+}
+
+MappingTimes LiveMap::insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
+                                  const Eigen::Vector3d& robot_ground, double received_at) {
   MappingTimes times;
   received_at_ = received_at;
-  const std::uint64_t before = map_.version();
+  if (!pending_since_)
+    pending_since_ = map_.version();
   const auto start = Clock::now();
   // With the ground under the robot marked driven: it never strands itself (issue 21).
   map_.insert_scan(points, sensor_origin, robot_ground);
   times.insert_ms = ms_since(start);
   robot_ground_ = robot_ground;
-  refresh(changed_region(map_, before, robot_ground), before, times);
   return times;
+}
+
+bool LiveMap::refresh_pending(MappingTimes& times) {
+  if (!pending_since_ || !robot_ground_)
+    return false;
+  const std::uint64_t since = std::exchange(pending_since_, std::nullopt).value();
+  refresh(changed_region(map_, since, *robot_ground_), since, times);
+  return true;
 }
 
 bool LiveMap::follow_robot(const Eigen::Vector3d& robot_ground, double radius, double every) {
@@ -82,6 +97,8 @@ void LiveMap::replace(MlsMap map, Replacement why) {
       map.set_tile_version(tile, version);
   // All or nothing: a map whose drivable map and tiles cannot be made (out of memory) leaves the live map
   // as it was, rather than half replaced with every later update failing on it.
+  // What was inserted into the old map is gone with it; the refresh below covers the whole new one.
+  const std::optional<std::uint64_t> previous_pending = std::exchange(pending_since_, std::nullopt);
   MlsMap previous = std::exchange(map_, std::move(map));
   auto previous_tiles = std::exchange(tiles_, {});
   const std::optional<DrivableMap> previous_drivable = drivable_;
@@ -103,6 +120,7 @@ void LiveMap::replace(MlsMap map, Replacement why) {
     occupancy_ = previous_occupancy;
     followed_from_ = previous_followed_from;
     received_at_ = previous_received_at;
+    pending_since_ = previous_pending;
     if (why == Replacement::kRebuilt)
       --rebuilds_;
     throw;

@@ -45,6 +45,14 @@ class LiveMap {
   /// `received_at`: wall-clock time the scan reached the pipeline, stamped on what it changes.
   MappingTimes add_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
                         const Eigen::Vector3d& robot_ground, double received_at = 0.0);
+  /// Step 6 alone: the scan joins the MLS map; the drivable map, the tiles and the snapshot (7-8) wait for
+  /// refresh_pending(). A burst of scans then costs one refresh: with a lidar's far-reaching rays a
+  /// refresh covers a scan's whole reach and cost 200 ms on the campus (issue 58), so refreshing after
+  /// each of ten scans a second left most scans unmapped.
+  MappingTimes insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
+                           const Eigen::Vector3d& robot_ground, double received_at = 0.0);
+  /// Steps 7-8 for every scan inserted since the last refresh; false (and nothing done) if there is none.
+  bool refresh_pending(MappingTimes& times);
 
   /// Whether the robot localizes in this map (loaded for localizing: it does not change), for the
   /// snapshots from the next change on.
@@ -98,6 +106,8 @@ class LiveMap {
   bool localizing_ = false;
   mutable WholeLevel whole_level_;  ///< the last one made: a cache, so whole_level() stays const
   double received_at_ = 0.0;        // of the scan being added: stamped on the tiles and image it changes
+  /// The map's version before the first scan inserted and not yet refreshed; none: nothing pending.
+  std::optional<std::uint64_t> pending_since_;
 };
 
 }  // namespace strata::pipeline

@@ -92,10 +92,12 @@ void MappingWorker::run() {
       if (std::holds_alternative<Scan>(item))
         --waiting_scans_;
     }
-    if (const auto* scan = std::get_if<Scan>(&item))
+    if (const auto* scan = std::get_if<Scan>(&item)) {
       map_scan(*scan);
-    else
+    } else {
+      refresh_pending();  // a task (a save, a download, a flush) sees every scan mapped before it
       std::get<Task>(item)();
+    }
   }
 }
 
@@ -117,13 +119,26 @@ bool MappingWorker::insert(const Scan& scan, MappingTimes& times) {
   const Eigen::Isometry3d map_from_base = scan.map_from_sensor * event.sensor_to_base.inverse();
   const PointCloud points = transformed(scan.preprocessed.points, map_from_base);
   try {
-    times = live_.add_scan(points, scan.map_from_sensor.translation(), map_from_base.translation(),
-                           event.received_at);
+    times = live_.insert_scan(points, scan.map_from_sensor.translation(), map_from_base.translation(),
+                              event.received_at);
   } catch (const std::exception& error) {  // an encoder failure must not end the mapping thread
     spdlog::error("mapping: scan at t={:.1f} not mapped: {}", event.stamp, error.what());
     return false;
   }
   return true;
+}
+
+void MappingWorker::refresh_pending() {
+  MappingTimes times;
+  try {
+    if (!live_.refresh_pending(times))
+      return;
+  } catch (const std::exception& error) {
+    spdlog::error("mapping: the map not refreshed: {}", error.what());
+    return;
+  }
+  last_refresh_ = std::chrono::steady_clock::now();
+  publish();
 }
 
 void MappingWorker::map_scan(const Scan& scan) {
@@ -146,9 +161,26 @@ void MappingWorker::map_scan(const Scan& scan) {
   recent_.push_back(scan);
   if (recent_.size() > kRecentScans)
     recent_.pop_front();
+  bool more_waiting = false;
   {
     std::lock_guard lock(mutex_);
     ++status_.scans;
+    more_waiting = waiting_scans_ > 0;
+  }
+  // Behind a burst, the next scans first and one refresh for all of them; but never an older drivable map
+  // and tiles than max_refresh_delay.
+  const auto now = std::chrono::steady_clock::now();
+  if (more_waiting && now - last_refresh_ < options_.max_refresh_delay)
+    return;
+  try {
+    live_.refresh_pending(times);
+  } catch (const std::exception& error) {  // an encoder failure must not end the mapping thread
+    spdlog::error("mapping: scan at t={:.1f} mapped, the map not refreshed: {}", event.stamp, error.what());
+    return;
+  }
+  last_refresh_ = now;
+  {
+    std::lock_guard lock(mutex_);
     status_.last = times;
   }
   publish();
@@ -212,6 +244,12 @@ bool MappingWorker::rebuild_from(const std::vector<KeyframePose>& keyframes) {
     {
       std::lock_guard lock(mutex_);
       ++status_.rebuilds;
+    }
+    MappingTimes times;
+    try {
+      live_.refresh_pending(times);
+    } catch (const std::exception& error) {
+      spdlog::error("mapping: the rebuilt map not refreshed: {}", error.what());
     }
     publish();
   });

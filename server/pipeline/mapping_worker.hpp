@@ -1,6 +1,7 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <deque>
@@ -35,6 +36,9 @@ struct MappingOptions {
   /// Returns nearer the sensor than this are the robot itself (as for registration), metres: for scans
   /// submitted unprocessed (the live pipeline's come preprocessed by the localizer, with the same bound).
   double min_range = 0.3;
+  /// Scans waiting behind one another are inserted first and refreshed together (the drivable map, the
+  /// tiles, the snapshot: LiveMap::refresh_pending), but never this long after the last refresh.
+  std::chrono::milliseconds max_refresh_delay{250};
   MapRebuildOptions rebuild;
 };
 
@@ -117,6 +121,8 @@ class MappingWorker final : public MapCommands {
   void map_scan(const Scan& scan);
   /// Steps 6-8 for one scan, without publishing. False when the scan could not be mapped.
   bool insert(const Scan& scan, MappingTimes& times);
+  /// Mapping thread: refreshes and publishes what scans inserted since the last refresh, if anything.
+  void refresh_pending();
   void publish();
   /// Runs `task` on the mapping thread and waits for it; false when the worker is not running.
   bool run_on_mapping_thread(Task task) const;
@@ -146,6 +152,8 @@ class MappingWorker final : public MapCommands {
   mutable std::condition_variable wake_;
   mutable std::deque<Item> queue_;
   std::size_t waiting_scans_ = 0;
+  /// Mapping thread only: when the map was last refreshed (MappingOptions::max_refresh_delay).
+  std::chrono::steady_clock::time_point last_refresh_{};
   MappingStatus status_;
   bool running_ = false;
   std::thread thread_;

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -222,6 +223,50 @@ TEST(MappingWorker, RefusesBadNamesAndCorruptFilesWithoutTouchingTheMap) {
     EXPECT_EQ(state.snapshot(), before) << name << ": the map is untouched";
   }
   EXPECT_EQ(worker.list_maps().size(), 4U);
+}
+
+// A burst of scans (a lidar at 10 Hz while a refresh takes 200 ms: issue 58) is inserted scan by scan and
+// refreshed once: every scan is mapped, none dropped, and the map published is the one a worker refreshing
+// after every scan publishes.
+TEST(MappingWorker, ABurstOfScansIsMappedWholeAndRefreshedOnce) {
+  const std::vector<ScanEvent>& scans = campus_scans();
+  ASSERT_GE(scans.size(), 3U);
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path(),
+                       {.queue_capacity = scans.size(), .max_refresh_delay = std::chrono::hours(1)});
+  std::size_t published = 0;
+  worker.on_published([&] { ++published; });
+  for (const ScanEvent& scan : scans)
+    worker.submit(scan, map_from_sensor(scan));
+  worker.start();
+  worker.flush();
+  EXPECT_EQ(worker.status().scans, scans.size());
+  EXPECT_EQ(worker.status().dropped, 0U);
+  EXPECT_EQ(published, 2U) << "the first scan's refresh, then one for the " << scans.size() - 1
+                           << " behind it";
+
+  ScratchMapsDir one_by_one_dir;
+  MapState one_by_one_state;
+  MappingWorker one_by_one(one_by_one_state, one_by_one_dir.path());
+  one_by_one.start();
+  for (const ScanEvent& scan : scans) {
+    one_by_one.submit(scan, map_from_sensor(scan));
+    one_by_one.flush();
+  }
+  const MapSnapshot& burst = *state.snapshot();
+  const MapSnapshot& each = *one_by_one_state.snapshot();
+  EXPECT_EQ(burst.version, each.version);
+  EXPECT_EQ(burst.patches, each.patches);
+  EXPECT_EQ(burst.cells, each.cells);
+  ASSERT_EQ(burst.tiles.size(), each.tiles.size());
+  for (std::size_t i = 0; i < burst.tiles.size(); ++i) {
+    EXPECT_EQ(burst.tiles[i]->version, each.tiles[i]->version);
+    EXPECT_EQ(burst.tiles[i]->patches, each.tiles[i]->patches);
+  }
+  ASSERT_TRUE(burst.occupancy && each.occupancy);
+  EXPECT_EQ(burst.occupancy->version, each.occupancy->version);
+  EXPECT_EQ(burst.occupancy->png, each.occupancy->png) << "the same drivable map";
 }
 
 TEST(MappingWorker, FullQueueDropsTheOldestScanAndStoppedWorkerRefusesCommands) {
