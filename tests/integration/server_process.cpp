@@ -168,6 +168,7 @@ int ServerProcess::stop() {
   if (pid_ <= 0)
     return -1;
   kill(pid_, SIGTERM);
+  kill(pid_, SIGCONT);  // a paused server (a test that failed between pause() and kill_now()) must run to end
   int status = 0;
   waitpid(pid_, &status, 0);
   pid_ = -1;
@@ -181,6 +182,23 @@ void ServerProcess::kill_now() {
   int status = 0;
   waitpid(pid_, &status, 0);
   pid_ = -1;
+}
+
+void ServerProcess::pause() {
+  if (pid_ <= 0)
+    throw std::runtime_error("pause: the server is not running");
+  kill(pid_, SIGSTOP);
+  int status = 0;
+  waitpid(pid_, &status, WUNTRACED);  // reported once every thread has stopped
+  if (!WIFSTOPPED(status)) {
+    pid_ = -1;
+    throw std::runtime_error("pause: the server ended, status " + std::to_string(exit_status(status)));
+  }
+}
+
+void ServerProcess::resume() {
+  if (pid_ > 0)
+    kill(pid_, SIGCONT);
 }
 
 CommandResult run_strata(const std::vector<std::string>& args, std::chrono::seconds timeout) {

@@ -46,6 +46,11 @@ class ServerProcess {
   int stop();
   /// Sends SIGKILL (no chance to clean up, as a power cut or the OOM killer) and waits.
   void kill_now();
+  /// Stops every thread of the server (SIGSTOP) and waits until they are stopped: until resume() or
+  /// kill_now() nothing it does changes, so what a test sees of its files then is what a kill leaves.
+  void pause();
+  /// Lets a paused server run again (SIGCONT).
+  void resume();
 
  private:
   pid_t pid_ = -1;
