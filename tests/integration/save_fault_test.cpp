@@ -1,6 +1,7 @@
 // Faults while the real server saves its map (issue #10): the process killed at varied points during saves,
 // and a disk that fills up. The map file must always load as the previous map or the new one, never be
 // half written, and no temporary file may take its place.
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <poll.h>
 #include <sys/inotify.h>
@@ -325,7 +326,8 @@ TEST_F(SaveFaults, AServerRemovesWhatKilledSavesLeftAndNothingElse) {
   EXPECT_EQ(refused.result(), http::status::bad_request) << refused.body();
 }
 
-// A full disk, without root: the server runs with a file size limit (RLIMIT_FSIZE) smaller than its map.
+// A file too large, without root: the server runs with a file size limit (RLIMIT_FSIZE) smaller than its map:
+// EFBIG, the write refused as on a full disk, where no namespaces can be had (NoSpaceLeft... skips there).
 TEST_F(SaveFaults, DiskFullTheSaveFailsWithIoErrorAndThePreviousMapStays) {
   save_a_first_map();
   const fs::path file = maps_dir_ / kMapName;
@@ -346,6 +348,67 @@ TEST_F(SaveFaults, DiskFullTheSaveFailsWithIoErrorAndThePreviousMapStays) {
   EXPECT_TRUE(other_files(maps_dir_).empty());  // the failed save removed its temporary
   // The server is still up and serving.
   EXPECT_EQ(http_get(server.port(), "/healthz").result(), http::status::ok);
+}
+
+/// Writes zeros to `path` until the file system is full or `most` bytes are written; the errno that stopped
+/// it (ENOSPC on a full disk), or 0. `most` keeps a test whose small disk is not mounted from filling a
+/// real one.
+int fill_up(const fs::path& path, std::uint64_t most) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0)
+    return errno;
+  const std::string zeros(64 * 1024, '\0');
+  int error = 0;
+  for (std::uint64_t written = 0; written < most && error == 0;) {
+    const ssize_t n = ::write(fd, zeros.data(), zeros.size());
+    if (n < 0)
+      error = errno;
+    else
+      written += static_cast<std::uint64_t>(n);
+  }
+  ::close(fd);
+  return error;
+}
+
+// A full disk for real: the server's maps directory is a tmpfs of its own (SmallDisk, 8 MiB), filled up
+// by the test, so that writing the map fails with ENOSPC. Then space is freed and a save goes through.
+TEST_F(SaveFaults, NoSpaceLeftTheSaveFailsWithIoErrorThePreviousMapStaysAndALaterSaveWorks) {
+  if (const std::string why = small_disk_unavailable(); !why.empty()) {
+    GTEST_SKIP() << "no small file system of the server's own to fill up (" << why
+                 << "): it takes unprivileged user and mount namespaces. The RLIMIT_FSIZE test still runs.";
+  }
+  constexpr std::uint64_t kDiskBytes = 8 << 20;  // room for two maps of a few minutes' mapping
+  ServerProcess server(server_args(maps_dir_, 1),
+                       ProcessLimits{.small_disk = SmallDisk{maps_dir_, kDiskBytes}});
+  const fs::path maps = server.seen_by_server(maps_dir_);
+  const fs::path file = maps / kMapName;
+  wait_for_map(server.port());
+  ASSERT_EQ(save(server.port()).result(), http::status::created);
+  const std::string before = read_bytes(file);
+  ASSERT_EQ(load_problem(file), "");
+  EXPECT_TRUE(fs::is_empty(maps_dir_)) << "the small disk is the server's alone, not in the test's view";
+  ASSERT_EQ(fill_up(maps / "filler", kDiskBytes), ENOSPC) << "the small disk did not fill up";
+
+  const auto answer = save(server.port());
+  EXPECT_EQ(answer.result(), http::status::internal_server_error) << answer.body();
+  const auto body = nlohmann::json::parse(answer.body());
+  EXPECT_EQ(body["error"]["code"], "io_error") << answer.body();
+  const std::string message = body["error"]["message"];
+  EXPECT_NE(message.find("No space left on device"), std::string::npos) << answer.body();
+  EXPECT_NE(message.find(kMapName), std::string::npos) << "the file is named: " << message;
+  EXPECT_EQ(message.find(maps_dir_.string()), std::string::npos) << message;
+  EXPECT_EQ(message.find(".tmp." + std::to_string(server.pid())), std::string::npos) << message;
+  EXPECT_EQ(read_bytes(file), before);                               // the previous map, byte for byte
+  EXPECT_EQ(load_problem(file), "");                                 // and it loads
+  EXPECT_EQ(other_files(maps), std::vector<std::string>{"filler"});  // the failed save removed its temporary
+  EXPECT_EQ(http_get(server.port(), "/healthz").result(), http::status::ok);
+
+  // Space again: the next save goes through, whole.
+  fs::remove(maps / "filler");
+  const auto later = save(server.port());
+  EXPECT_EQ(later.result(), http::status::created) << later.body();
+  EXPECT_EQ(load_problem(file), "");
+  EXPECT_TRUE(other_files(maps).empty());
 }
 
 }  // namespace
