@@ -17,12 +17,10 @@
 #include <chrono>
 #include <cstdlib>
 #include <cstring>
-#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <iterator>
-#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -106,13 +104,12 @@ class SaveFaults : public ::testing::Test {
   fs::path maps_dir_;
 };
 
-/// What happens to the map in the maps directory, from inotify: a save's temporary is created (the save
-/// begins writing) or the map is replaced by a rename (a save commits). The kernel queues an event within
-/// the system call that causes it, so once the server is dead the queue holds every one it caused.
+/// What happens to the map in the maps directory, from inotify: how often a save's temporary was created
+/// (a save began writing) and the map replaced by a rename (a save committed). The kernel queues an event
+/// within the system call that causes it, so with the server paused or dead the counts are exact once the
+/// queue is read.
 class MapsDirectoryWatch {
  public:
-  enum class Event { kTemporaryCreated, kMapReplaced };
-
   MapsDirectoryWatch(const fs::path& directory, std::string temporary_name)
       : fd_(::inotify_init1(IN_NONBLOCK | IN_CLOEXEC)), temporary_name_(std::move(temporary_name)) {
     if (fd_ < 0 || ::inotify_add_watch(fd_, directory.c_str(), IN_CREATE | IN_MOVED_TO) < 0)
@@ -122,36 +119,56 @@ class MapsDirectoryWatch {
   MapsDirectoryWatch(const MapsDirectoryWatch&) = delete;
   MapsDirectoryWatch& operator=(const MapsDirectoryWatch&) = delete;
 
-  /// The next event, waiting at most `timeout` for one; nullopt if none came.
-  std::optional<Event> next(std::chrono::milliseconds timeout) {
-    if (pending_.empty()) {
-      pollfd ready{fd_, POLLIN, 0};
-      if (::poll(&ready, 1, static_cast<int>(timeout.count())) <= 0)
-        return std::nullopt;
-      alignas(inotify_event) char buffer[4096];
-      const ssize_t length = ::read(fd_, buffer, sizeof buffer);
+  [[nodiscard]] int created() const { return created_; }
+  [[nodiscard]] int replaced() const { return replaced_; }
+
+  /// Reads every queued event, waiting at most `timeout` for the first; false if none came.
+  bool read(std::chrono::milliseconds timeout) {
+    pollfd ready{fd_, POLLIN, 0};
+    if (::poll(&ready, 1, static_cast<int>(timeout.count())) <= 0)
+      return false;
+    alignas(inotify_event) char buffer[4096];
+    for (ssize_t length; (length = ::read(fd_, buffer, sizeof buffer)) > 0;) {
       for (ssize_t at = 0; at < length;) {
         const auto* event = reinterpret_cast<const inotify_event*>(buffer + at);
         const std::string name = event->len > 0 ? event->name : "";
         if ((event->mask & IN_CREATE) != 0 && name == temporary_name_)
-          pending_.push_back(Event::kTemporaryCreated);
+          ++created_;
         else if ((event->mask & IN_MOVED_TO) != 0 && name == kMapName)
-          pending_.push_back(Event::kMapReplaced);
+          ++replaced_;
         at += static_cast<ssize_t>(sizeof(inotify_event) + event->len);
       }
-      if (pending_.empty())  // only other files' events
-        return next(std::chrono::milliseconds(0));
     }
-    const Event event = pending_.front();
-    pending_.pop_front();
-    return event;
+    return true;
+  }
+
+  /// Reads events until `done()`; throws when a minute passes without one (the saves stopped).
+  template <class Condition>
+  void read_until(Condition done) {
+    while (!done()) {
+      if (!read(std::chrono::milliseconds(60000)))
+        throw std::runtime_error("no save wrote its file in 60 s");
+    }
   }
 
  private:
   int fd_;
   std::string temporary_name_;
-  std::deque<Event> pending_;
+  int created_ = 0;
+  int replaced_ = 0;
 };
+
+/// How many saves the server's log says ended ("map saved to", "map save failed"): a save logs it before it
+/// returns, to stderr, which is unbuffered, so with the server paused or dead the count is exact.
+int saves_ended(const fs::path& log) {
+  std::ifstream in(log);
+  int ended = 0;
+  for (std::string line; std::getline(in, line);) {
+    if (line.find("map saved to ") != std::string::npos || line.find("map save failed") != std::string::npos)
+      ++ended;
+  }
+  return ended;
+}
 
 /// Sends a save of the map on a connection of its own, whose answer is never read.
 tcp::socket send_save(boost::asio::io_context& io, std::uint16_t port) {
@@ -169,26 +186,29 @@ tcp::socket send_save(boost::asio::io_context& io, std::uint16_t port) {
 // STRATA_SAVE_KILLS sets the number of kills (default 20; README: the 100-kill run).
 //
 // Each kill is aimed inside a save by construction, not by luck: when a save's temporary appears the server
-// is paused (SIGSTOP, every thread) after a delay, and killed if the temporary is still there; when that save
-// got to its rename first, the server runs on and the next save is paused at once. A paused server changes
-// nothing, so the kill lands exactly where the pause did: between the temporary's creation and its rename.
-// Whatever the timing, the verdict is read afterwards from what is on disk and in the inotify queue, never
-// assumed: a kill inside a save is one that left the temporary behind (SIGKILL leaves no chance to remove
-// it), and the map must be the previous file byte for byte unless a save of this round committed.
+// is paused (SIGSTOP, every thread) after a delay, and killed if that save has not ended yet (its "map saved"
+// line is not in the log); when it ended first, the server runs on and the next save is paused at once. A
+// paused server changes nothing, so the kill lands exactly where the pause did: after the temporary's
+// creation and before the save returned (before or after its rename). Whatever the timing, the verdict is
+// read afterwards, never assumed: from the files, the inotify queue and the log, all complete once the
+// server is dead. A kill left the temporary behind (SIGKILL leaves no chance to remove it) when it came
+// before the rename; the map must be the previous file byte for byte unless a save of this round renamed.
 TEST_F(SaveFaults, KilledDuringSavesTheMapFileIsThePreviousOrTheNewMap) {
   const char* from_env = std::getenv("STRATA_SAVE_KILLS");
   const int kills = from_env != nullptr ? std::atoi(from_env) : 20;
   constexpr int kMostSavesPerRound = 8;  // tries for a save the pause comes too late for
   save_a_first_map();
   const fs::path file = maps_dir_ / kMapName;
+  const fs::path log = private_temp_path("strata-save-kill", ".log");
   int previous = 0;
   int replaced = 0;
   int corrupt = 0;
-  int inside_before_writing = 0;  // the temporary left empty
-  int inside_after_writing = 0;   // the temporary left with bytes: written, not yet renamed
+  int before_writing = 0;  // kills inside a save that left its temporary empty
+  int before_rename = 0;   // left it written, not renamed
+  int after_rename = 0;    // came after the rename, before the save returned (the directory's fsync)
   for (int round = 0; round < kills; ++round) {
     const std::string before = read_bytes(file);
-    ServerProcess server(server_args(maps_dir_, 2 + round));  // another seed: another map
+    ServerProcess server(server_args(maps_dir_, 2 + round), ProcessLimits{.log_file = log});  // another map
     // What the last kill left, this server removed as it started (AServerRemovesWhatKilledSavesLeft).
     EXPECT_TRUE(other_files(maps_dir_).empty()) << "round " << round;
     const std::string temporary = std::string(kMapName) + ".tmp." + std::to_string(server.pid());
@@ -196,47 +216,39 @@ TEST_F(SaveFaults, KilledDuringSavesTheMapFileIsThePreviousOrTheNewMap) {
     wait_for_map(server.port());
     boost::asio::io_context io;
     std::vector<tcp::socket> requests;
-    int committed = 0;
-    // The next event of `kind`, counting commits on the way.
-    const auto wait_for = [&](MapsDirectoryWatch::Event kind) {
-      for (;;) {
-        const std::optional<MapsDirectoryWatch::Event> event = watch.next(60s);
-        if (!event)
-          throw std::runtime_error("round " + std::to_string(round) + ": no save wrote its file in 60 s");
-        if (*event == MapsDirectoryWatch::Event::kMapReplaced)
-          ++committed;
-        if (*event == kind)
-          return;
-      }
-    };
     // Every other round lets one save commit first: the file is then a new map. The delay after the aimed
     // save's temporary appears walks 0-1.8 ms in steps of 0.2 ms every two rounds, through the write, the
-    // fsync (1-30 ms on a disk, nothing on tmpfs) and the rename.
+    // fsync (1-30 ms on a disk, nothing on tmpfs), the rename and the directory's fsync.
     if (round % 2 == 1) {
       requests.push_back(send_save(io, server.port()));
-      wait_for(MapsDirectoryWatch::Event::kMapReplaced);
+      watch.read_until([&] { return watch.replaced() == 1; });
     }
     std::chrono::microseconds delay((round / 2 % 10) * 200);
     for (int attempt = 0; attempt < kMostSavesPerRound; ++attempt) {
       requests.push_back(send_save(io, server.port()));
-      wait_for(MapsDirectoryWatch::Event::kTemporaryCreated);
+      const int aimed = watch.created() + 1;
+      watch.read_until([&] { return watch.created() >= aimed; });
       std::this_thread::sleep_for(delay);
       server.pause();
-      if (fs::exists(maps_dir_ / temporary))
-        break;  // paused inside the save: the kill lands there
+      watch.read(0ms);
+      if (watch.created() > saves_ended(log))
+        break;  // paused inside a save: the kill lands there
       server.resume();
-      delay = std::chrono::microseconds(0);  // this save got to its rename first; the next one at once
+      delay = std::chrono::microseconds(0);  // this save ended first; the next one at once
     }
     server.kill_now();  // when every try came too late: after the last save
-    while (const auto event = watch.next(0ms)) {
-      if (*event == MapsDirectoryWatch::Event::kMapReplaced)
-        ++committed;
-    }
 
-    // The verdict, from the files alone.
-    const bool inside = fs::exists(maps_dir_ / temporary);
-    if (inside)
-      ++(fs::file_size(maps_dir_ / temporary) == 0 ? inside_before_writing : inside_after_writing);
+    // The verdict, from what the server left.
+    watch.read(0ms);
+    const bool inside = watch.created() > saves_ended(log);
+    const bool temporary_left = fs::exists(maps_dir_ / temporary);
+    if (temporary_left)
+      ++(fs::file_size(maps_dir_ / temporary) == 0 ? before_writing : before_rename);
+    else if (inside)
+      ++after_rename;
+    EXPECT_TRUE(inside || !temporary_left) << "round " << round << ": a temporary, no save under way";
+    // The two markers agree: every save that renamed logged its end, but one killed between the two.
+    EXPECT_EQ(watch.replaced(), saves_ended(log) + (inside && !temporary_left ? 1 : 0)) << "round " << round;
     const std::string problem = load_problem(file);
     const std::string after = read_bytes(file);
     if (!problem.empty()) {
@@ -247,27 +259,28 @@ TEST_F(SaveFaults, KilledDuringSavesTheMapFileIsThePreviousOrTheNewMap) {
     } else {
       ++replaced;
     }
-    // No save of this round committed: the previous map, byte for byte; else a new one (another seed's).
-    if (committed == 0)
-      EXPECT_TRUE(after == before) << "round " << round << ": the map changed, no save committed";
+    // No save of this round renamed: the previous map, byte for byte; else a new one (another seed's).
+    if (watch.replaced() == 0)
+      EXPECT_TRUE(after == before) << "round " << round << ": the map changed, no save renamed";
     else
-      EXPECT_FALSE(after == before) << "round " << round << ": " << committed << " saves committed";
+      EXPECT_FALSE(after == before) << "round " << round << ": " << watch.replaced() << " saves renamed";
     // Beside the map, only the killed save's own temporary (name.tmp.PID, never listed or loaded).
-    const std::vector<std::string> left = other_files(maps_dir_);
-    EXPECT_EQ(left, inside ? std::vector<std::string>{temporary} : std::vector<std::string>{})
+    EXPECT_EQ(other_files(maps_dir_),
+              temporary_left ? std::vector<std::string>{temporary} : std::vector<std::string>{})
         << "round " << round;
   }
-  const int inside = inside_before_writing + inside_after_writing;
-  std::cout << "kill-during-save: " << kills << " kills, " << inside << " inside a save ("
-            << inside_before_writing << " before its write, " << inside_after_writing
+  fs::remove(log);
+  const int inside = before_writing + before_rename + after_rename;
+  std::cout << "kill-during-save: " << kills << " kills, " << inside << " inside a save (" << before_writing
+            << " before its write, " << before_rename << " before its rename, " << after_rename
             << " after); the map file: " << previous << " previous, " << replaced << " new, " << corrupt
             << " corrupt\n";
   EXPECT_EQ(corrupt, 0);
   // The construction lands nearly every kill inside a save: all 20 when measured with the maps on a disk
   // (where fsync keeps a save open for milliseconds) and on tmpfs (where its write takes microseconds). A
-  // kill misses only when all kMostSavesPerRound saves of a round got to their renames before the pause.
-  // Half leaves room for a loaded machine and still fails a schedule that kills outside saves (the sleeps
-  // this test used before left 0 of 20 kills inside a save on tmpfs).
+  // kill misses only when all kMostSavesPerRound saves of a round ended before the pause. Half leaves
+  // room for a loaded machine and still fails a schedule that kills outside saves (the sleeps this test
+  // used before left 0 of 20 kills inside a save on tmpfs).
   EXPECT_GE(inside, (kills + 1) / 2) << "too few kills landed inside a save";
 
   // The server itself, started on what the kills left, lists only the map and loads it.
@@ -390,7 +403,7 @@ TEST_F(SaveFaults, NoSpaceLeftTheSaveFailsWithIoErrorThePreviousMapStaysAndALate
   ASSERT_EQ(fill_up(maps / "filler", kDiskBytes), ENOSPC) << "the small disk did not fill up";
 
   const auto answer = save(server.port());
-  EXPECT_EQ(answer.result(), http::status::internal_server_error) << answer.body();
+  ASSERT_EQ(answer.result(), http::status::internal_server_error) << answer.body();
   const auto body = nlohmann::json::parse(answer.body());
   EXPECT_EQ(body["error"]["code"], "io_error") << answer.body();
   const std::string message = body["error"]["message"];
