@@ -1,6 +1,7 @@
 #include "core/files/atomic_file.hpp"
 
 #include <fcntl.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -32,6 +33,12 @@ void write_all(int fd, std::string_view data, const std::filesystem::path& file)
 }  // namespace
 
 void write_file_atomically(const std::filesystem::path& path, std::string_view data, Durability durability) {
+  // Replacing is for regular files. Renamed over a device or a FIFO, the temporary takes its place: run as
+  // root, `strata map export MAP --ply /dev/null` made /dev/null a regular file for the whole machine. (A
+  // directory is left to the rename, which fails.)
+  struct stat existing {};
+  if (::stat(path.c_str(), &existing) == 0 && !S_ISREG(existing.st_mode) && !S_ISDIR(existing.st_mode))
+    throw FileWriteError("cannot write " + path.string() + ": not a regular file");
   const std::filesystem::path temporary = temporary_path_for(path);
   const int fd = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (fd < 0)

@@ -23,7 +23,8 @@ struct FileWriteError : std::runtime_error {
 
 /// Writes `data` to `path` so that readers see the old file or the whole new one, never a part: a temporary
 /// file next to it (temporary_path_for), then a rename over `path`. On failure the temporary is removed,
-/// `path` is as it was, and FileWriteError is thrown (a full disk: "File too large", "No space left").
+/// `path` is as it was, and FileWriteError is thrown (a full disk: "File too large", "No space left"). An
+/// existing `path` that is a device, a FIFO or a socket is refused ("not a regular file"), not replaced.
 void write_file_atomically(const std::filesystem::path& path, std::string_view data, Durability durability);
 
 }  // namespace strata

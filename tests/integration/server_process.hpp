@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,13 +18,28 @@ namespace strata::testing {
 /// The operator token the test servers are started with.
 inline constexpr const char* kTestOperatorToken = "integration-test-operator-token";
 
+/// A file system of `bytes` (a tmpfs) mounted at `mount_point` for the server alone: a disk that really fills
+/// up (ENOSPC), without root. The server gets a user and a mount namespace of its own (as `unshare -m -U`,
+/// its user id mapped to itself, not to root as `unshare -r` would), so the mount is seen by it only and
+/// goes away with it; the test reaches the files through ServerProcess::seen_by_server. `mount_point` must
+/// be an existing directory.
+struct SmallDisk {
+  std::filesystem::path mount_point;
+  std::uint64_t bytes = 0;
+};
+
 /// Resource limits for a server process (setrlimit in the child), and where its log goes.
 struct ProcessLimits {
   std::uint64_t file_size = RLIM_INFINITY;   ///< RLIMIT_FSIZE, bytes: a disk that fills up
   std::uint64_t open_files = RLIM_INFINITY;  ///< RLIMIT_NOFILE: a server that runs out of descriptors
   std::uint64_t stack = RLIM_INFINITY;       ///< RLIMIT_STACK, bytes: every thread's stack (glibc)
   std::filesystem::path log_file;            ///< stderr (the log) goes here; empty: to the test's output
+  std::optional<SmallDisk> small_disk;       ///< a small file system of the server's own
 };
+
+/// Why a server cannot be given a SmallDisk on this machine (user namespaces off, a seccomp filter that
+/// refuses unshare or mount, ...), found by trying it in a child process; empty when it can.
+std::string small_disk_unavailable();
 
 /// The real strata binary, started with `serve` on a free loopback port and stopped with SIGTERM.
 class ServerProcess {
@@ -46,6 +62,15 @@ class ServerProcess {
   int stop();
   /// Sends SIGKILL (no chance to clean up, as a power cut or the OOM killer) and waits.
   void kill_now();
+  /// Stops every thread of the server (SIGSTOP) and waits until they are stopped: until resume() or
+  /// kill_now() nothing it does changes, so what a test sees of its files then is what a kill leaves.
+  void pause();
+  /// Lets a paused server run again (SIGCONT).
+  void resume();
+  /// `path` as the server sees it, for the test to read and write: through /proc/PID/root, which
+  /// resolves paths in the server's mount namespace (a SmallDisk is mounted there only). Valid while the
+  /// server runs.
+  [[nodiscard]] std::filesystem::path seen_by_server(const std::filesystem::path& path) const;
 
  private:
   pid_t pid_ = -1;

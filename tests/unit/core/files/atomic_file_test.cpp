@@ -1,6 +1,7 @@
 #include "core/files/atomic_file.hpp"
 
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -55,6 +56,25 @@ TEST_F(AtomicFile, AFailedWriteLeavesThePreviousFileAndNamesTheFile) {
   EXPECT_EQ(std::distance(fs::directory_iterator(directory_), fs::directory_iterator()), 2);  // no temporary
   EXPECT_THROW(write_file_atomically(directory_ / "missing" / "x", "x", Durability::kOrdered),
                FileWriteError);
+}
+
+// Renamed over a device or a FIFO, the temporary would take its place: `strata map export MAP --ply
+// /dev/null` run as root (the save-fault suite's load check did) made /dev/null a regular file for every
+// process on the machine. A FIFO stands for the device here: any user can make one.
+TEST_F(AtomicFile, RefusesToReplaceWhatIsNotARegularFile) {
+  const fs::path pipe = directory_ / "pipe";
+  ASSERT_EQ(::mkfifo(pipe.c_str(), 0644), 0);
+  for (const Durability durability : {Durability::kOnDisk, Durability::kOrdered}) {
+    try {
+      write_file_atomically(pipe, "data", durability);
+      FAIL() << "no error";
+    } catch (const FileWriteError& error) {
+      EXPECT_NE(std::string(error.what()).find("not a regular file"), std::string::npos) << error.what();
+    }
+    EXPECT_EQ(fs::symlink_status(pipe).type(), fs::file_type::fifo);
+    EXPECT_EQ(std::distance(fs::directory_iterator(directory_), fs::directory_iterator()),
+              1);  // no temporary
+  }
 }
 
 }  // namespace
