@@ -76,6 +76,9 @@ TEST(VelodyneCalibration, BadFilesGiveAClearError) {
   EXPECT_NE(error_of("lasers: [{laser_id: 0, vert_correction: 15.0}]").find("radians"), std::string::npos);
   EXPECT_NE(error_of("lasers: [{laser_id: 0, vert_correction: 0}]\nnum_lasers: 32").find("num_lasers is 32"),
             std::string::npos);
+  // yaml-cpp refuses more than 2,000 levels (its DeepRecursion) before its recursive parser runs out of
+  // stack.
+  EXPECT_NE(error_of("lasers: " + std::string(100000, '[')).find("not valid YAML"), std::string::npos);
   EXPECT_NE(error_of("lasers: [{laser_id: 0, vert_correction: 0}]\ndistance_resolution: -1")
                 .find("distance_resolution"),
             std::string::npos);

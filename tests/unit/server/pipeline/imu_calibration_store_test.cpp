@@ -106,6 +106,8 @@ TEST_F(ImuCalibrationStoreTest, ABadFileIsNotUsedAndLeftForTheNextSaveToReplace)
       R"({"format":"strata-imu-calibration","version":1,"imu":"imu","mounting_roll_deg":45,"mounting_pitch_deg":0,"loops":1,"keyframes":1})",
       R"({"format":"strata-imu-calibration","version":1,"imu":"imu","mounting_roll_deg":0,"mounting_pitch_deg":0,"loops":-1,"keyframes":1})",
       R"({"format":"strata-imu-calibration","version":1,"imu":"","mounting_roll_deg":0,"mounting_pitch_deg":0,"loops":1,"keyframes":1})",
+      R"({"format":"strata-imu-calibration","imu":)" + std::string(100000, '[') + std::string(100000, ']') +
+          "}",
   };
   for (const std::string& contents : bad) {
     EXPECT_THROW(static_cast<void>(parse_imu_calibration(contents)), std::runtime_error) << contents;
@@ -114,6 +116,12 @@ TEST_F(ImuCalibrationStoreTest, ABadFileIsNotUsedAndLeftForTheNextSaveToReplace)
     EXPECT_FALSE(store.load().has_value()) << contents;
     EXPECT_EQ(store.imu_calibration().kept, ImuCalibrationStatus::Kept::kNone) << contents;
     EXPECT_EQ(read(), contents) << "a file not understood is left as it is";
+  }
+  try {
+    static_cast<void>(parse_imu_calibration(bad.back()));
+    ADD_FAILURE() << "a file nested 100,000 levels deep was read";
+  } catch (const std::runtime_error& error) {
+    EXPECT_STREQ(error.what(), "nested deeper than 64 levels");
   }
   const ImuCalibration parsed = parse_imu_calibration(text);
   EXPECT_EQ(parsed.imu, "imu");
