@@ -10,6 +10,8 @@
 namespace strata::replay {
 namespace {
 
+constexpr double kMaxRays = 1e9;
+
 /// The gravity reading in columns up_x, up_y, up_z (which way is up, base frame) and up_sigma (radians).
 GravityReading read_gravity(const CsvTable& table, std::size_t row, const std::string& name) {
   GravityReading gravity;
@@ -60,8 +62,15 @@ std::vector<DatasetScan> parse_scan_list(std::istream& csv, const std::filesyste
       scan.duration = table.number(row, "duration");
     if (table.has("sensor"))
       scan.sensor = table.text(row, "sensor");
-    if (table.has("rays"))
-      scan.rays = static_cast<std::size_t>(std::max(0.0, table.number(row, "rays")));
+    if (table.has("rays")) {
+      // Beyond a count's range the conversion would be undefined (a fuzzed list found it); no scan has a
+      // billion beams.
+      const double rays = table.number(row, "rays");
+      if (rays > kMaxRays)
+        throw DatasetError(
+            fmt::format("{}: scan {}: {} rays is beyond any scan's ({:g})", source, row, rays, kMaxRays));
+      scan.rays = static_cast<std::size_t>(std::max(0.0, rays));
+    }
     if (table.has("max_range"))
       scan.max_range = table.number(row, "max_range");
     if (table.has("mount_00")) {

@@ -26,7 +26,10 @@ ImuCalibration parse_imu_calibration(const std::string& text) {
   const nlohmann::json& json = input.value;
   if (!json.is_object())
     throw std::runtime_error("not a JSON object");
-  if (json.value("format", "") != kFormat)
+  // value("format", "") would throw nlohmann's type_error for a format that is no string: not the
+  // runtime_error this promises (a fuzzed file found it).
+  const auto format = json.find("format");
+  if (format == json.end() || !format->is_string() || format->get<std::string>() != kFormat)
     throw std::runtime_error(std::string("no \"format\": \"") + kFormat + "\"");
   if (!json.contains("version") || !json["version"].is_number_integer() ||
       json["version"].get<int>() != kVersion)

@@ -101,6 +101,7 @@ TEST_F(ImuCalibrationStoreTest, ABadFileIsNotUsedAndLeftForTheNextSaveToReplace)
       "{",
       text.substr(0, text.size() / 2),
       R"({"format":"strata-imu-calibration","version":2,"imu":"imu","mounting_roll_deg":0,"mounting_pitch_deg":0,"loops":1,"keyframes":1})",
+      R"({"format":-0.22,"lloops":1})",
       R"({"format":"other","version":1,"imu":"imu","mounting_roll_deg":0,"mounting_pitch_deg":0,"loops":1,"keyframes":1})",
       R"({"format":"strata-imu-calibration","version":1,"imu":"imu","mounting_roll_deg":"x","mounting_pitch_deg":0,"loops":1,"keyframes":1})",
       R"({"format":"strata-imu-calibration","version":1,"imu":"imu","mounting_roll_deg":45,"mounting_pitch_deg":0,"loops":1,"keyframes":1})",
