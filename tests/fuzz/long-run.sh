@@ -35,7 +35,7 @@ while read -r name binary max_len dictionary scratch corpora; do
   fi
   mkdir -p "$out/$name"
   rm -f "$out/crash-$name-"*
-  start=$SECONDS
+  start=$(date +%s.%N)
   status=0
   options=()
   [[ "$dictionary" == "-" ]] || options+=("$dictionary")
@@ -49,9 +49,10 @@ while read -r name binary max_len dictionary scratch corpora; do
     failed=1
     [[ $crashes -gt 0 ]] || crashes="exit $status"
   fi
-  seconds=$((SECONDS - start))
+  seconds=$(awk -v start="$start" -v end="$(date +%s.%N)" 'BEGIN { printf "%.1f", end - start }')
   executions=$(sed -n 's/^stat::number_of_executed_units: *//p' "$out/$name.log" | tail -1)
-  rate=$(sed -n 's/^stat::average_exec_per_sec: *//p' "$out/$name.log" | tail -1)
+  # Wall-clock, loading the corpora included (libFuzzer's own average counts whole seconds).
+  rate=$(awk -v n="${executions:-0}" -v s="$seconds" 'BEGIN { if (s > 0) printf "%.0f", n / s; else print "?" }')
   # "#1234 INITED cov: 512 ft: 1024 ..." after the corpora; the last "#N ... cov: X ft: Y" at the end.
   start_cov=$(grep -m1 'INITED' "$out/$name.log" | sed -n 's/.*cov: \([0-9]*\) ft: \([0-9]*\).*/\1 \2/p')
   end_cov=$(grep -E '^#[0-9]+.*cov: ' "$out/$name.log" | tail -1 | sed -n 's/.*cov: \([0-9]*\) ft: \([0-9]*\).*/\1 \2/p')
