@@ -45,17 +45,21 @@ Eigen::Isometry3d from_row_major_3x4(const std::vector<double>& v) {
 LoadedCloud read_kitti_velodyne(const std::filesystem::path& path) {
   std::ifstream in = open(path, std::ios::binary);
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse_kitti_velodyne(data, path);
+}
+
+LoadedCloud parse_kitti_velodyne(std::string_view bytes, const std::filesystem::path& source) {
   constexpr std::size_t kRecord = 4 * sizeof(float);
-  if (data.size() % kRecord != 0) {
-    throw PointFileError(path,
-                         std::to_string(data.size()) +
+  if (bytes.size() % kRecord != 0) {
+    throw PointFileError(source,
+                         std::to_string(bytes.size()) +
                              " bytes is not a whole number of KITTI points (16 bytes: x y z reflectance)");
   }
   LoadedCloud cloud;
-  cloud.points.reserve(data.size() / kRecord);
-  for (std::size_t offset = 0; offset < data.size(); offset += kRecord) {
+  cloud.points.reserve(bytes.size() / kRecord);
+  for (std::size_t offset = 0; offset < bytes.size(); offset += kRecord) {
     float xyz[3];
-    std::memcpy(xyz, data.data() + offset, sizeof xyz);  // little-endian, as KITTI wrote it and we run
+    std::memcpy(xyz, bytes.data() + offset, sizeof xyz);  // little-endian, as KITTI wrote it and we run
     add_finite(cloud, Eigen::Vector3f(xyz[0], xyz[1], xyz[2]).cast<double>());
   }
   return cloud;
@@ -63,6 +67,10 @@ LoadedCloud read_kitti_velodyne(const std::filesystem::path& path) {
 
 std::vector<Eigen::Isometry3d> read_kitti_poses(const std::filesystem::path& path) {
   std::ifstream in = open(path);
+  return read_kitti_poses(in, path);
+}
+
+std::vector<Eigen::Isometry3d> read_kitti_poses(std::istream& in, const std::filesystem::path& source) {
   std::vector<Eigen::Isometry3d> poses;
   std::string line;
   for (std::size_t number = 1; std::getline(in, line); ++number) {
@@ -70,7 +78,7 @@ std::vector<Eigen::Isometry3d> read_kitti_poses(const std::filesystem::path& pat
       continue;
     const auto values = numbers(line);
     if (!values || values->size() != 12)
-      throw PointFileError(path, "line " + std::to_string(number) + " is not 12 numbers (a 3x4 pose)");
+      throw PointFileError(source, "line " + std::to_string(number) + " is not 12 numbers (a 3x4 pose)");
     poses.push_back(from_row_major_3x4(*values));
   }
   return poses;
@@ -78,6 +86,10 @@ std::vector<Eigen::Isometry3d> read_kitti_poses(const std::filesystem::path& pat
 
 std::vector<double> read_kitti_times(const std::filesystem::path& path) {
   std::ifstream in = open(path);
+  return read_kitti_times(in, path);
+}
+
+std::vector<double> read_kitti_times(std::istream& in, const std::filesystem::path& source) {
   std::vector<double> times;
   std::string line;
   for (std::size_t number = 1; std::getline(in, line); ++number) {
@@ -85,7 +97,7 @@ std::vector<double> read_kitti_times(const std::filesystem::path& path) {
       continue;
     const auto values = numbers(line);
     if (!values || values->size() != 1)
-      throw PointFileError(path, "line " + std::to_string(number) + " is not one time in seconds");
+      throw PointFileError(source, "line " + std::to_string(number) + " is not one time in seconds");
     times.push_back(values->front());
   }
   return times;
@@ -93,6 +105,11 @@ std::vector<double> read_kitti_times(const std::filesystem::path& path) {
 
 std::optional<Eigen::Isometry3d> read_kitti_velodyne_to_camera(const std::filesystem::path& path) {
   std::ifstream in = open(path);
+  return read_kitti_velodyne_to_camera(in, path);
+}
+
+std::optional<Eigen::Isometry3d> read_kitti_velodyne_to_camera(std::istream& in,
+                                                               const std::filesystem::path& source) {
   std::string line;
   while (std::getline(in, line)) {
     const std::string_view text = trimmed(line);
@@ -100,7 +117,7 @@ std::optional<Eigen::Isometry3d> read_kitti_velodyne_to_camera(const std::filesy
       continue;
     const auto values = numbers(text.substr(3));
     if (!values || values->size() != 12)
-      throw PointFileError(path, "Tr is not 12 numbers (a 3x4 transform)");
+      throw PointFileError(source, "Tr is not 12 numbers (a 3x4 transform)");
     return from_row_major_3x4(*values);
   }
   return std::nullopt;

@@ -2,7 +2,9 @@
 
 #include <Eigen/Geometry>
 #include <filesystem>
+#include <istream>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 #include "drivers/io/loaded_cloud.hpp"
@@ -20,17 +22,27 @@ namespace strata::io {
 /// The points of a velodyne .bin file (reflectance ignored). Throws PointFileError when the size is not a
 /// whole number of 16-byte points.
 [[nodiscard]] LoadedCloud read_kitti_velodyne(const std::filesystem::path& path);
+/// The same from the file's bytes; `source` names them in error messages.
+[[nodiscard]] LoadedCloud parse_kitti_velodyne(std::string_view bytes, const std::filesystem::path& source);
 
 /// Every pose in a poses.txt, in order. Throws PointFileError naming the line that is not 12 numbers.
 [[nodiscard]] std::vector<Eigen::Isometry3d> read_kitti_poses(const std::filesystem::path& path);
+/// The same from a stream; `source` names it in error messages.
+[[nodiscard]] std::vector<Eigen::Isometry3d> read_kitti_poses(std::istream& in,
+                                                              const std::filesystem::path& source);
 
 /// Every time in a times.txt, in order. Throws PointFileError naming a line that is not one number.
 [[nodiscard]] std::vector<double> read_kitti_times(const std::filesystem::path& path);
+/// The same from a stream; `source` names it in error messages.
+[[nodiscard]] std::vector<double> read_kitti_times(std::istream& in, const std::filesystem::path& source);
 
 /// The Velodyne -> camera 0 transform ("Tr:") of a calib.txt, or nothing when the file has no Tr line.
 /// Throws PointFileError when the file cannot be read or the line is not 12 numbers.
 [[nodiscard]] std::optional<Eigen::Isometry3d> read_kitti_velodyne_to_camera(
     const std::filesystem::path& path);
+/// The same from a stream; `source` names it in error messages.
+[[nodiscard]] std::optional<Eigen::Isometry3d> read_kitti_velodyne_to_camera(
+    std::istream& in, const std::filesystem::path& source);
 
 /// The camera 0 poses of poses.txt as the Velodyne's poses in the frame of the first Velodyne pose (x
 /// forward, y left, z up). With `velodyne_to_camera` (calib.txt's Tr) exactly; without, the nominal

@@ -12,6 +12,21 @@ namespace strata::lidar {
 namespace {
 
 constexpr std::size_t kLegacyChannels = 64;  // the legacy packet always carries 64 channels
+// The decoder shifts and turns every return by these in float: finite but absurd values (1e300) made
+// infinite points (the fuzz target's finite-points check). Real sensors: a beam origin of 0 to 28 mm, a
+// housing of centimetres.
+constexpr double kMaxBeamOriginMm = 1000.0;
+constexpr double kMaxTranslationMm = 10000.0;
+
+/// A rotation (orthonormal, det +1, to the precision of printed decimals) and a bounded translation, over
+/// the bottom row 0 0 0 1.
+bool is_rigid(const Eigen::Matrix4d& transform) {
+  const Eigen::Matrix3d rotation = transform.topLeftCorner<3, 3>();
+  return (rotation.transpose() * rotation - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff() < 1e-3 &&
+         rotation.determinant() > 0.0 &&
+         transform.topRightCorner<3, 1>().cwiseAbs().maxCoeff() <= kMaxTranslationMm &&
+         transform.row(3).isApprox(Eigen::RowVector4d(0, 0, 0, 1));
+}
 
 std::vector<double> angles(const nlohmann::json& root, const char* key, std::string_view source) {
   const auto field = root.find(key);
@@ -62,6 +77,9 @@ OusterMetadata parse_ouster_metadata(const std::string& json_text, std::string_v
     if (!origin->is_number() || !std::isfinite(origin->get<double>()))
       throw LidarConfigError(std::string(source) + ": lidar_origin_to_beam_origin_mm is not a number");
     metadata.lidar_origin_to_beam_origin_mm = origin->get<double>();
+    if (std::abs(metadata.lidar_origin_to_beam_origin_mm) > kMaxBeamOriginMm)
+      throw LidarConfigError(std::string(source) + ": lidar_origin_to_beam_origin_mm beyond +-" +
+                             std::to_string(static_cast<int>(kMaxBeamOriginMm)) + " mm");
   }
   metadata.lidar_to_sensor_transform << -1, 0, 0, 0, 0, -1, 0, 0, 0, 0, 1, 36.18, 0, 0, 0, 1;
   if (const auto transform = root.find("lidar_to_sensor_transform"); transform != root.end()) {
@@ -75,6 +93,10 @@ OusterMetadata parse_ouster_metadata(const std::string& json_text, std::string_v
       metadata.lidar_to_sensor_transform(static_cast<Eigen::Index>(i / 4), static_cast<Eigen::Index>(i % 4)) =
           value.get<double>();
     }
+    if (!is_rigid(metadata.lidar_to_sensor_transform))
+      throw LidarConfigError(std::string(source) +
+                             ": lidar_to_sensor_transform is not a rotation and a translation within +-" +
+                             std::to_string(static_cast<int>(kMaxTranslationMm)) + " mm");
   }
   return metadata;
 }

@@ -21,8 +21,10 @@ struct OusterMetadata {
   Eigen::Matrix4d lidar_to_sensor_transform;
 };
 
-/// Parses the JSON; `source` names it in errors. Throws LidarConfigError: not JSON, a missing or
-/// mistyped field, angle arrays that are not 64 finite values, an unknown lidar_mode.
+/// Parses the JSON; `source` names it in errors. Throws LidarConfigError: not JSON (or nested deeper than 64
+/// levels), a missing or mistyped field, angle arrays that are not 64 finite values, an unknown lidar_mode,
+/// a beam origin beyond +-1000 mm, a lidar_to_sensor_transform that is not a rotation and a translation
+/// within +-10,000 mm.
 [[nodiscard]] OusterMetadata parse_ouster_metadata(const std::string& json_text, std::string_view source);
 /// Reads and parses a metadata file. Throws LidarConfigError.
 [[nodiscard]] OusterMetadata read_ouster_metadata(const std::filesystem::path& path);

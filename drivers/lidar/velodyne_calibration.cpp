@@ -6,11 +6,15 @@
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <utility>
 
 #include "drivers/lidar/lidar_config_error.hpp"
 
 namespace strata::lidar {
 namespace {
+
+/// No laser's length correction comes near this; beyond it the file is in millimetres or corrupt.
+constexpr double kMaxCorrectionMetres = 10.0;
 
 double number(const YAML::Node& laser, const char* key, std::string_view source, std::size_t index,
               bool required) {
@@ -95,6 +99,21 @@ VelodyneCalibration parse_velodyne_calibration(const std::string& yaml_text, std
     if (std::abs(laser.vert_correction) > std::numbers::pi / 2)
       throw LidarConfigError(std::string(source) + ": laser_id " + std::to_string(laser.laser_id) +
                              ": vert_correction beyond +-pi/2 (the file's angles must be radians)");
+    // The decoder turns every return by these in float: a finite but absurd value (1e300) made infinite
+    // points (a fuzzed file found it). Real corrections are a few centimetres to a metre, and milliradians.
+    if (std::abs(laser.rot_correction) > 2 * std::numbers::pi)
+      throw LidarConfigError(std::string(source) + ": laser_id " + std::to_string(laser.laser_id) +
+                             ": rot_correction beyond +-2 pi (the file's angles must be radians)");
+    for (const auto& [name, metres] : {std::pair{"dist_correction", laser.dist_correction},
+                                       std::pair{"dist_correction_x", laser.dist_correction_x},
+                                       std::pair{"dist_correction_y", laser.dist_correction_y},
+                                       std::pair{"vert_offset_correction", laser.vert_offset_correction},
+                                       std::pair{"horiz_offset_correction", laser.horiz_offset_correction}}) {
+      if (std::abs(metres) > kMaxCorrectionMetres)
+        throw LidarConfigError(std::string(source) + ": laser_id " + std::to_string(laser.laser_id) + ": " +
+                               name + " beyond +-" + std::to_string(static_cast<int>(kMaxCorrectionMetres)) +
+                               " m (the file's lengths must be metres)");
+    }
     by_id[static_cast<std::size_t>(laser.laser_id)] = laser;
   }
   if (const YAML::Node count = root["num_lasers"]) {

@@ -31,7 +31,8 @@ struct VelodyneCalibration {
 /// Parses velodyne_pointcloud's calibration YAML (`lasers:` list, optional `num_lasers`,
 /// `distance_resolution`). `source` names the text in errors. Throws LidarConfigError naming the problem:
 /// YAML syntax, no lasers, a missing or non-numeric field, duplicate or missing laser ids, a laser count
-/// that disagrees with num_lasers.
+/// that disagrees with num_lasers, an angle beyond its range (vert_correction +-pi/2, rot_correction
+/// +-2 pi) or a length correction beyond +-10 m.
 [[nodiscard]] VelodyneCalibration parse_velodyne_calibration(const std::string& yaml_text,
                                                              std::string_view source);
 /// Reads and parses a calibration file. Throws LidarConfigError.

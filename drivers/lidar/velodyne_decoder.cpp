@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "drivers/lidar/byte_order.hpp"
 #include "drivers/lidar/lidar_config_error.hpp"
@@ -33,6 +34,25 @@ constexpr double kHdl32eSequenceInterval = 46.08e-6;
 // at the fastest 20 Hz the VLP-16 turns 0.8 deg per block.
 constexpr std::uint32_t kMaxAzimuthGap = 150;
 
+struct AzimuthTable {
+  std::vector<float> cos, sin;
+};
+
+const AzimuthTable& azimuth_table() {
+  static const AzimuthTable table = [] {
+    AzimuthTable made;
+    made.cos.resize(kAzimuthUnits);
+    made.sin.resize(kAzimuthUnits);
+    for (std::uint32_t a = 0; a < kAzimuthUnits; ++a) {
+      const double radians = static_cast<double>(a) * std::numbers::pi / 18000.0;
+      made.cos[a] = static_cast<float>(std::cos(radians));
+      made.sin[a] = static_cast<float>(std::sin(radians));
+    }
+    return made;
+  }();
+  return table;
+}
+
 }  // namespace
 
 VelodyneDecoder::VelodyneDecoder(LidarModel model, const VelodyneCalibration& calibration) : model_(model) {
@@ -57,13 +77,8 @@ VelodyneDecoder::VelodyneDecoder(LidarModel model, const VelodyneCalibration& ca
                             static_cast<float>(laser.vert_offset_correction),
                             static_cast<float>(laser.horiz_offset_correction), rings[i]});
   }
-  cos_azimuth_.resize(kAzimuthUnits);
-  sin_azimuth_.resize(kAzimuthUnits);
-  for (std::uint32_t a = 0; a < kAzimuthUnits; ++a) {
-    const double radians = static_cast<double>(a) * std::numbers::pi / 18000.0;
-    cos_azimuth_[a] = static_cast<float>(std::cos(radians));
-    sin_azimuth_[a] = static_cast<float>(std::sin(radians));
-  }
+  cos_azimuth_ = azimuth_table().cos;
+  sin_azimuth_ = azimuth_table().sin;
   last_azimuth_gap_ = model == LidarModel::kVlp16 ? 40 : 16;  // 10 Hz until the packets say otherwise
 }
 

@@ -44,8 +44,10 @@ class VelodyneDecoder {
   LidarModel model_;
   std::vector<Laser> lasers_;
   float distance_resolution_;
-  std::vector<float> cos_azimuth_;  ///< by azimuth in 0.01 deg (0..35999): the decoder's hot loop
-  std::vector<float> sin_azimuth_;
+  /// By azimuth in 0.01 deg (0..35999): the decoder's hot loop. One table for every decoder (made once),
+  /// so that a decoder is cheap to make and to copy.
+  std::span<const float> cos_azimuth_;
+  std::span<const float> sin_azimuth_;
   std::uint32_t last_azimuth_gap_ = 0;  ///< 0.01 deg between blocks, for the packet's last block
   DecodeStats stats_;
 };

@@ -13,9 +13,10 @@
 #include "drivers/io/json_input.hpp"
 #include "drivers/io/kitti_reader.hpp"
 #include "drivers/io/point_cloud_file.hpp"
-#include "drivers/io/text_fields.hpp"
 #include "drivers/io/threedtk_reader.hpp"
+#include "drivers/replay/csv_table.hpp"
 #include "drivers/replay/recording_layout.hpp"
+#include "drivers/replay/scan_list.hpp"
 
 namespace strata::replay {
 namespace fs = std::filesystem;
@@ -32,173 +33,28 @@ bool is_file(const fs::path& path) {
   return fs::is_regular_file(path, error);
 }
 
-/// The rows of a CSV file with a header row, each as column name -> field. Throws DatasetError.
-class CsvTable {
- public:
-  explicit CsvTable(const fs::path& path) : path_(path) {
-    std::ifstream in(path);
-    if (!in)
-      throw DatasetError(path.string() + ": cannot open");
-    std::string line;
-    if (!std::getline(in, line))
-      throw DatasetError(path.string() + ": empty (expected a header row)");
-    for (const std::string_view name : io::split_fields(line))
-      columns_.emplace_back(name);
-    for (std::size_t number = 2; std::getline(in, line); ++number) {
-      if (io::trimmed(line).empty())
-        continue;
-      std::vector<std::string> row;
-      for (const std::string_view field : io::split_fields(line))
-        row.emplace_back(field);
-      if (row.size() != columns_.size()) {
-        throw DatasetError(fmt::format("{}: line {} has {} fields, the header {}", path.string(), number,
-                                       row.size(), columns_.size()));
-      }
-      rows_.push_back(std::move(row));
-      lines_.push_back(number);
-    }
-  }
-
-  [[nodiscard]] std::size_t size() const { return rows_.size(); }
-  [[nodiscard]] bool has(const std::string& column) const { return index(column).has_value(); }
-  /// The field as text; throws when the column is missing.
-  [[nodiscard]] const std::string& text(std::size_t row, const std::string& column) const {
-    const auto i = index(column);
-    if (!i)
-      throw DatasetError(path_.string() + ": no column '" + column + "'");
-    return rows_[row][*i];
-  }
-  /// The field as a finite number; throws naming the line otherwise.
-  [[nodiscard]] double number(std::size_t row, const std::string& column) const {
-    const std::string& field = text(row, column);
-    const auto value = io::parse_number(field);
-    if (!value || !std::isfinite(*value)) {
-      throw DatasetError(
-          fmt::format("{}: line {}: {} '{}' is not a number", path_.string(), lines_[row], column, field));
-    }
-    return *value;
-  }
-  /// The pose in columns prefix+x ... prefix+yaw: nothing when the columns are missing or all empty.
-  [[nodiscard]] std::optional<Pose3> pose(std::size_t row, const std::string& prefix) const {
-    static const char* const kNames[] = {"x", "y", "z", "roll", "pitch", "yaw"};
-    if (!has(prefix + "x"))
-      return std::nullopt;
-    if (text(row, prefix + "x").empty())
-      return std::nullopt;
-    double values[6];
-    for (std::size_t i = 0; i < 6; ++i)
-      values[i] = number(row, prefix + kNames[i]);
-    Pose3 pose;
-    pose.position = Eigen::Vector3d(values[0], values[1], values[2]);
-    pose.roll = values[3];
-    pose.pitch = values[4];
-    pose.yaw = values[5];
-    return pose;
-  }
-
- private:
-  [[nodiscard]] std::optional<std::size_t> index(const std::string& column) const {
-    const auto it = std::find(columns_.begin(), columns_.end(), column);
-    if (it == columns_.end())
-      return std::nullopt;
-    return static_cast<std::size_t>(it - columns_.begin());
-  }
-
-  fs::path path_;
-  std::vector<std::string> columns_;
-  std::vector<std::vector<std::string>> rows_;
-  std::vector<std::size_t> lines_;
-};
-
-Eigen::Isometry3d from_row_major(const std::vector<double>& values) {
-  Eigen::Isometry3d transform = Eigen::Isometry3d::Identity();
-  for (int row = 0; row < 3; ++row) {
-    for (int col = 0; col < 4; ++col)
-      transform.matrix()(row, col) = values[static_cast<std::size_t>(row * 4 + col)];
-  }
-  return transform;
+std::ifstream open_csv(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in)
+    throw DatasetError(path.string() + ": cannot open");
+  return in;
 }
 
-/// The gravity reading in columns up_x, up_y, up_z (which way is up, base frame) and up_sigma (radians).
-GravityReading read_gravity(const CsvTable& table, std::size_t row, const std::string& name) {
-  GravityReading gravity;
-  gravity.up_in_base = {table.number(row, "up_x"), table.number(row, "up_y"), table.number(row, "up_z")};
-  gravity.sigma = table.number(row, "up_sigma");
-  const double norm = gravity.up_in_base.norm();
-  if (!std::isfinite(norm) || norm < 0.5 || norm > 2.0 || !std::isfinite(gravity.sigma) ||
-      gravity.sigma <= 0.0)
-    throw DatasetError(fmt::format(
-        "{}: scan {}: the gravity reading ({}, {}, {}; sigma {}) is not a direction "
-        "with a positive sigma",
-        name, row, gravity.up_in_base.x(), gravity.up_in_base.y(), gravity.up_in_base.z(), gravity.sigma));
-  if (std::abs(norm - 1.0) > 1e-9)  // a recording's unit vector reads back bit for bit
-    gravity.up_in_base /= norm;
-  return gravity;
-}
-
-/// What the gyro read standing, in columns gyro_rate (rad/s), gyro_seconds and gyro_sigma (rad/s).
-StandingGyro read_standing_gyro(const CsvTable& table, std::size_t row, const std::string& name) {
-  const StandingGyro gyro{.rate = table.number(row, "gyro_rate"),
-                          .seconds = table.number(row, "gyro_seconds"),
-                          .sigma = table.number(row, "gyro_sigma")};
-  if (!gyro.usable())
-    throw DatasetError(
-        fmt::format("{}: scan {}: the standing gyro reading ({} rad/s over {} s; sigma {}) "
-                    "needs a finite rate, positive seconds and a positive sigma",
-                    name, row, gyro.rate, gyro.seconds, gyro.sigma));
-  return gyro;
-}
-
-/// scans.csv (a recording, or a hand-made list of point files).
+/// scans.csv (a recording, or a hand-made list of point files), with every point file it lists in place.
 std::vector<DatasetScan> read_scan_list(const fs::path& directory) {
-  const CsvTable table(directory / kScansFile);
-  const std::string name = (directory / kScansFile).string();
-  for (const char* required : {"file", "stamp"}) {
-    if (!table.has(required))
-      throw DatasetError(name + ": no column '" + required + "'");
-  }
-  std::vector<DatasetScan> scans;
-  for (std::size_t row = 0; row < table.size(); ++row) {
-    DatasetScan scan;
-    scan.file = directory / table.text(row, "file");
+  const fs::path path = directory / kScansFile;
+  std::ifstream in = open_csv(path);
+  std::vector<DatasetScan> scans = parse_scan_list(in, directory, path.string());
+  for (const DatasetScan& scan : scans) {
     if (!is_file(scan.file))
-      throw DatasetError(name + ": scan file " + scan.file.string() + " does not exist");
-    scan.stamp = table.number(row, "stamp");
-    scan.odometry = table.pose(row, "");
-    scan.reference = table.pose(row, "truth_");
-    if (table.has("duration"))
-      scan.duration = table.number(row, "duration");
-    if (table.has("sensor"))
-      scan.sensor = table.text(row, "sensor");
-    if (table.has("rays"))
-      scan.rays = static_cast<std::size_t>(std::max(0.0, table.number(row, "rays")));
-    if (table.has("max_range"))
-      scan.max_range = table.number(row, "max_range");
-    if (table.has("mount_00")) {
-      std::vector<double> mount;
-      for (int r = 0; r < 3; ++r) {
-        for (int c = 0; c < 4; ++c)
-          mount.push_back(table.number(row, fmt::format("mount_{}{}", r, c)));
-      }
-      scan.sensor_to_base = from_row_major(mount);
-    } else {
-      scan.mount_known = false;
-    }
-    if (table.has("up_x") && !table.text(row, "up_x").empty())
-      scan.gravity = read_gravity(table, row, name);
-    if (table.has("gyro_rate") && !table.text(row, "gyro_rate").empty())
-      scan.standing_gyro = read_standing_gyro(table, row, name);
-    if (!scans.empty() && scan.stamp < scans.back().stamp)
-      throw DatasetError(fmt::format("{}: scan {} is older than the one before it", name, row));
-    scans.push_back(std::move(scan));
+      throw DatasetError(path.string() + ": scan file " + scan.file.string() + " does not exist");
   }
-  if (scans.empty())
-    throw DatasetError(name + ": no scans");
   return scans;
 }
 
 std::vector<DatasetOdometry> read_odometry_stream(const fs::path& path) {
-  const CsvTable table(path);
+  std::ifstream in = open_csv(path);
+  const CsvTable table(in, path.string());
   std::vector<DatasetOdometry> samples;
   for (std::size_t row = 0; row < table.size(); ++row) {
     DatasetOdometry sample;
@@ -241,7 +97,7 @@ Dataset read_recording(const fs::path& directory, bool with_metadata) {
       if (!values.is_array() || values.size() != 12 ||
           !std::all_of(values.begin(), values.end(), [](const auto& v) { return v.is_number(); }))
         throw DatasetError(path.string() + ": initial_map_from_odom is not 12 numbers (3x4 row-major)");
-      dataset.initial_map_from_odom = from_row_major(values.get<std::vector<double>>());
+      dataset.initial_map_from_odom = transform_from_row_major(values.get<std::vector<double>>());
     }
     source = "a Strata recording of " + metadata.value("source", std::string("?"));
     for (DatasetScan& scan : dataset.scans)

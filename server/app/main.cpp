@@ -8,6 +8,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "server/app/config_file.hpp"
 #include "server/app/map_command.hpp"
 #include "server/app/memory_policy.hpp"
 #include "server/app/plan_command.hpp"
@@ -16,15 +17,6 @@
 #include "server/protocol/build_info.hpp"
 
 namespace {
-
-// Every serve option can also come from a config file: `strata serve --config strata.ini`, with the options
-// by their long names under a [serve] section (deploy/strata.example.ini). The command line wins.
-void allow_config_file(CLI::App& app) {
-  app.set_config("--config", "", "Read options from this file (INI/TOML; see deploy/strata.example.ini)");
-  // A key no option has is refused at start, not ignored: a misspelt `max-client` would otherwise leave the
-  // robot on the default without a word.
-  app.allow_config_extras(CLI::config_extras_mode::error);
-}
 
 int parse_failed(const CLI::App& app, const CLI::ParseError& error) {
   if (dynamic_cast<const CLI::ConfigError*>(&error) == nullptr)
@@ -60,7 +52,8 @@ int main(int argc, char** argv) {
 
   strata::app::ServeOptions serve_options;
   auto* serve_cmd = strata::app::add_serve_command(app, serve_options);
-  allow_config_file(app);
+  // Every serve option can also come from a config file: `strata serve --config strata.ini`.
+  strata::app::allow_config_file(app);
 
   strata::app::RegisterOptions register_options;
   auto* register_cmd = strata::app::add_register_command(app, register_options);

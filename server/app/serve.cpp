@@ -6,6 +6,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
@@ -142,6 +143,17 @@ void announce(const ServeOptions& options, const RobotDriver& driver, const net:
   std::fflush(stdout);
 }
 
+/// The token in a file, without surrounding whitespace; throws when the file cannot be read.
+std::string read_token_file(const std::filesystem::path& path) {
+  std::ifstream file(path);
+  std::string token;
+  if (!file || !std::getline(file, token))
+    throw std::runtime_error("cannot read the operator token from " + path.string());
+  while (!token.empty() && (token.back() == '\r' || token.back() == ' ' || token.back() == '\t'))
+    token.pop_back();
+  return token;
+}
+
 /// Stops the pipeline however serve() leaves, before the network it publishes to goes.
 struct StopOnExit {
   pipeline::RobotPipeline& robot;
@@ -170,6 +182,17 @@ int serve(const ServeOptions& options) {
   robot.stop();
   spdlog::info("stopped");
   return 0;
+}
+
+int run_serve(ServeOptions options) {
+  if (!options.network.operator_token_file.empty())
+    options.network.operator_token = read_token_file(options.network.operator_token_file);
+  if (!options.network.operator_token.empty() && !auth::is_valid_token(options.network.operator_token)) {
+    throw std::runtime_error(
+        "the operator token must be 16-128 characters of A-Z a-z 0-9 - _ (it travels in headers and "
+        "WebSocket subprotocols)");
+  }
+  return serve(options);
 }
 
 }  // namespace strata::app

@@ -97,6 +97,9 @@ struct ServeOptions {
 /// process exit code.
 int serve(const ServeOptions& options);
 
+/// Reads the operator token file if one is given, checks the token, and runs the server (serve()).
+int run_serve(ServeOptions options);
+
 /// A built-in world by name, or a world file by path; throws with the choices when neither exists.
 [[nodiscard]] sim::WorldDescription load_world(const std::string& name_or_path);
 

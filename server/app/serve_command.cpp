@@ -1,29 +1,15 @@
-// `strata serve`: its options, read from the command line or a config file, and its start.
+// `strata serve`: its options, read from the command line or a config file.
 #include "server/app/serve_command.hpp"
 
-#include <fstream>
 #include <map>
-#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "server/auth/host_policy.hpp"
-#include "server/auth/operator_token.hpp"
 #include "server/auth/request_auth.hpp"
 
 namespace strata::app {
 namespace {
-
-/// The token in a file, without surrounding whitespace; throws when the file cannot be read.
-std::string read_token_file(const std::filesystem::path& path) {
-  std::ifstream file(path);
-  std::string token;
-  if (!file || !std::getline(file, token))
-    throw std::runtime_error("cannot read the operator token from " + path.string());
-  while (!token.empty() && (token.back() == '\r' || token.back() == ' ' || token.back() == '\t'))
-    token.pop_back();
-  return token;
-}
 
 /// An option whose value is one of `names`: help and errors list the names, the default is shown by name,
 /// and the option struct holds the enum.
@@ -254,17 +240,6 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
       ->check(CLI::ExistingFile);
   command->fallthrough();  // `strata serve --config FILE` works as well as `strata --config FILE serve`
   return command;
-}
-
-int run_serve(ServeOptions options) {
-  if (!options.network.operator_token_file.empty())
-    options.network.operator_token = read_token_file(options.network.operator_token_file);
-  if (!options.network.operator_token.empty() && !auth::is_valid_token(options.network.operator_token)) {
-    throw std::runtime_error(
-        "the operator token must be 16-128 characters of A-Z a-z 0-9 - _ (it travels in headers and "
-        "WebSocket subprotocols)");
-  }
-  return serve(options);
 }
 
 }  // namespace strata::app

@@ -10,7 +10,4 @@ namespace strata::app {
 /// (`--config FILE`, the long names under [serve], deploy/strata.example.ini).
 CLI::App* add_serve_command(CLI::App& app, ServeOptions& options);
 
-/// Reads the operator token file if one is given, checks the token, and runs the server (serve()).
-int run_serve(ServeOptions options);
-
 }  // namespace strata::app

@@ -69,6 +69,35 @@ TEST(OusterMetadata, ReadsNewerFieldsAndRejectsBadFilesClearly) {
   EXPECT_THROW((void)read_ouster_metadata("/nonexistent/os1.json"), LidarConfigError);
 }
 
+TEST(OusterMetadata, RefusesGeometryThatWouldMakeInfinitePoints) {
+  // Finite but absurd values made the decoder's points infinite (the fuzz target's finite-points check).
+  const auto with = [](const std::string& field) {
+    std::string json = metadata_json(64, "1024x10");
+    json.pop_back();
+    return json + ", " + field + "}";
+  };
+  EXPECT_NE(metadata_error_of(with(R"("lidar_origin_to_beam_origin_mm": 1e300)")).find("beyond +-1000 mm"),
+            std::string::npos);
+  const std::string not_rigid = "is not a rotation and a translation";
+  EXPECT_NE(
+      metadata_error_of(with(R"("lidar_to_sensor_transform": [1e300,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,0,1])"))
+          .find(not_rigid),
+      std::string::npos);
+  EXPECT_NE(
+      metadata_error_of(with(R"("lidar_to_sensor_transform": [1,0,0,0, 0,1,0,0, 0,0,1,1e300, 0,0,0,1])"))
+          .find(not_rigid),
+      std::string::npos);
+  EXPECT_NE(metadata_error_of(with(R"("lidar_to_sensor_transform": [1,0,0,0, 0,1,0,0, 0,0,-1,0, 0,0,0,1])"))
+                .find(not_rigid),
+            std::string::npos);  // a mirror
+  EXPECT_NE(metadata_error_of(with(R"("lidar_to_sensor_transform": [1,0,0,0, 0,1,0,0, 0,0,1,0, 0,0,5,1])"))
+                .find(not_rigid),
+            std::string::npos);
+  EXPECT_EQ(
+      metadata_error_of(with(R"("lidar_to_sensor_transform": [0,-1,0,5, 1,0,0,-5, 0,0,1,38.2, 0,0,0,1])")),
+      "");
+}
+
 TEST(OusterDecoder, TheCapturedFrameDecodesWithPlausibleGeometry) {
   const std::filesystem::path dir = test::lidar_data_dir();
   STRATA_SKIP_WITHOUT(dir / "ouster_example.pcap");

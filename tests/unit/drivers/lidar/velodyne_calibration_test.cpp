@@ -74,8 +74,21 @@ TEST(VelodyneCalibration, BadFilesGiveAClearError) {
             std::string::npos);
   EXPECT_NE(error_of("lasers: [{laser_id: 5, vert_correction: 0}]").find("not in 0..0"), std::string::npos);
   EXPECT_NE(error_of("lasers: [{laser_id: 0, vert_correction: 15.0}]").find("radians"), std::string::npos);
+  // Finite but absurd corrections made the decoder's points infinite (found by the fuzz target).
+  EXPECT_NE(error_of("lasers: [{laser_id: 0, vert_correction: 0, dist_correction: 1e300}]")
+                .find("dist_correction beyond +-10 m"),
+            std::string::npos);
+  EXPECT_NE(error_of("lasers: [{laser_id: 0, vert_correction: 0, horiz_offset_correction: -26}]")
+                .find("horiz_offset_correction beyond"),
+            std::string::npos);
+  EXPECT_NE(
+      error_of("lasers: [{laser_id: 0, vert_correction: 0, rot_correction: 1e300}]").find("rot_correction"),
+      std::string::npos);
   EXPECT_NE(error_of("lasers: [{laser_id: 0, vert_correction: 0}]\nnum_lasers: 32").find("num_lasers is 32"),
             std::string::npos);
+  // yaml-cpp refuses more than 2,000 levels (its DeepRecursion) before its recursive parser runs out of
+  // stack.
+  EXPECT_NE(error_of("lasers: " + std::string(100000, '[')).find("not valid YAML"), std::string::npos);
   EXPECT_NE(error_of("lasers: [{laser_id: 0, vert_correction: 0}]\ndistance_resolution: -1")
                 .find("distance_resolution"),
             std::string::npos);

@@ -157,6 +157,9 @@ TEST_F(Datasets, ScanListErrorsNameTheLine) {
   EXPECT_NE(open_error().find("line 2: z 'zero' is not a number"), std::string::npos);
   write("scans.csv", "file,stamp\na.pcd,0\nmissing.pcd,1\n");
   EXPECT_NE(open_error().find("missing.pcd does not exist"), std::string::npos);
+  write("scans.csv",
+        "file,stamp,rays\na.pcd,0,1e300\n");  // an undefined conversion (found by the fuzz target)
+  EXPECT_NE(open_error().find("scan 0: 1e+300 rays is beyond any scan's (1e+09)"), std::string::npos);
   write("scans.csv", "file,stamp\na.pcd,0,7\n");
   EXPECT_NE(open_error().find("line 2 has 3 fields, the header 2"), std::string::npos);
   write("scans.csv", "file,stamp,up_x,up_y,up_z,up_sigma\na.pcd,0,0,0,0,0.01\n");

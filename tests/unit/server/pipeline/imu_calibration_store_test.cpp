@@ -101,11 +101,14 @@ TEST_F(ImuCalibrationStoreTest, ABadFileIsNotUsedAndLeftForTheNextSaveToReplace)
       "{",
       text.substr(0, text.size() / 2),
       R"({"format":"strata-imu-calibration","version":2,"imu":"imu","mounting_roll_deg":0,"mounting_pitch_deg":0,"loops":1,"keyframes":1})",
+      R"({"format":-0.22,"lloops":1})",
       R"({"format":"other","version":1,"imu":"imu","mounting_roll_deg":0,"mounting_pitch_deg":0,"loops":1,"keyframes":1})",
       R"({"format":"strata-imu-calibration","version":1,"imu":"imu","mounting_roll_deg":"x","mounting_pitch_deg":0,"loops":1,"keyframes":1})",
       R"({"format":"strata-imu-calibration","version":1,"imu":"imu","mounting_roll_deg":45,"mounting_pitch_deg":0,"loops":1,"keyframes":1})",
       R"({"format":"strata-imu-calibration","version":1,"imu":"imu","mounting_roll_deg":0,"mounting_pitch_deg":0,"loops":-1,"keyframes":1})",
       R"({"format":"strata-imu-calibration","version":1,"imu":"","mounting_roll_deg":0,"mounting_pitch_deg":0,"loops":1,"keyframes":1})",
+      R"({"format":"strata-imu-calibration","imu":)" + std::string(100000, '[') + std::string(100000, ']') +
+          "}",
   };
   for (const std::string& contents : bad) {
     EXPECT_THROW(static_cast<void>(parse_imu_calibration(contents)), std::runtime_error) << contents;
@@ -114,6 +117,12 @@ TEST_F(ImuCalibrationStoreTest, ABadFileIsNotUsedAndLeftForTheNextSaveToReplace)
     EXPECT_FALSE(store.load().has_value()) << contents;
     EXPECT_EQ(store.imu_calibration().kept, ImuCalibrationStatus::Kept::kNone) << contents;
     EXPECT_EQ(read(), contents) << "a file not understood is left as it is";
+  }
+  try {
+    static_cast<void>(parse_imu_calibration(bad.back()));
+    ADD_FAILURE() << "a file nested 100,000 levels deep was read";
+  } catch (const std::runtime_error& error) {
+    EXPECT_STREQ(error.what(), "nested deeper than 64 levels");
   }
   const ImuCalibration parsed = parse_imu_calibration(text);
   EXPECT_EQ(parsed.imu, "imu");
