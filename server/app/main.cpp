@@ -68,7 +68,7 @@ int main(int argc, char** argv) {
       app.add_subcommand("version", "Print the version and the libraries Strata was built with");
 
   try {
-    app.parse(argc, argv);
+    strata::app::parse_options([&] { app.parse(argc, argv); });
   } catch (const CLI::ParseError& error) {
     return parse_failed(app, error);
   }

@@ -1,7 +1,8 @@
 // The config file (strata serve --config FILE, deploy/strata.ini: INI or TOML, the long options of `strata
 // serve` under [serve]), parsed by the same command-line application main() builds: CLI11's config reader,
-// then every option's conversion and check. A file is either refused with a CLI::ParseError (what main()
-// catches and explains) or gives options within the ranges the options declare.
+// then every option's conversion and check, through parse_options as main() parses. A file is either refused
+// with a CLI::ParseError (what main() catches and explains) or gives options within the ranges the options
+// declare.
 #include <cstddef>
 #include <cstdint>
 #include <sstream>
@@ -63,7 +64,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   std::istringstream file(std::string(reinterpret_cast<const char*>(data), size));
   try {
     // The file as `strata --config FILE serve` reads it; its [serve] section selects the subcommand.
-    application.app.parse_from_stream(file);
+    strata::app::parse_options([&] { application.app.parse_from_stream(file); });
   } catch (const CLI::ParseError&) {
     return 0;
   }
