@@ -4,11 +4,11 @@ import { spawn } from 'node:child_process';
 import { once } from 'node:events';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { createServer } from 'node:net';
-import { tmpdir } from 'node:os';
+import { tmpdir, userInfo } from 'node:os';
 import { join } from 'node:path';
 import { createInterface } from 'node:readline';
 
-async function freePort() {
+export async function freePort() {
   const server = createServer();
   server.listen(0, '127.0.0.1');
   await once(server, 'listening');
@@ -18,12 +18,18 @@ async function freePort() {
   return port;
 }
 
-/** Starts mosquitto; `restart()` stops it and starts it again on the same port (a broker outage). */
-export async function startBroker(binary) {
+/**
+ * Starts mosquitto with an anonymous listener on a free loopback port; `listeners(dir)` may return the
+ * config lines of more (each with its own settings), files in `dir`. `restart()` stops it and starts it
+ * again on the same ports (a broker outage).
+ */
+export async function startBroker(binary, { listeners = async () => [] } = {}) {
   const dir = mkdtempSync(join(tmpdir(), 'strata-mosquitto-'));
   const port = await freePort();
   const config = join(dir, 'mosquitto.conf');
-  writeFileSync(config, [`listener ${port} 127.0.0.1`, 'allow_anonymous true', 'persistence false', 'log_dest stderr', ''].join('\n'));
+  // `user`: started by root, mosquitto would become the user "mosquitto", who cannot read the test's files.
+  const lines = [`user ${userInfo().username}`, 'per_listener_settings true', 'persistence false', 'log_dest stderr', `listener ${port} 127.0.0.1`, 'allow_anonymous true'];
+  writeFileSync(config, [...lines, ...(await listeners(dir)), ''].join('\n'));
   let child = null;
   const launch = async () => {
     child = spawn(binary, ['-c', config], { stdio: ['ignore', 'ignore', 'pipe'] });
