@@ -84,6 +84,14 @@ void MappingWorker::run() {
     Item item;
     {
       std::unique_lock lock(mutex_);
+      if (queue_.empty() && running_) {
+        // Nothing waits: refresh what a burst left pending (its last scan may not have been mapped, or
+        // the scans behind it were dropped) before sleeping, so no inserted scan waits on the next one.
+        lock.unlock();
+        MappingTimes times;
+        refresh_pending(times);
+        lock.lock();
+      }
       wake_.wait(lock, [this] { return !running_ || !queue_.empty(); });
       if (!running_)
         return;
@@ -95,7 +103,8 @@ void MappingWorker::run() {
     if (const auto* scan = std::get_if<Scan>(&item)) {
       map_scan(*scan);
     } else {
-      refresh_pending();  // a task (a save, a download, a flush) sees every scan mapped before it
+      MappingTimes times;
+      refresh_pending(times);  // a task (a save, a download, a flush) sees every scan mapped before it
       std::get<Task>(item)();
     }
   }
@@ -128,17 +137,21 @@ bool MappingWorker::insert(const Scan& scan, MappingTimes& times) {
   return true;
 }
 
-void MappingWorker::refresh_pending() {
-  MappingTimes times;
+bool MappingWorker::refresh_pending(MappingTimes& times) {
   try {
     if (!live_.refresh_pending(times))
-      return;
-  } catch (const std::exception& error) {
+      return false;
+  } catch (const std::exception& error) {  // an encoder failure must not end the mapping thread
     spdlog::error("mapping: the map not refreshed: {}", error.what());
-    return;
+    return false;
   }
   last_refresh_ = std::chrono::steady_clock::now();
+  {
+    std::lock_guard lock(mutex_);
+    status_.last = times;
+  }
   publish();
+  return true;
 }
 
 void MappingWorker::map_scan(const Scan& scan) {
@@ -169,21 +182,10 @@ void MappingWorker::map_scan(const Scan& scan) {
   }
   // Behind a burst, the next scans first and one refresh for all of them; but never an older drivable map
   // and tiles than max_refresh_delay.
-  const auto now = std::chrono::steady_clock::now();
-  if (more_waiting && now - last_refresh_ < options_.max_refresh_delay)
+  if (more_waiting && std::chrono::steady_clock::now() - last_refresh_ < options_.max_refresh_delay)
     return;
-  try {
-    live_.refresh_pending(times);
-  } catch (const std::exception& error) {  // an encoder failure must not end the mapping thread
-    spdlog::error("mapping: scan at t={:.1f} mapped, the map not refreshed: {}", event.stamp, error.what());
+  if (!refresh_pending(times))
     return;
-  }
-  last_refresh_ = now;
-  {
-    std::lock_guard lock(mutex_);
-    status_.last = times;
-  }
-  publish();
   spdlog::debug(
       "mapped scan at t={:.1f}: {} points, {} tiles changed; reached mapping {:.1f} ms after receipt; insert "
       "{:.1f} ms, drivable {:.1f} ms, tiles {:.1f} ms, png {:.1f} ms; published {:.1f} ms after receipt",
