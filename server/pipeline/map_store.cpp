@@ -110,12 +110,15 @@ std::vector<MapFileInfo> MapStore::list() const {
 }
 
 std::vector<std::uint8_t> MapStore::download(const std::string& format, const MlsMap& map,
-                                             const DrivableMap* drivable, std::uint64_t version) {
+                                             const LocalizationMap* localization, const DrivableMap* drivable,
+                                             std::uint64_t version) {
   std::string bytes;
   if (format == "strata" || format == "ply") {
     if (map.patch_count() == 0)
       return {};
-    bytes = format == "strata" ? serialize_mls_map(map) : mls_ply(map);
+    // The native file is the file a save writes, localization data and all: a map downloaded to move it
+    // to another robot is localized in there (issue 63).
+    bytes = format == "strata" ? serialize_map_file(map, localization) : mls_ply(map);
   } else if (format == "pgm" || format == "yaml") {
     if (drivable == nullptr || drivable->grid.cells.empty())
       return {};

@@ -40,10 +40,12 @@ class MapStore {
   /// The saved maps by name; hidden files, temporaries and names the API would refuse are not maps.
   [[nodiscard]] std::vector<MapFileInfo> list() const;
 
-  /// `map` in a download format: "strata" (the native file), "ply", or the drivable map as ROS "pgm" or
-  /// "yaml" (which names map version `version` and how to fetch its image). Empty for an unknown format or
-  /// when there is nothing to download (no patches, no drivable map).
+  /// `map` in a download format: "strata" (the native file, as save() writes it with `localization`),
+  /// "ply", or the drivable map as ROS "pgm" or "yaml" (which names map version `version` and how to fetch
+  /// its image). Empty for an unknown format or when there is nothing to download (no patches, no drivable
+  /// map).
   [[nodiscard]] static std::vector<std::uint8_t> download(const std::string& format, const MlsMap& map,
+                                                          const LocalizationMap* localization,
                                                           const DrivableMap* drivable, std::uint64_t version);
 
   [[nodiscard]] const std::filesystem::path& directory() const { return directory_; }

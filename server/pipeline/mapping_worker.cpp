@@ -309,17 +309,21 @@ CommandResult MappingWorker::save_map(const std::string& name) {
     return checked;
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
-    // The map was loaded: the localization map it came with (this run's keyframes are not in its
-    // frame). Otherwise the pose graph's keyframes as they are now, which the map follows.
-    std::shared_ptr<const LocalizationMap> localization = loaded_localization_;
-    if (!loaded_ && keyframe_source_) {
-      const std::vector<KeyframePose> keyframes = keyframe_source_();
-      if (!keyframes.empty())
-        localization = std::make_shared<const LocalizationMap>(make_localization_map(keyframes));
-    }
+    const std::shared_ptr<const LocalizationMap> localization = localization_to_keep();
     result = store_.save(live_.map(), localization.get(), name);
   });
   return result;
+}
+
+std::shared_ptr<const LocalizationMap> MappingWorker::localization_to_keep() const {
+  // The map was loaded: the localization map it came with (this run's keyframes are not in its frame).
+  // Otherwise the pose graph's keyframes as they are now, which the map follows.
+  if (loaded_ || !keyframe_source_)
+    return loaded_localization_;
+  const std::vector<KeyframePose> keyframes = keyframe_source_();
+  if (keyframes.empty())
+    return loaded_localization_;
+  return std::make_shared<const LocalizationMap>(make_localization_map(keyframes));
 }
 
 CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
@@ -389,13 +393,16 @@ MapDownload MappingWorker::download(const std::string& format, std::optional<std
     try {
       result.version = map_version;
       if (format != "pgm" && format != "yaml") {
-        result.bytes = MapStore::download(format, live_.map(), nullptr, result.version);
+        const std::shared_ptr<const LocalizationMap> localization =
+            format == "strata" ? localization_to_keep() : nullptr;
+        result.bytes = MapStore::download(format, live_.map(), localization.get(), nullptr, result.version);
       } else {
         const LiveMap::WholeLevel level = live_.whole_level(version);
         result.version_gone = level.gone;
         if (level.drivable) {
           result.version = level.version;
-          result.bytes = MapStore::download(format, live_.map(), level.drivable.get(), level.version);
+          result.bytes =
+              MapStore::download(format, live_.map(), nullptr, level.drivable.get(), level.version);
         }
       }
       if (!result.bytes.empty())

@@ -121,6 +121,8 @@ class MappingWorker final : public MapCommands {
   void map_scan(const Scan& scan);
   /// Steps 6-8 for one scan, without publishing. False when the scan could not be mapped.
   bool insert(const Scan& scan, MappingTimes& times);
+  /// Mapping thread: the localization map a save or a native download keeps with the map.
+  [[nodiscard]] std::shared_ptr<const LocalizationMap> localization_to_keep() const;
   /// Mapping thread: refreshes and publishes what scans inserted since the last refresh, if anything; false
   /// when nothing was pending or the refresh failed. `times` gets the refresh's times.
   bool refresh_pending(MappingTimes& times);
