@@ -1,0 +1,95 @@
+// The CDR layout ROS 2 puts on the wire and in bags, byte for byte: the encapsulation header, alignment
+// counted after it, strings with their NUL and length, sequences with their count, fixed arrays without.
+#include "drivers/ros2/cdr_writer.hpp"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "drivers/ros2/message_encoding.hpp"
+
+namespace strata::ros2 {
+namespace {
+
+using Bytes = std::vector<std::uint8_t>;
+
+TEST(CdrWriter, StartsWithTheLittleEndianEncapsulationHeader) {
+  EXPECT_EQ(CdrWriter().bytes(), (Bytes{0x00, 0x01, 0x00, 0x00}));
+}
+
+TEST(CdrWriter, AlignsEachPrimitiveToItsSizeCountedAfterTheHeader) {
+  CdrWriter out;
+  out.write(std::uint8_t{0xAB});
+  out.write(std::uint16_t{0x0102});  // 1 byte of padding
+  out.write(std::uint32_t{0x03040506});
+  out.write(double{1.0});  // at 8 after the header: no padding
+  out.write(std::uint8_t{0xCD});
+  out.write(std::int64_t{-2});                                                      // 7 bytes of padding
+  EXPECT_EQ(out.bytes(), (Bytes{0,    1,    0,    0,                                // header
+                                0xAB, 0,    0x02, 0x01, 0x06, 0x05, 0x04, 0x03,     // u8, pad, u16, u32
+                                0,    0,    0,    0,    0,    0,    0xF0, 0x3F,     // 1.0
+                                0xCD, 0,    0,    0,    0,    0,    0,    0,        // u8, 7 pad
+                                0xFE, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF, 0xFF}));  // -2
+}
+
+TEST(CdrWriter, WritesAStringAsItsLengthWithTheNulTheBytesAndTheNul) {
+  CdrWriter out;
+  out.write(std::uint8_t{7});
+  out.write_string("map");
+  out.write_string("");
+  EXPECT_EQ(out.bytes(), (Bytes{0, 1, 0, 0, 7,   0,   0,   0,  // the length is aligned to 4
+                                4, 0, 0, 0, 'm', 'a', 'p', 0, 1, 0, 0, 0, 0}));
+}
+
+TEST(CdrWriter, WritesSequencesWithTheirCountAndFixedArraysWithout) {
+  CdrWriter out;
+  out.write_byte_sequence(Bytes{9, 8, 7});
+  const double covariance[2] = {0.5, 2.0};
+  out.write_doubles(covariance);  // at 8 after the header: 1 byte of padding after the 7
+  EXPECT_EQ(out.bytes(), (Bytes{0, 1, 0, 0, 3, 0, 0,    0,    9, 8, 7, 0,  // count, bytes, padding
+                                0, 0, 0, 0, 0, 0, 0xE0, 0x3F, 0, 0, 0, 0, 0, 0, 0, 0x40}));
+}
+
+TEST(MessageEncoding, OccupancyGridHasTheHeaderMetaDataAndCellsAtTheirOffsets) {
+  OccupancyGrid grid;
+  grid.header = {{12, 34}, "map"};
+  grid.map_load_time = grid.header.stamp;
+  grid.resolution = 0.1F;
+  grid.width = 2;
+  grid.height = 1;
+  grid.origin.translation() = Eigen::Vector3d(-1.5, 2.0, 0.0);
+  grid.data = {0, -1};
+  const Bytes bytes = encode(grid);
+  // header: stamp (8) + "map" (4 + 4) = 16; map_load_time 8 -> 24; resolution, width, height -> 36;
+  // the pose's 7 doubles from 40 (4 bytes of padding) -> 96; then the cells' count and the cells.
+  ASSERT_EQ(bytes.size(), 4U + 96U + 4U + 2U);
+  const auto at = [&](std::size_t offset) { return bytes.data() + 4 + offset; };
+  EXPECT_EQ(*reinterpret_cast<const std::int32_t*>(at(0)), 12);
+  EXPECT_EQ(*reinterpret_cast<const std::uint32_t*>(at(8)), 4U);
+  EXPECT_EQ(*reinterpret_cast<const float*>(at(24)), 0.1F);
+  EXPECT_EQ(*reinterpret_cast<const std::uint32_t*>(at(28)), 2U);
+  EXPECT_EQ(*reinterpret_cast<const double*>(at(40)), -1.5);
+  EXPECT_EQ(*reinterpret_cast<const double*>(at(88)), 1.0);  // orientation.w
+  EXPECT_EQ(*reinterpret_cast<const std::uint32_t*>(at(96)), 2U);
+  EXPECT_EQ(bytes[4 + 100], 0);
+  EXPECT_EQ(bytes[4 + 101], 0xFF);  // -1: unknown
+}
+
+TEST(MessageEncoding, PoseStampedWritesTheRotationAsAUnitQuaternion) {
+  PoseStamped pose;
+  pose.header.frame_id = "map";
+  pose.pose =
+      Eigen::Translation3d(1, 2, 3) * Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitZ());
+  const Bytes bytes = encode(pose);
+  ASSERT_EQ(bytes.size(), 4U + 16U + 7U * 8U);
+  const auto* values = reinterpret_cast<const double*>(bytes.data() + 4 + 16);
+  EXPECT_EQ(values[0], 1.0);
+  EXPECT_EQ(values[2], 3.0);
+  EXPECT_NEAR(values[5], std::sqrt(0.5), 1e-12);  // z
+  EXPECT_NEAR(values[6], std::sqrt(0.5), 1e-12);  // w
+}
+
+}  // namespace
+}  // namespace strata::ros2
