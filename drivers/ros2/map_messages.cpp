@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cstddef>
 #include <map>
+#include <optional>
 
+#include "core/mls/map_export.hpp"
 #include "drivers/ros2/message_encoding.hpp"
 #include "drivers/ros2/message_schemas.hpp"
 
@@ -51,28 +53,24 @@ PointCloud2 patch_cloud(const MlsMap& map, const Header& header) {
                   {"level", offsetof(PatchPoint, level), PointField::kUint8, 1}};
   cloud.point_step = sizeof(PatchPoint);
   cloud.data.reserve(map.patch_count() * sizeof(PatchPoint));
-  for (const TileIndex& tile_index : map.tile_indices()) {
-    const MlsTile& tile = *map.find_tile(tile_index);
-    for (int local = 0; local < kMlsTileCells; ++local) {
-      const CellIndex cell{tile_index.x * kMlsTileSize + local % kMlsTileSize,
-                           tile_index.y * kMlsTileSize + local / kMlsTileSize};
-      const Eigen::Vector2d centre = map.cell_center(cell);
-      int level = 0;
-      tile.for_each_patch(local, [&](const MlsPatch& patch) {  // lowest first
-        const PatchPoint point{static_cast<float>(centre.x()),
-                               static_cast<float>(centre.y()),
-                               patch.mean,
-                               patch.depth,
-                               patch.vertical() ? kVertical
-                               : patch.driven() ? kDriven
-                                                : kFloor,
-                               static_cast<std::uint8_t>(std::min(level++, 255)),
-                               {0, 0}};
-        const auto* bytes = reinterpret_cast<const std::uint8_t*>(&point);
-        cloud.data.insert(cloud.data.end(), bytes, bytes + sizeof(point));
-      });
-    }
-  }
+  std::optional<CellIndex> last_cell;
+  int level = 0;
+  for_each_patch(map, [&](const CellIndex& cell, const MlsPatch& patch) {  // each cell's lowest first
+    level = last_cell == cell ? level + 1 : 0;
+    last_cell = cell;
+    const Eigen::Vector2d centre = map.cell_center(cell);
+    const PatchPoint point{static_cast<float>(centre.x()),
+                           static_cast<float>(centre.y()),
+                           patch.mean,
+                           patch.depth,
+                           patch.vertical() ? kVertical
+                           : patch.driven() ? kDriven
+                                            : kFloor,
+                           static_cast<std::uint8_t>(std::min(level, 255)),
+                           {0, 0}};
+    const auto* bytes = reinterpret_cast<const std::uint8_t*>(&point);
+    cloud.data.insert(cloud.data.end(), bytes, bytes + sizeof(point));
+  });
   cloud.width = static_cast<std::uint32_t>(cloud.data.size() / sizeof(PatchPoint));
   cloud.row_step = static_cast<std::uint32_t>(cloud.data.size());
   return cloud;

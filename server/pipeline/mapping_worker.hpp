@@ -124,6 +124,8 @@ class MappingWorker final : public MapCommands {
   /// Mapping thread: refreshes and publishes what scans inserted since the last refresh, if anything.
   void refresh_pending();
   void publish();
+  /// Mapping thread: where the robot that made the map drove (keyframe poses, oldest first).
+  [[nodiscard]] std::vector<Eigen::Isometry3d> trajectory() const;
   /// Runs `task` on the mapping thread and waits for it; false when the worker is not running.
   bool run_on_mapping_thread(Task task) const;
 
