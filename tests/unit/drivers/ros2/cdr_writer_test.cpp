@@ -91,5 +91,43 @@ TEST(MessageEncoding, PoseStampedWritesTheRotationAsAUnitQuaternion) {
   EXPECT_NEAR(values[6], std::sqrt(0.5), 1e-12);  // w
 }
 
+TEST(MessageEncoding, OdometryAlignsEachPartAfterTheStrings) {
+  Odometry odometry;
+  odometry.header.frame_id = "odom";                            // 8 + 4 + 5 = 17 bytes
+  odometry.child_frame_id = "base_link";                        // from 20: 4 + 10 -> 34
+  odometry.pose.pose.translation() = Eigen::Vector3d(1, 2, 3);  // from 40: 7 doubles -> 96
+  odometry.pose.covariance[35] = 0.25;                          // 36 doubles -> 384
+  odometry.twist.twist.linear.x() = 0.5;                        // 6 doubles -> 432, then 36 -> 720
+  odometry.twist.covariance[0] = 4.0;
+  const Bytes bytes = encode(odometry);
+  ASSERT_EQ(bytes.size(), 4U + 720U);
+  const auto value = [&](std::size_t offset) {
+    return *reinterpret_cast<const double*>(bytes.data() + 4 + offset);
+  };
+  EXPECT_EQ(*reinterpret_cast<const std::uint32_t*>(bytes.data() + 4 + 20), 10U);
+  EXPECT_EQ(value(40), 1.0);
+  EXPECT_EQ(value(88), 1.0);  // orientation.w
+  EXPECT_EQ(value(96 + 35 * 8), 0.25);
+  EXPECT_EQ(value(384), 0.5);
+  EXPECT_EQ(value(432), 4.0);
+}
+
+TEST(MessageEncoding, TfAndPoseWithCovarianceHaveTheirSequenceAndArrayLayouts) {
+  TFMessage tf;
+  tf.transforms.push_back({{{1, 2}, "map"}, "base_link", Eigen::Isometry3d(Eigen::Translation3d(7, 8, 9))});
+  const Bytes tf_bytes = encode(tf);
+  // count 4; stamp 8 -> 12; "map" 8 -> 20; "base_link" 14 -> 34; the transform from 40, 7 doubles.
+  ASSERT_EQ(tf_bytes.size(), 4U + 96U);
+  EXPECT_EQ(*reinterpret_cast<const std::uint32_t*>(tf_bytes.data() + 4), 1U);
+  EXPECT_EQ(*reinterpret_cast<const double*>(tf_bytes.data() + 4 + 40), 7.0);
+
+  PoseWithCovarianceStamped pose;
+  pose.header.frame_id = "map";
+  pose.pose.covariance[0] = 0.01;
+  const Bytes pose_bytes = encode(pose);
+  ASSERT_EQ(pose_bytes.size(), 4U + 16U + 56U + 288U);
+  EXPECT_EQ(*reinterpret_cast<const double*>(pose_bytes.data() + 4 + 72), 0.01);
+}
+
 }  // namespace
 }  // namespace strata::ros2
