@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <vector>
 
@@ -14,6 +15,15 @@ namespace strata::ros2 {
 namespace {
 
 using Bytes = std::vector<std::uint8_t>;
+
+/// The value at `offset` after the encapsulation header (copied: CDR aligns to the header's end, not to
+/// the buffer's start).
+template <typename T>
+T at(const Bytes& bytes, std::size_t offset) {
+  T value;
+  std::memcpy(&value, bytes.data() + 4 + offset, sizeof(T));
+  return value;
+}
 
 TEST(CdrWriter, StartsWithTheLittleEndianEncapsulationHeader) {
   EXPECT_EQ(CdrWriter().bytes(), (Bytes{0x00, 0x01, 0x00, 0x00}));
@@ -65,14 +75,13 @@ TEST(MessageEncoding, OccupancyGridHasTheHeaderMetaDataAndCellsAtTheirOffsets) {
   // header: stamp (8) + "map" (4 + 4) = 16; map_load_time 8 -> 24; resolution, width, height -> 36;
   // the pose's 7 doubles from 40 (4 bytes of padding) -> 96; then the cells' count and the cells.
   ASSERT_EQ(bytes.size(), 4U + 96U + 4U + 2U);
-  const auto at = [&](std::size_t offset) { return bytes.data() + 4 + offset; };
-  EXPECT_EQ(*reinterpret_cast<const std::int32_t*>(at(0)), 12);
-  EXPECT_EQ(*reinterpret_cast<const std::uint32_t*>(at(8)), 4U);
-  EXPECT_EQ(*reinterpret_cast<const float*>(at(24)), 0.1F);
-  EXPECT_EQ(*reinterpret_cast<const std::uint32_t*>(at(28)), 2U);
-  EXPECT_EQ(*reinterpret_cast<const double*>(at(40)), -1.5);
-  EXPECT_EQ(*reinterpret_cast<const double*>(at(88)), 1.0);  // orientation.w
-  EXPECT_EQ(*reinterpret_cast<const std::uint32_t*>(at(96)), 2U);
+  EXPECT_EQ(at<std::int32_t>(bytes, 0), 12);
+  EXPECT_EQ(at<std::uint32_t>(bytes, 8), 4U);
+  EXPECT_EQ(at<float>(bytes, 24), 0.1F);
+  EXPECT_EQ(at<std::uint32_t>(bytes, 28), 2U);
+  EXPECT_EQ(at<double>(bytes, 40), -1.5);
+  EXPECT_EQ(at<double>(bytes, 88), 1.0);  // orientation.w
+  EXPECT_EQ(at<std::uint32_t>(bytes, 96), 2U);
   EXPECT_EQ(bytes[4 + 100], 0);
   EXPECT_EQ(bytes[4 + 101], 0xFF);  // -1: unknown
 }
@@ -84,11 +93,10 @@ TEST(MessageEncoding, PoseStampedWritesTheRotationAsAUnitQuaternion) {
       Eigen::Translation3d(1, 2, 3) * Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitZ());
   const Bytes bytes = encode(pose);
   ASSERT_EQ(bytes.size(), 4U + 16U + 7U * 8U);
-  const auto* values = reinterpret_cast<const double*>(bytes.data() + 4 + 16);
-  EXPECT_EQ(values[0], 1.0);
-  EXPECT_EQ(values[2], 3.0);
-  EXPECT_NEAR(values[5], std::sqrt(0.5), 1e-12);  // z
-  EXPECT_NEAR(values[6], std::sqrt(0.5), 1e-12);  // w
+  EXPECT_EQ(at<double>(bytes, 16), 1.0);
+  EXPECT_EQ(at<double>(bytes, 32), 3.0);
+  EXPECT_NEAR(at<double>(bytes, 56), std::sqrt(0.5), 1e-12);  // z
+  EXPECT_NEAR(at<double>(bytes, 64), std::sqrt(0.5), 1e-12);  // w
 }
 
 TEST(MessageEncoding, OdometryAlignsEachPartAfterTheStrings) {
@@ -101,15 +109,12 @@ TEST(MessageEncoding, OdometryAlignsEachPartAfterTheStrings) {
   odometry.twist.covariance[0] = 4.0;
   const Bytes bytes = encode(odometry);
   ASSERT_EQ(bytes.size(), 4U + 720U);
-  const auto value = [&](std::size_t offset) {
-    return *reinterpret_cast<const double*>(bytes.data() + 4 + offset);
-  };
-  EXPECT_EQ(*reinterpret_cast<const std::uint32_t*>(bytes.data() + 4 + 20), 10U);
-  EXPECT_EQ(value(40), 1.0);
-  EXPECT_EQ(value(88), 1.0);  // orientation.w
-  EXPECT_EQ(value(96 + 35 * 8), 0.25);
-  EXPECT_EQ(value(384), 0.5);
-  EXPECT_EQ(value(432), 4.0);
+  EXPECT_EQ(at<std::uint32_t>(bytes, 20), 10U);
+  EXPECT_EQ(at<double>(bytes, 40), 1.0);
+  EXPECT_EQ(at<double>(bytes, 88), 1.0);  // orientation.w
+  EXPECT_EQ(at<double>(bytes, 96 + 35 * 8), 0.25);
+  EXPECT_EQ(at<double>(bytes, 384), 0.5);
+  EXPECT_EQ(at<double>(bytes, 432), 4.0);
 }
 
 TEST(MessageEncoding, TfAndPoseWithCovarianceHaveTheirSequenceAndArrayLayouts) {
@@ -118,15 +123,15 @@ TEST(MessageEncoding, TfAndPoseWithCovarianceHaveTheirSequenceAndArrayLayouts) {
   const Bytes tf_bytes = encode(tf);
   // count 4; stamp 8 -> 12; "map" 8 -> 20; "base_link" 14 -> 34; the transform from 40, 7 doubles.
   ASSERT_EQ(tf_bytes.size(), 4U + 96U);
-  EXPECT_EQ(*reinterpret_cast<const std::uint32_t*>(tf_bytes.data() + 4), 1U);
-  EXPECT_EQ(*reinterpret_cast<const double*>(tf_bytes.data() + 4 + 40), 7.0);
+  EXPECT_EQ(at<std::uint32_t>(tf_bytes, 0), 1U);
+  EXPECT_EQ(at<double>(tf_bytes, 40), 7.0);
 
   PoseWithCovarianceStamped pose;
   pose.header.frame_id = "map";
   pose.pose.covariance[0] = 0.01;
   const Bytes pose_bytes = encode(pose);
   ASSERT_EQ(pose_bytes.size(), 4U + 16U + 56U + 288U);
-  EXPECT_EQ(*reinterpret_cast<const double*>(pose_bytes.data() + 4 + 72), 0.01);
+  EXPECT_EQ(at<double>(pose_bytes, 72), 0.01);
 }
 
 }  // namespace
