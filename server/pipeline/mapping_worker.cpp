@@ -376,6 +376,18 @@ CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
   return result;
 }
 
+std::vector<Eigen::Isometry3d> MappingWorker::trajectory() const {
+  // A loaded map's keyframes (this run's are not in its frame), or the pose graph's as they are now.
+  if (loaded_)
+    return loaded_localization_ ? loaded_localization_->keyframe_poses : std::vector<Eigen::Isometry3d>();
+  std::vector<Eigen::Isometry3d> poses;
+  if (keyframe_source_) {
+    for (const KeyframePose& keyframe : keyframe_source_())
+      poses.push_back(keyframe.pose);
+  }
+  return poses;
+}
+
 std::vector<MapFileInfo> MappingWorker::list_maps() const {
   return store_.list();
 }
@@ -392,17 +404,21 @@ MapDownload MappingWorker::download(const std::string& format, std::optional<std
     }
     try {
       result.version = map_version;
-      if (format != "pgm" && format != "yaml") {
+      const bool mcap = MapStore::is_mcap(format);
+      if (format != "pgm" && format != "yaml" && !mcap) {
         const std::shared_ptr<const LocalizationMap> localization =
             format == "strata" ? localization_to_keep() : nullptr;
         result.bytes = MapStore::download(format, live_.map(), localization.get(), nullptr, result.version);
       } else {
+        // The drivable map over the whole map, of the version asked for. An MCAP file holds the patches
+        // and the keyframes too, so it is made before the robot has a place, without the drivable map.
         const LiveMap::WholeLevel level = live_.whole_level(version);
         result.version_gone = level.gone;
-        if (level.drivable) {
-          result.version = level.version;
+        if (level.drivable || (mcap && !level.gone)) {
+          result.version = level.drivable ? level.version : map_version;
           result.bytes =
-              MapStore::download(format, live_.map(), nullptr, level.drivable.get(), level.version);
+              MapStore::download(format, live_.map(), nullptr, level.drivable.get(), result.version,
+                                 mcap ? trajectory() : std::vector<Eigen::Isometry3d>());
         }
       }
       if (!result.bytes.empty())

@@ -127,6 +127,8 @@ class MappingWorker final : public MapCommands {
   /// when nothing was pending or the refresh failed. `times` gets the refresh's times.
   bool refresh_pending(MappingTimes& times);
   void publish();
+  /// Mapping thread: where the robot that made the map drove (keyframe poses, oldest first).
+  [[nodiscard]] std::vector<Eigen::Isometry3d> trajectory() const;
   /// Runs `task` on the mapping thread and waits for it; false when the worker is not running.
   bool run_on_mapping_thread(Task task) const;
 

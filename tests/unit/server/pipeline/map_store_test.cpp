@@ -105,6 +105,17 @@ TEST_F(MapStoreTest, DownloadsAreTheBytesTheFilesWouldHold) {
   EXPECT_EQ(yaml.rfind("# strata map version 3; its image: GET /api/v1/map?format=pgm&version=3\n", 0), 0U)
       << yaml;
 
+  // MCAP (drivers/ros2/map_messages.hpp; read whole by tests/interop/): with and without zstd.
+  const std::string magic("\x89MCAP0\r\n", 8);
+  const std::string mcap = text_of(MapStore::download("mcap", map, nullptr, &drivable, 3));
+  const std::string plain = text_of(MapStore::download("mcap-uncompressed", map, nullptr, nullptr, 3));
+  EXPECT_EQ(mcap.substr(0, 8), magic);
+  EXPECT_EQ(mcap.substr(mcap.size() - 8), magic);
+  EXPECT_NE(mcap.find("nav_msgs/msg/OccupancyGrid"), std::string::npos);
+  EXPECT_EQ(plain.find("nav_msgs/msg/OccupancyGrid"), std::string::npos) << "no drivable map, no /map";
+  EXPECT_NE(plain.find("/map_patches"), std::string::npos);
+  EXPECT_TRUE(MapStore::download("mcap", MlsMap(), nullptr, &drivable, 3).empty());
+
   EXPECT_TRUE(MapStore::download("zip", map, nullptr, &drivable, 3).empty());
   EXPECT_TRUE(MapStore::download("pgm", map, nullptr, nullptr, 3).empty());
   EXPECT_TRUE(MapStore::download("strata", MlsMap(), nullptr, nullptr, 3).empty());
