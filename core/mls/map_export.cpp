@@ -52,20 +52,13 @@ std::string mls_ply(const MlsMap& map) {
       << "property float sigma\nproperty uchar vertical\n"
       << "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n";
   out.precision(7);
-  for (const TileIndex& tile_index : map.tile_indices()) {
-    const MlsTile& tile = *map.find_tile(tile_index);
-    for (int local = 0; local < kMlsTileCells; ++local) {
-      const CellIndex cell{tile_index.x * kMlsTileSize + local % kMlsTileSize,
-                           tile_index.y * kMlsTileSize + local / kMlsTileSize};
-      const Eigen::Vector2d centre = map.cell_center(cell);
-      tile.for_each_patch(local, [&](const MlsPatch& patch) {
-        const bool vertical = patch.vertical();
-        out << centre.x() << ' ' << centre.y() << ' ' << patch.mean << ' ' << patch.depth << ' '
-            << std::sqrt(patch.variance) << ' ' << (vertical ? 1 : 0)
-            << (vertical ? " 220 60 40\n" : " 170 170 170\n");
-      });
-    }
-  }
+  for_each_patch(map, [&](const CellIndex& cell, const MlsPatch& patch) {
+    const Eigen::Vector2d centre = map.cell_center(cell);
+    const bool vertical = patch.vertical();
+    out << centre.x() << ' ' << centre.y() << ' ' << patch.mean << ' ' << patch.depth << ' '
+        << std::sqrt(patch.variance) << ' ' << (vertical ? 1 : 0)
+        << (vertical ? " 220 60 40\n" : " 170 170 170\n");
+  });
   return out.str();
 }
 

@@ -13,6 +13,20 @@ struct MapExportError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// Calls `visit(cell, patch)` for every patch of `map`, tile by tile, each cell's patches lowest first:
+/// what the exports (PLY, MCAP's point cloud) write.
+template <typename Visit>
+void for_each_patch(const MlsMap& map, Visit&& visit) {
+  for (const TileIndex& tile_index : map.tile_indices()) {
+    const MlsTile& tile = *map.find_tile(tile_index);
+    for (int local = 0; local < kMlsTileCells; ++local) {
+      const CellIndex cell{tile_index.x * kMlsTileSize + local % kMlsTileSize,
+                           tile_index.y * kMlsTileSize + local / kMlsTileSize};
+      tile.for_each_patch(local, [&](const MlsPatch& patch) { visit(cell, patch); });
+    }
+  }
+}
+
 /// `grid` as the image of a ROS map_server map: a binary PGM (free 254, occupied 0, unknown 205; first image
 /// row = highest y).
 [[nodiscard]] std::string ros_map_pgm(const LevelGrid& grid);

@@ -82,10 +82,21 @@ protocol::HttpResponse HttpRouter::map_download(const protocol::HttpRequest& req
   static constexpr Kind kKinds[] = {{"strata", "application/octet-stream", "map.strata"},
                                     {"ply", "application/octet-stream", "map.ply"},
                                     {"pgm", "image/x-portable-graymap", "map.pgm"},
-                                    {"yaml", "application/yaml", "map.yaml"}};
+                                    {"yaml", "application/yaml", "map.yaml"},
+                                    {"mcap", "application/octet-stream", "map.mcap"}};
   for (const auto& kind : kKinds) {
     if (kind.format != format)
       continue;
+    // MCAP's chunks zstd-compressed (the default) or not: compression=zstd|none.
+    std::string download_format(format);
+    if (const std::string_view compression = query_value(query, "compression"); !compression.empty()) {
+      if (format != "mcap" || (compression != "zstd" && compression != "none")) {
+        return error_response(request, http::status::bad_request, ErrorCode::kBadParams,
+                              "compression is zstd or none, and only for format=mcap");
+      }
+      if (compression == "none")
+        download_format = "mcap-uncompressed";
+    }
     std::optional<std::uint64_t> version;
     if (const std::string_view text = query_value(query, "version"); !text.empty()) {
       std::uint64_t value = 0;
@@ -96,7 +107,7 @@ protocol::HttpResponse HttpRouter::map_download(const protocol::HttpRequest& req
       }
       version = value;
     }
-    const MapDownload download = services_.maps->download(std::string(format), version);
+    const MapDownload download = services_.maps->download(download_format, version);
     if (download.version_gone) {
       return error_response(request, http::status::gone, ErrorCode::kNotFound,
                             fmt::format("map version {} is gone (the map is at version {}): fetch the YAML "
@@ -117,7 +128,7 @@ protocol::HttpResponse HttpRouter::map_download(const protocol::HttpRequest& req
     return response;
   }
   return error_response(request, http::status::bad_request, ErrorCode::kBadParams,
-                        "format must be one of strata, ply, pgm, yaml");
+                        "format must be one of strata, ply, pgm, yaml, mcap");
 }
 
 protocol::HttpResponse HttpRouter::occupancy(const protocol::HttpRequest& request) const {

@@ -6,9 +6,11 @@
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 
+#include "core/files/atomic_file.hpp"
 #include "core/geometry/pose_text.hpp"
 #include "core/mls/drivable_map.hpp"
 #include "core/mls/map_export.hpp"
@@ -16,6 +18,7 @@
 #include "core/mls/mls_map.hpp"
 #include "drivers/io/point_cloud_file.hpp"
 #include "drivers/io/threedtk_reader.hpp"
+#include "drivers/ros2/map_messages.hpp"
 
 namespace strata::app {
 namespace {
@@ -82,8 +85,15 @@ MapCommand add_map_command(CLI::App& app, MapBuildOptions& build, MapExportOptio
   command.export_->add_option(
       "--pgm", export_options.pgm_yaml,
       "Write the drivable map at the robot's level: the map_server YAML (PGM beside it)");
-  command.export_->add_option("--robot", export_options.robot,
-                              "x,y,z: the ground point the robot stands on, metres (needed with --pgm)");
+  command.export_->add_option(
+      "--mcap", export_options.mcap,
+      "Write an MCAP file of ROS 2 messages: the patches, the keyframes' path and tf, and with --robot the "
+      "drivable map (docs/interop.md)");
+  command.export_->add_flag("--mcap-uncompressed", export_options.mcap_uncompressed,
+                            "The MCAP file's chunks without zstd");
+  command.export_->add_option(
+      "--robot", export_options.robot,
+      "x,y,z: the ground point the robot stands on, metres (needed with --pgm; with --mcap, adds /map)");
   command.export_->add_option("--max-step", export_options.max_step, "Highest step the robot climbs, metres")
       ->capture_default_str();
   command.export_->add_option("--max-slope", export_options.max_slope_degrees, "Steepest slope, degrees")
@@ -124,31 +134,48 @@ int run_map_build(const MapBuildOptions& options) {
 }
 
 int run_map_export(const MapExportOptions& options) {
-  if (options.ply.empty() && options.pgm_yaml.empty())
-    throw std::runtime_error("nothing to export: give --ply and/or --pgm");
-  const MlsMap map = load_mls_map(options.input);
+  if (options.ply.empty() && options.pgm_yaml.empty() && options.mcap.empty())
+    throw std::runtime_error("nothing to export: give --ply, --pgm and/or --mcap");
+  const MapFile file = load_map_file(options.input);
+  const MlsMap& map = file.map;
   std::string summary =
       "{\"input\":\"" + options.input + "\",\"patches\":" + std::to_string(map.patch_count());
   if (!options.ply.empty()) {
     write_mls_ply(map, options.ply);
     summary += ",\"ply\":\"" + options.ply + "\"";
   }
-  if (!options.pgm_yaml.empty()) {
+  // The drivable map at the robot's level: --pgm needs it, --mcap adds it when --robot says where.
+  std::optional<DrivableMap> drivable;
+  if (!options.pgm_yaml.empty() || (!options.mcap.empty() && !options.robot.empty())) {
     const Eigen::Vector3d robot = parse_robot_point(options.robot);
     TraversabilityConfig config;
     config.max_step = options.max_step;
     config.max_slope = options.max_slope_degrees * std::numbers::pi / 180.0;
     config.robot_height = options.robot_height;
-    const DrivableMap drivable =
-        compute_drivable_map(map, config, robot, CellRegion::of_tiles(map.tile_indices()));
-    if (!drivable.start_found)
+    drivable = compute_drivable_map(map, config, robot, CellRegion::of_tiles(map.tile_indices()));
+    if (!drivable->start_found)
       throw std::runtime_error("no ground patch near the robot position " + options.robot);
-    const std::filesystem::path pgm = write_ros_map(drivable.grid, options.pgm_yaml);
+  }
+  if (!options.mcap.empty()) {
+    const std::vector<Eigen::Isometry3d> trajectory =
+        file.localization ? file.localization->keyframe_poses : std::vector<Eigen::Isometry3d>();
+    const std::string bytes =
+        ros2::map_as_mcap({.map = &map,
+                           .drivable = drivable ? &drivable->grid : nullptr,
+                           .trajectory = trajectory,
+                           .stamp_ns = ros2::system_time_ns()},
+                          options.mcap_uncompressed ? mcap::Compression::kNone : mcap::Compression::kZstd);
+    write_file_atomically(options.mcap, bytes, Durability::kOrdered);
+    summary += ",\"mcap\":\"" + options.mcap + "\",\"mcap_bytes\":" + std::to_string(bytes.size()) +
+               ",\"keyframes\":" + std::to_string(trajectory.size());
+  }
+  if (!options.pgm_yaml.empty()) {
+    const std::filesystem::path pgm = write_ros_map(drivable->grid, options.pgm_yaml);
     summary += ",\"yaml\":\"" + options.pgm_yaml + "\",\"pgm\":\"" + pgm.string() +
-               "\",\"free_cells\":" + std::to_string(drivable.free_cells) +
-               ",\"connected_cells\":" + std::to_string(drivable.connected_cells) +
-               ",\"width\":" + std::to_string(drivable.grid.width) +
-               ",\"height\":" + std::to_string(drivable.grid.height);
+               "\",\"free_cells\":" + std::to_string(drivable->free_cells) +
+               ",\"connected_cells\":" + std::to_string(drivable->connected_cells) +
+               ",\"width\":" + std::to_string(drivable->grid.width) +
+               ",\"height\":" + std::to_string(drivable->grid.height);
   }
   std::printf("%s}\n", summary.c_str());
   return 0;

@@ -18,7 +18,9 @@ struct MapExportOptions {
   std::string input;
   std::string ply;
   std::string pgm_yaml;  ///< the YAML path; the PGM goes next to it
-  std::string robot;     ///< "x y z": the ground point the robot stands on, for the drivable map
+  std::string mcap;      ///< ROS 2 messages: patches, the drivable map (with --robot), keyframes
+  bool mcap_uncompressed = false;
+  std::string robot;  ///< "x y z": the ground point the robot stands on, for the drivable map
   double max_step = 0.08;
   double max_slope_degrees = 15.0;
   double robot_height = 1.0;
@@ -31,7 +33,7 @@ struct MapCommand {
 };
 
 /// Adds `strata map build --scans ... [--poses ...] -o FILE` and
-/// `strata map export FILE [--ply OUT] [--pgm OUT.yaml --robot "x y z"]`.
+/// `strata map export FILE [--ply OUT] [--pgm OUT.yaml --robot x,y,z] [--mcap OUT.mcap]`.
 MapCommand add_map_command(CLI::App& app, MapBuildOptions& build, MapExportOptions& export_options);
 
 /// Builds an MLS map from the scans at their poses and saves it; prints a JSON summary. Returns 0.

@@ -153,9 +153,9 @@ std::string read_token_file(const std::filesystem::path& path) {
   std::string token;
   if (!file || !std::getline(file, token))
     throw std::runtime_error("cannot read the operator token from " + path.string());
-  while (!token.empty() && (token.back() == '\r' || token.back() == ' ' || token.back() == '\t'))
-    token.pop_back();
-  return token;
+  const auto first = token.find_first_not_of(" \t\r");
+  const auto last = token.find_last_not_of(" \t\r");
+  return first == std::string::npos ? std::string() : token.substr(first, last - first + 1);
 }
 
 /// Stops the pipeline however serve() leaves, before the network it publishes to goes.

@@ -12,6 +12,7 @@
 #include "core/files/temporary_files.hpp"
 #include "core/mls/map_export.hpp"
 #include "core/mls/mls_file.hpp"
+#include "drivers/ros2/map_messages.hpp"
 #include "server/protocol/client_messages.hpp"
 
 namespace strata::pipeline {
@@ -109,13 +110,30 @@ std::vector<MapFileInfo> MapStore::list() const {
   return maps;
 }
 
+bool MapStore::is_mcap(const std::string& format) {
+  return format == "mcap" || format == "mcap-uncompressed";
+}
+
 std::vector<std::uint8_t> MapStore::download(const std::string& format, const MlsMap& map,
-                                             const DrivableMap* drivable, std::uint64_t version) {
+                                             const LocalizationMap* localization, const DrivableMap* drivable,
+                                             std::uint64_t version,
+                                             std::span<const Eigen::Isometry3d> trajectory) {
   std::string bytes;
-  if (format == "strata" || format == "ply") {
+  if (is_mcap(format)) {
     if (map.patch_count() == 0)
       return {};
-    bytes = format == "strata" ? serialize_mls_map(map) : mls_ply(map);
+    bytes = ros2::map_as_mcap(
+        {.map = &map,
+         .drivable = drivable != nullptr && !drivable->grid.cells.empty() ? &drivable->grid : nullptr,
+         .trajectory = trajectory,
+         .stamp_ns = ros2::system_time_ns()},
+        format == "mcap" ? mcap::Compression::kZstd : mcap::Compression::kNone);
+  } else if (format == "strata" || format == "ply") {
+    if (map.patch_count() == 0)
+      return {};
+    // The native file is the file a save writes, localization data and all: a map downloaded to move it
+    // to another robot is localized in there (issue 63).
+    bytes = format == "strata" ? serialize_map_file(map, localization) : mls_ply(map);
   } else if (format == "pgm" || format == "yaml") {
     if (drivable == nullptr || drivable->grid.cells.empty())
       return {};

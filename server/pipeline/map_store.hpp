@@ -3,6 +3,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -40,11 +41,15 @@ class MapStore {
   /// The saved maps by name; hidden files, temporaries and names the API would refuse are not maps.
   [[nodiscard]] std::vector<MapFileInfo> list() const;
 
-  /// `map` in a download format: "strata" (the native file), "ply", or the drivable map as ROS "pgm" or
-  /// "yaml" (which names map version `version` and how to fetch its image). Empty for an unknown format or
-  /// when there is nothing to download (no patches, no drivable map).
+  /// `map` in a download format: "strata" (the native file, as save() writes it with `localization`),
+  /// "ply", the drivable map as ROS "pgm" or "yaml" (which names map version `version` and how to fetch its
+  /// image), or "mcap" / "mcap-uncompressed" (ROS 2 messages, drivers/ros2/map_messages.hpp: the patches,
+  /// the drivable map if there is one, the keyframes' `trajectory`; zstd-compressed chunks or plain ones).
+  /// Empty for an unknown format or when there is nothing to download (no patches, no drivable map).
   [[nodiscard]] static std::vector<std::uint8_t> download(const std::string& format, const MlsMap& map,
-                                                          const DrivableMap* drivable, std::uint64_t version);
+                                                          const LocalizationMap* localization,
+                                                          const DrivableMap* drivable, std::uint64_t version,
+                                                          std::span<const Eigen::Isometry3d> trajectory = {});
 
   [[nodiscard]] const std::filesystem::path& directory() const { return directory_; }
 

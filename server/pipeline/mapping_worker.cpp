@@ -84,6 +84,14 @@ void MappingWorker::run() {
     Item item;
     {
       std::unique_lock lock(mutex_);
+      if (queue_.empty() && running_) {
+        // Nothing waits: refresh what a burst left pending (its last scan may not have been mapped, or
+        // the scans behind it were dropped) before sleeping, so no inserted scan waits on the next one.
+        lock.unlock();
+        MappingTimes times;
+        refresh_pending(times);
+        lock.lock();
+      }
       wake_.wait(lock, [this] { return !running_ || !queue_.empty(); });
       if (!running_)
         return;
@@ -95,7 +103,8 @@ void MappingWorker::run() {
     if (const auto* scan = std::get_if<Scan>(&item)) {
       map_scan(*scan);
     } else {
-      refresh_pending();  // a task (a save, a download, a flush) sees every scan mapped before it
+      MappingTimes times;
+      refresh_pending(times);  // a task (a save, a download, a flush) sees every scan mapped before it
       std::get<Task>(item)();
     }
   }
@@ -128,17 +137,21 @@ bool MappingWorker::insert(const Scan& scan, MappingTimes& times) {
   return true;
 }
 
-void MappingWorker::refresh_pending() {
-  MappingTimes times;
+bool MappingWorker::refresh_pending(MappingTimes& times) {
   try {
     if (!live_.refresh_pending(times))
-      return;
-  } catch (const std::exception& error) {
+      return false;
+  } catch (const std::exception& error) {  // an encoder failure must not end the mapping thread
     spdlog::error("mapping: the map not refreshed: {}", error.what());
-    return;
+    return false;
   }
   last_refresh_ = std::chrono::steady_clock::now();
+  {
+    std::lock_guard lock(mutex_);
+    status_.last = times;
+  }
   publish();
+  return true;
 }
 
 void MappingWorker::map_scan(const Scan& scan) {
@@ -169,21 +182,10 @@ void MappingWorker::map_scan(const Scan& scan) {
   }
   // Behind a burst, the next scans first and one refresh for all of them; but never an older drivable map
   // and tiles than max_refresh_delay.
-  const auto now = std::chrono::steady_clock::now();
-  if (more_waiting && now - last_refresh_ < options_.max_refresh_delay)
+  if (more_waiting && std::chrono::steady_clock::now() - last_refresh_ < options_.max_refresh_delay)
     return;
-  try {
-    live_.refresh_pending(times);
-  } catch (const std::exception& error) {  // an encoder failure must not end the mapping thread
-    spdlog::error("mapping: scan at t={:.1f} mapped, the map not refreshed: {}", event.stamp, error.what());
+  if (!refresh_pending(times))
     return;
-  }
-  last_refresh_ = now;
-  {
-    std::lock_guard lock(mutex_);
-    status_.last = times;
-  }
-  publish();
   spdlog::debug(
       "mapped scan at t={:.1f}: {} points, {} tiles changed; reached mapping {:.1f} ms after receipt; insert "
       "{:.1f} ms, drivable {:.1f} ms, tiles {:.1f} ms, png {:.1f} ms; published {:.1f} ms after receipt",
@@ -307,19 +309,23 @@ CommandResult MappingWorker::save_map(const std::string& name) {
     return checked;
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
-    // The map was loaded: the localization map it came with (this run's keyframes are not in its
-    // frame). Otherwise the pose graph's keyframes as they are now, which the map follows.
-    std::shared_ptr<const LocalizationMap> localization = loaded_localization_;
-    if (!loaded_ && keyframe_source_) {
-      const std::vector<KeyframePose> keyframes = keyframe_source_();
-      if (!keyframes.empty())
-        localization = std::make_shared<const LocalizationMap>(make_localization_map(keyframes));
-    }
+    const std::shared_ptr<const LocalizationMap> localization = localization_to_keep();
     result = store_.save(live_.map(), localization.get(), name);
     if (result.ok)
       live_.set_name(name);
   });
   return result;
+}
+
+std::shared_ptr<const LocalizationMap> MappingWorker::localization_to_keep() const {
+  // The map was loaded: the localization map it came with (this run's keyframes are not in its frame).
+  // Otherwise the pose graph's keyframes as they are now, which the map follows.
+  if (loaded_ || !keyframe_source_)
+    return loaded_localization_;
+  const std::vector<KeyframePose> keyframes = keyframe_source_();
+  if (keyframes.empty())
+    return loaded_localization_;
+  return std::make_shared<const LocalizationMap>(make_localization_map(keyframes));
 }
 
 CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
@@ -375,6 +381,18 @@ CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
   return result;
 }
 
+std::vector<Eigen::Isometry3d> MappingWorker::trajectory() const {
+  // A loaded map's keyframes (this run's are not in its frame), or the pose graph's as they are now.
+  if (loaded_)
+    return loaded_localization_ ? loaded_localization_->keyframe_poses : std::vector<Eigen::Isometry3d>();
+  std::vector<Eigen::Isometry3d> poses;
+  if (keyframe_source_) {
+    for (const KeyframePose& keyframe : keyframe_source_())
+      poses.push_back(keyframe.pose);
+  }
+  return poses;
+}
+
 std::vector<MapFileInfo> MappingWorker::list_maps() const {
   return store_.list();
 }
@@ -391,14 +409,21 @@ MapDownload MappingWorker::download(const std::string& format, std::optional<std
     }
     try {
       result.version = map_version;
-      if (format != "pgm" && format != "yaml") {
-        result.bytes = MapStore::download(format, live_.map(), nullptr, result.version);
+      const bool mcap = MapStore::is_mcap(format);
+      if (format != "pgm" && format != "yaml" && !mcap) {
+        const std::shared_ptr<const LocalizationMap> localization =
+            format == "strata" ? localization_to_keep() : nullptr;
+        result.bytes = MapStore::download(format, live_.map(), localization.get(), nullptr, result.version);
       } else {
+        // The drivable map over the whole map, of the version asked for. An MCAP file holds the patches
+        // and the keyframes too, so it is made before the robot has a place, without the drivable map.
         const LiveMap::WholeLevel level = live_.whole_level(version);
         result.version_gone = level.gone;
-        if (level.drivable) {
-          result.version = level.version;
-          result.bytes = MapStore::download(format, live_.map(), level.drivable.get(), level.version);
+        if (level.drivable || (mcap && !level.gone)) {
+          result.version = level.drivable ? level.version : map_version;
+          result.bytes =
+              MapStore::download(format, live_.map(), nullptr, level.drivable.get(), result.version,
+                                 mcap ? trajectory() : std::vector<Eigen::Isometry3d>());
         }
       }
       if (!result.bytes.empty())

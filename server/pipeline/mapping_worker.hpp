@@ -121,9 +121,14 @@ class MappingWorker final : public MapCommands {
   void map_scan(const Scan& scan);
   /// Steps 6-8 for one scan, without publishing. False when the scan could not be mapped.
   bool insert(const Scan& scan, MappingTimes& times);
-  /// Mapping thread: refreshes and publishes what scans inserted since the last refresh, if anything.
-  void refresh_pending();
+  /// Mapping thread: the localization map a save or a native download keeps with the map.
+  [[nodiscard]] std::shared_ptr<const LocalizationMap> localization_to_keep() const;
+  /// Mapping thread: refreshes and publishes what scans inserted since the last refresh, if anything; false
+  /// when nothing was pending or the refresh failed. `times` gets the refresh's times.
+  bool refresh_pending(MappingTimes& times);
   void publish();
+  /// Mapping thread: where the robot that made the map drove (keyframe poses, oldest first).
+  [[nodiscard]] std::vector<Eigen::Isometry3d> trajectory() const;
   /// Runs `task` on the mapping thread and waits for it; false when the worker is not running.
   bool run_on_mapping_thread(Task task) const;
 

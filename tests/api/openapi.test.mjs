@@ -95,9 +95,11 @@ test('every documented operation answers as documented', async () => {
   await ok('/metrics', 'get');
   await ok('/api/v1/path', 'get');
   await ok('/api/v1/imu-calibration', 'get');
-  for (const format of ['strata', 'ply', 'pgm', 'yaml'])
+  for (const format of ['strata', 'ply', 'pgm', 'yaml', 'mcap'])
     await ok('/api/v1/map', 'get', { target: `/api/v1/map?format=${format}` });
+  await ok('/api/v1/map', 'get', { target: '/api/v1/map?format=mcap&compression=none' });
   await call('/api/v1/map', 'get', { target: '/api/v1/map?format=obj' });
+  await call('/api/v1/map', 'get', { target: '/api/v1/map?format=pgm&compression=zstd' });
   await call('/api/v1/map', 'get', { target: '/api/v1/map?format=pgm&version=1' });
   const { response: image } = await ok('/api/v1/occupancy', 'get');
   await call('/api/v1/occupancy', 'get', { headers: { 'If-None-Match': image.headers.get('etag') } });

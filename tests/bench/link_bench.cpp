@@ -5,7 +5,9 @@
 //   late joiner: at 0.5 Mbit/s, the gaps between poses while its map snapshot streams, and when the first
 //           pose came;
 //   outage: at 2 Mbit/s, the link down 3 s: how many poses older than 1 s arrive after it returns.
-// Usage: strata_link_bench [seconds=20] [--warmup S (default 45)] [extra strata serve options...]
+// Usage: strata_link_bench [seconds=20] [--warmup S (default 45)] [--smoke] [extra strata serve options...]
+//   --smoke: the fixed waits (the late joiner's 30 s read, the outage's 8 s lead, 3 s down, 3 s after) cut
+//            to a few seconds: CI's check that the bench still runs, not figures.
 // Set STRATA_SERVER_BINARY to measure another build. Prints one JSON object.
 #include <algorithm>
 #include <chrono>
@@ -100,14 +102,25 @@ nlohmann::json steady(std::uint16_t port, double mbit, double seconds) {
   return result;
 }
 
-nlohmann::json late_joiner(std::uint16_t port, double mbit) {
+/// The fixed waits of the late-joiner and outage runs.
+struct Waits {
+  std::chrono::duration<double> late_joiner_read{30.0};
+  std::chrono::duration<double> outage_lead{8.0};  // past the joining snapshot
+  std::chrono::duration<double> outage{3.0};
+  std::chrono::duration<double> after_outage{3.0};
+};
+
+nlohmann::json late_joiner(std::uint16_t port, double mbit, const Waits& waits) {
   LinkProxy link(port, LinkConditions{.delay = 40ms, .bytes_per_second = mbit * kMbit});
   const double connected = now_seconds();
   WsClient client(link.port());
-  const Reading reading = read_for(client, 30s);
-  const double snapshot_end = reading.tile_received.size() >= reading.snapshot_tiles
-                                  ? reading.tile_received[reading.snapshot_tiles - 1]
-                                  : reading.tile_received.back();
+  const Reading reading = read_for(client, waits.late_joiner_read);
+  // The snapshot's last tile; a snapshot not whole in the read: the read's end (none at all: no map yet).
+  double snapshot_end = connected;
+  if (reading.snapshot_tiles > 0 && reading.tile_received.size() >= reading.snapshot_tiles)
+    snapshot_end = reading.tile_received[reading.snapshot_tiles - 1];
+  else if (!reading.tile_received.empty())
+    snapshot_end = reading.tile_received.back();
   std::vector<double> gaps;
   std::size_t poses_during = 0;
   for (std::size_t i = 1; i < reading.pose_received.size() && reading.pose_received[i - 1] < snapshot_end;
@@ -125,19 +138,19 @@ nlohmann::json late_joiner(std::uint16_t port, double mbit) {
   return result;
 }
 
-nlohmann::json outage(std::uint16_t port, double mbit) {
+nlohmann::json outage(std::uint16_t port, double mbit, const Waits& waits) {
   LinkProxy link(port, LinkConditions{.delay = 40ms, .bytes_per_second = mbit * kMbit});
   WsClient client(link.port());
-  read_for(client, 8s);  // past the joining snapshot
+  read_for(client, waits.outage_lead);
   link.set_down(true);
-  std::this_thread::sleep_for(3s);
+  std::this_thread::sleep_for(waits.outage);
   link.set_down(false);
-  const Reading after = read_for(client, 3s);
+  const Reading after = read_for(client, waits.after_outage);
   std::size_t stale = 0;
   for (const double age : after.pose_age)
     stale += age > 1.0 ? 1 : 0;
   return {{"mbit_per_s", mbit},
-          {"outage_s", 3},
+          {"outage_s", waits.outage.count()},
           {"poses_older_than_1s_after_it", stale},
           {"poses_after_it", after.pose_age.size()},
           {"age_after_it", summary(after.pose_age)}};
@@ -149,20 +162,23 @@ int main(int argc, char** argv) {
   const double seconds = argc > 1 ? std::stod(argv[1]) : 20.0;
   double warmup_s = 45.0;  // a map to stream: ~225 s of the simulated drive
   std::vector<std::string> extra{"--time-scale", "5"};
+  Waits waits;
   for (int i = 2; i < argc; ++i) {
     if (std::string(argv[i]) == "--warmup" && i + 1 < argc)
       warmup_s = std::stod(argv[++i]);
+    else if (std::string(argv[i]) == "--smoke")
+      waits = Waits{.late_joiner_read = 3s, .outage_lead = 2s, .outage = 1s, .after_outage = 1s};
     else
       extra.emplace_back(argv[i]);
   }
   strata::testing::ServerProcess server(extra);
   std::this_thread::sleep_for(std::chrono::duration<double>(warmup_s));
   nlohmann::json result;
-  result["late_joiner"] = late_joiner(server.port(), 0.5);
+  result["late_joiner"] = late_joiner(server.port(), 0.5, waits);
   result["steady_2mbit"] = steady(server.port(), 2.0, seconds);
   result["steady_0.2mbit"] = steady(server.port(), 0.2, seconds);
-  result["outage"] = outage(server.port(), 2.0);
+  result["outage"] = outage(server.port(), 2.0, waits);
   std::printf("%s\n", result.dump(2).c_str());
-  server.stop();
-  return 0;
+  // A bench whose server did not end cleanly measured a server that was failing.
+  return server.stop() == 0 ? 0 : 1;
 }

@@ -1,7 +1,7 @@
 // strata_planner_bench: measures the grid planner against the targets. Not a test: it prints one
 // machine-readable line per measurement, "key=value" separated by spaces, first word the kind.
 //
-//   strata_planner_bench [--data DIR] [--radius METRES] [--repeats N]
+//   strata_planner_bench [--data DIR] [--radius METRES] [--repeats N] [--queries N (MovingAI: the first N)]
 //
 //   movingai  every query of pathfindingjs/64room_000 (512 x 512): median/p90/max ms per query (A*), and
 //             the wavefront (whole-map Dijkstra + descent) on every 20th query; lengths checked against the
@@ -16,6 +16,7 @@
 #include <cstring>
 #include <ctime>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -46,7 +47,7 @@ double thread_cpu_seconds() {
   return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
-void bench_movingai(const fs::path& data) {
+void bench_movingai(const fs::path& data, std::size_t max_queries) {
   const fs::path dir = data / "movingai/pathfindingjs";
   if (!fs::exists(dir / "64room_000.map")) {
     std::printf("movingai skipped=1 reason=\"no %s\"\n", (dir / "64room_000.map").c_str());
@@ -65,7 +66,7 @@ void bench_movingai(const fs::path& data) {
   Timings timings[2];  // jump point search, A*
   std::vector<double> wavefront_ms;
   int wavefront_mismatches = 0;
-  for (std::size_t i = 0; i < scenario.queries.size(); ++i) {
+  for (std::size_t i = 0; i < std::min(scenario.queries.size(), max_queries); ++i) {
     const strata::io::MovingAiQuery& query = scenario.queries[i];
     for (const strata::SearchMethod method :
          {strata::SearchMethod::jump_point, strata::SearchMethod::astar}) {
@@ -188,6 +189,7 @@ int main(int argc, char** argv) {
     data = from_env;
   double radius = 0.22;  // Nav2's default robot_radius (a TurtleBot-sized base)
   int repeats = 5;
+  std::size_t queries = std::numeric_limits<std::size_t>::max();  // the scenario's every query
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--data" && i + 1 < argc)
@@ -196,12 +198,14 @@ int main(int argc, char** argv) {
       radius = std::atof(argv[++i]);
     else if (arg == "--repeats" && i + 1 < argc)
       repeats = std::max(1, std::atoi(argv[++i]));
+    else if (arg == "--queries" && i + 1 < argc)
+      queries = static_cast<std::size_t>(std::max(1, std::atoi(argv[++i])));
     else {
-      std::fprintf(stderr, "usage: %s [--data DIR] [--radius METRES] [--repeats N]\n", argv[0]);
+      std::fprintf(stderr, "usage: %s [--data DIR] [--radius METRES] [--repeats N] [--queries N]\n", argv[0]);
       return 2;
     }
   }
-  bench_movingai(data);
+  bench_movingai(data, queries);
   bench_nav2(data, radius, repeats);
   return 0;
 }

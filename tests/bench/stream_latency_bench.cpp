@@ -107,7 +107,7 @@ int main(int argc, char** argv) {
     threads.emplace_back([&] { run_client(server.port(), stop, samples); });
   std::this_thread::sleep_for(std::chrono::seconds(seconds));
   stop = true;
-  server.stop();  // unblocks the readers
+  const int server_status = server.stop();  // unblocks the readers
   for (auto& thread : threads)
     thread.join();
 
@@ -127,5 +127,6 @@ int main(int argc, char** argv) {
                           {"tiles_received", samples.tiles},
                           {"tile_bytes_received", samples.tile_bytes}}}};
   std::printf("%s\n", result.dump(2).c_str());
-  return 0;
+  // A bench whose server did not end cleanly measured a server that was failing.
+  return server_status == 0 ? 0 : 1;
 }

@@ -108,6 +108,19 @@ TEST(Localization, ARestartLocalizesInTheSavedMapAndGoalsWorkAtOnce) {
                                       R"({"x":0,"y":0,"yaw":0})", kTestOperatorToken);
     EXPECT_EQ(refused.result_int(), 400) << refused.body();
     EXPECT_NE(refused.body().find("localizes in no saved map"), std::string::npos) << refused.body();
+    // The map as the web app's Download gives it, for another robot (issue 63).
+    const auto downloaded = http_get(mapping.port(), "/api/v1/map?format=strata");
+    ASSERT_EQ(downloaded.result_int(), 200);
+    std::ofstream(maps / "downloaded.smls", std::ios::binary) << downloaded.body();
+  }
+  {
+    // The downloaded file is the file a save writes: a robot localizes in it (it had the map alone, and
+    // `--mode localize` refused it: "has no localization data").
+    ServerProcess from_download({"--world", "yard", "--scanner", "none", "--maps-dir", maps.string(), "--map",
+                                 "downloaded.smls", "--mode", "localize"});
+    const nlohmann::json status = get_json(from_download.port(), "/api/v1/status");
+    EXPECT_EQ(status["map"]["mode"], "localize") << status.dump();
+    EXPECT_GT(status["map"]["patches"].get<int>(), 0) << status.dump();
   }
 
   ServerProcess localizing({"--world", "yard", "--scanner", "tilting", "--time-scale", kTimeScale, "--seed",

@@ -1,6 +1,7 @@
 #include "integration/server_process.hpp"
 
 #include <fcntl.h>
+#include <gtest/gtest.h>
 #include <poll.h>
 #include <sched.h>
 #include <signal.h>
@@ -229,8 +230,9 @@ ServerProcess::ServerProcess(std::vector<std::string> extra_args, const ProcessL
   while (!std::regex_search(output, match, serving)) {
     if (!read_some(pipe_fds[0], output, deadline)) {
       close(pipe_fds[0]);
-      stop();
-      throw std::runtime_error("strata did not start serving; stdout was: " + output);
+      const int status = stop();
+      throw std::runtime_error("strata did not start serving (exit status " + std::to_string(status) +
+                               "); stdout was: " + output);
     }
   }
   close(pipe_fds[0]);  // nothing else is printed on stdout
@@ -249,7 +251,15 @@ long ServerProcess::resident_kib() const {
 }
 
 ServerProcess::~ServerProcess() {
-  stop();
+  if (pid_ <= 0)
+    return;  // stopped or killed by the test, which saw the status
+  // A test that leaves the server to its fixture still has it checked: a crash, a hang broken by the
+  // timeout or a sanitizer's report at shutdown (an ASan leak exits 1) must fail the test that ran it.
+  const pid_t pid = pid_;
+  if (const int status = stop(); status != 0) {
+    ADD_FAILURE() << "strata (pid " << pid << ") exited with status " << status
+                  << " on SIGTERM, not 0: a crash, or a sanitizer's report at shutdown (see its log above)";
+  }
 }
 
 int ServerProcess::stop() {

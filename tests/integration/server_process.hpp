@@ -48,6 +48,8 @@ class ServerProcess {
   /// `file_size_limit` (bytes) becomes the process's RLIMIT_FSIZE: a disk that fills up.
   ServerProcess(std::vector<std::string> extra_args, std::uint64_t file_size_limit);
   ServerProcess(std::vector<std::string> extra_args, const ProcessLimits& limits);
+  /// Stops a server still running (SIGTERM) and fails the running test (gtest's ADD_FAILURE) unless it exits
+  /// with status 0.
   ~ServerProcess();
   ServerProcess(const ServerProcess&) = delete;
   ServerProcess& operator=(const ServerProcess&) = delete;
@@ -58,8 +60,8 @@ class ServerProcess {
   [[nodiscard]] pid_t pid() const { return pid_; }
   /// The process's resident memory (VmRSS), KiB.
   [[nodiscard]] long resident_kib() const;
-  /// Sends SIGTERM and waits; returns the exit status (or 128 + signal).
-  int stop();
+  /// Sends SIGTERM and waits; returns the exit status (or 128 + signal), for the caller to check.
+  [[nodiscard]] int stop();
   /// Sends SIGKILL (no chance to clean up, as a power cut or the OOM killer) and waits.
   void kill_now();
   /// Stops every thread of the server (SIGSTOP) and waits until they are stopped: until resume() or

@@ -8,7 +8,9 @@
 #include <iterator>
 #include <string>
 
+#include "core/localization/localization_map.hpp"
 #include "core/mls/map_export.hpp"
+#include "core/mls/mls_file.hpp"
 #include "tests/unit/core/mls/mls_scenes.hpp"
 
 namespace strata::pipeline {
@@ -78,21 +80,45 @@ TEST_F(MapStoreTest, DownloadsAreTheBytesTheFilesWouldHold) {
   const MapStore store(directory_);
   const MlsMap map = scene_map();
   ASSERT_TRUE(store.save(map, nullptr, "site.smls").ok);
-  EXPECT_EQ(text_of(MapStore::download("strata", map, nullptr, 3)), read_bytes(directory_ / "site.smls"));
-  EXPECT_EQ(text_of(MapStore::download("ply", map, nullptr, 3)), mls_ply(map));
+  EXPECT_EQ(text_of(MapStore::download("strata", map, nullptr, nullptr, 3)),
+            read_bytes(directory_ / "site.smls"));
+  EXPECT_EQ(text_of(MapStore::download("ply", map, nullptr, nullptr, 3)), mls_ply(map));
+  // With the localization data, the native download is the file a save writes: another robot localizes
+  // in it (issue 63: the download had the map alone, and `--mode localize` refused it).
+  LocalizationMap localization;
+  localization.points = {{1.0F, 2.0F, 0.5F}, {-1.0F, 0.5F, 1.5F}};
+  localization.keyframe_poses = {Eigen::Isometry3d::Identity()};
+  ASSERT_TRUE(store.save(map, &localization, "localizable.smls").ok);
+  const std::string downloaded = text_of(MapStore::download("strata", map, &localization, nullptr, 3));
+  EXPECT_EQ(downloaded, read_bytes(directory_ / "localizable.smls"));
+  const MapFile file = deserialize_map_file(downloaded, "the download");
+  ASSERT_TRUE(file.localization.has_value());
+  EXPECT_EQ(file.localization->points.size(), 2U);
+  fs::remove(directory_ / "localizable.smls");
 
   const CellRegion region{map.cell_of(-3, -2), 60, 40};
   const DrivableMap drivable = compute_drivable_map(map, TraversabilityConfig{}, {0, 0, 0}, region);
-  const std::string pgm = text_of(MapStore::download("pgm", map, &drivable, 3));
+  const std::string pgm = text_of(MapStore::download("pgm", map, nullptr, &drivable, 3));
   EXPECT_EQ(pgm.rfind("P5\n# strata drivable map\n60 40\n255\n", 0), 0U);
-  const std::string yaml = text_of(MapStore::download("yaml", map, &drivable, 3));
+  const std::string yaml = text_of(MapStore::download("yaml", map, nullptr, &drivable, 3));
   EXPECT_NE(yaml.find("image: map.pgm"), std::string::npos) << yaml;
   EXPECT_EQ(yaml.rfind("# strata map version 3; its image: GET /api/v1/map?format=pgm&version=3\n", 0), 0U)
       << yaml;
 
-  EXPECT_TRUE(MapStore::download("zip", map, &drivable, 3).empty());
-  EXPECT_TRUE(MapStore::download("pgm", map, nullptr, 3).empty());
-  EXPECT_TRUE(MapStore::download("strata", MlsMap(), nullptr, 3).empty());
+  // MCAP (drivers/ros2/map_messages.hpp; read whole by tests/interop/): with and without zstd.
+  const std::string magic("\x89MCAP0\r\n", 8);
+  const std::string mcap = text_of(MapStore::download("mcap", map, nullptr, &drivable, 3));
+  const std::string plain = text_of(MapStore::download("mcap-uncompressed", map, nullptr, nullptr, 3));
+  EXPECT_EQ(mcap.substr(0, 8), magic);
+  EXPECT_EQ(mcap.substr(mcap.size() - 8), magic);
+  EXPECT_NE(mcap.find("nav_msgs/msg/OccupancyGrid"), std::string::npos);
+  EXPECT_EQ(plain.find("nav_msgs/msg/OccupancyGrid"), std::string::npos) << "no drivable map, no /map";
+  EXPECT_NE(plain.find("/map_patches"), std::string::npos);
+  EXPECT_TRUE(MapStore::download("mcap", MlsMap(), nullptr, &drivable, 3).empty());
+
+  EXPECT_TRUE(MapStore::download("zip", map, nullptr, &drivable, 3).empty());
+  EXPECT_TRUE(MapStore::download("pgm", map, nullptr, nullptr, 3).empty());
+  EXPECT_TRUE(MapStore::download("strata", MlsMap(), nullptr, nullptr, 3).empty());
   EXPECT_EQ(std::distance(fs::directory_iterator(directory_), fs::directory_iterator()), 1)
       << "a download writes no file";
 }

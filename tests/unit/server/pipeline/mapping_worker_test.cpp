@@ -159,6 +159,9 @@ TEST(MappingWorker, SavesListsLoadsAndDownloads) {
   EXPECT_EQ(text_of(pgm.bytes).substr(0, 2), "P5");
   EXPECT_EQ(pgm.version, yaml.version);
   EXPECT_TRUE(worker.download("zip", std::nullopt).bytes.empty());
+  const MapDownload mcap = worker.download("mcap", yaml.version);  // the drivable map of that version
+  EXPECT_EQ(text_of(mcap.bytes).substr(0, 5), "\x89MCAP");
+  EXPECT_EQ(mcap.version, yaml.version);
 
   // Another scan, then back to the saved map: its patches again, under a newer version.
   const ScanEvent& second = campus_scans()[1];
