@@ -140,10 +140,12 @@ std::optional<std::uint32_t> SurfaceGrid::step_onto(int col, int row, float top,
   const std::size_t c = cell(col, row);
   std::optional<std::uint32_t> best;
   float best_difference = std::numeric_limits<float>::infinity();
+  const auto max_step = static_cast<float>(config_.max_step);
   for (std::uint32_t i = begin_[c]; i < begin_[c + 1]; ++i) {
     const float difference = std::abs(surfaces_[i].top - top);
+    // Within max_step is a step whatever the variances (most neighbours): the square root only beyond.
     if (surfaces_[i].traversable && difference <= best_difference &&
-        difference <= step_limit(variance, surfaces_[i].variance)) {
+        (difference <= max_step || difference <= step_limit(variance, surfaces_[i].variance))) {
       best_difference = difference;
       best = i;
     }
