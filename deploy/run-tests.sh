@@ -5,7 +5,8 @@
 # libFuzzer: every parser of outside input (network messages, lidar packets and captures, map, point-cloud
 # and dataset files, calibrations, the config file), a fixed number of executions each on its seed corpus,
 # tests/fuzz/) and `tsan` (ThreadSanitizer over the concurrency tests: send queue, client hub, mapping
-# worker, localizer sink, navigator, the registration's parallel_for). Exits non-zero if anything fails.
+# worker, localizer sink, navigator, the registration's parallel_for; and the real server, built with
+# ThreadSanitizer, under nine integration tests chosen for its threads). Exits non-zero if anything fails.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$root"

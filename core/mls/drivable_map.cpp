@@ -139,22 +139,24 @@ DrivableMap compute_drivable_map(const MlsMap& map, const SurfaceGrid& measured,
     int col;
     int row;
     float top;
+    float variance;
   };
   std::vector<std::uint8_t> reached(surfaces.surface_count(), 0);
   std::vector<Item> stack;
-  const auto reach = [&](int col, int row, std::uint32_t surface, float top) {
+  const auto reach = [&](int col, int row, std::uint32_t surface) {
+    const SurfaceGrid::Surface& s = surfaces.surface(surface);
     reached[surface] = 1;
     const std::size_t c = surfaces.cell(col, row);
     if (result.connected[c] == 0)
       ++result.connected_cells;
     result.connected[c] = 1;
     grid.cells[c] = Occupancy::free;
-    grid.surface_height[c] = top;
-    stack.push_back({col, row, top});
+    grid.surface_height[c] = s.top;
+    stack.push_back({col, row, s.top, s.variance});
   };
   // The robot stands on its patch even if the classification (say, a slope estimate at a map edge) would
   // not enter it.
-  reach(start_col, start_row, start_surface, surfaces.surface(start_surface).top);
+  reach(start_col, start_row, start_surface);
 
   constexpr int kNeighbours[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
   while (!stack.empty()) {
@@ -163,9 +165,9 @@ DrivableMap compute_drivable_map(const MlsMap& map, const SurfaceGrid& measured,
     for (const auto& offset : kNeighbours) {
       const int col = item.col + offset[0];
       const int row = item.row + offset[1];
-      const std::optional<std::uint32_t> next = surfaces.step_onto(col, row, item.top);
+      const std::optional<std::uint32_t> next = surfaces.step_onto(col, row, item.top, item.variance);
       if (next && reached[*next] == 0)
-        reach(col, row, *next, surfaces.surface(*next).top);
+        reach(col, row, *next);
     }
   }
   classify_unreached(surfaces, config, map.resolution(), grid);

@@ -46,6 +46,7 @@ SurfaceGrid::SurfaceGrid(const MlsMap& map, const CellRegion& region, const Trav
         tile->for_each_patch(MlsMap::local_index(index), [&](const MlsPatch& patch) {
           surfaces_.push_back({.top = patch.top(),
                                .bottom = patch.bottom(),
+                               .variance = patch.variance,
                                .vertical = patch.vertical(),
                                .driven = patch.driven()});
         });
@@ -128,15 +129,23 @@ std::size_t SurfaceGrid::cell_of_surface(std::uint32_t index) const {
   return static_cast<std::size_t>(std::upper_bound(begin_.begin(), begin_.end(), index) - begin_.begin()) - 1;
 }
 
-std::optional<std::uint32_t> SurfaceGrid::step_onto(int col, int row, float top) const {
+float SurfaceGrid::step_limit(float variance_a, float variance_b) const {
+  const double forgiven = config_.step_sigmas * std::sqrt(static_cast<double>(variance_a + variance_b));
+  return static_cast<float>(config_.max_step + std::min(forgiven, config_.max_uncertain_step));
+}
+
+std::optional<std::uint32_t> SurfaceGrid::step_onto(int col, int row, float top, float variance) const {
   if (!contains_local(col, row))
     return std::nullopt;
   const std::size_t c = cell(col, row);
   std::optional<std::uint32_t> best;
-  float best_difference = static_cast<float>(config_.max_step);
+  float best_difference = std::numeric_limits<float>::infinity();
+  const auto max_step = static_cast<float>(config_.max_step);
   for (std::uint32_t i = begin_[c]; i < begin_[c + 1]; ++i) {
     const float difference = std::abs(surfaces_[i].top - top);
-    if (surfaces_[i].traversable && difference <= best_difference) {
+    // Within max_step is a step whatever the variances (most neighbours): the square root only beyond.
+    if (surfaces_[i].traversable && difference <= best_difference &&
+        (difference <= max_step || difference <= step_limit(variance, surfaces_[i].variance))) {
       best_difference = difference;
       best = i;
     }
@@ -175,7 +184,9 @@ std::optional<std::uint32_t> SurfaceGrid::nearest_surface(int centre_col, int ce
 
 void SurfaceGrid::drive_over_seams() {
   const auto robot_height = static_cast<float>(config_.robot_height);
-  const auto continues = [&](int col, int row, float top) { return step_onto(col, row, top).has_value(); };
+  const auto continues = [&](int col, int row, const Surface& s) {
+    return step_onto(col, row, s.top, s.variance).has_value();
+  };
   std::vector<std::uint32_t> seams;  // marked after the search: a seam does not continue another
   for (int row = 0; row < region_.height; ++row)
     for (int col = 0; col < region_.width; ++col) {
@@ -186,8 +197,8 @@ void SurfaceGrid::drive_over_seams() {
           continue;
         if (i + 1 < begin_[c + 1] && surfaces_[i + 1].bottom - s.top < robot_height)
           continue;
-        if ((continues(col - 1, row, s.top) && continues(col + 1, row, s.top)) ||
-            (continues(col, row - 1, s.top) && continues(col, row + 1, s.top)))
+        if ((continues(col - 1, row, s) && continues(col + 1, row, s)) ||
+            (continues(col, row - 1, s) && continues(col, row + 1, s)))
           seams.push_back(i);
       }
     }

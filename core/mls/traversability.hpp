@@ -22,7 +22,14 @@ struct UnseenGapConfig {
 
 /// What the robot can drive on (docs/architecture.md 4.3). Defaults: the thesis's wheelchair.
 struct TraversabilityConfig {
-  double max_step = 0.08;     ///< highest step between neighbouring cells, metres
+  double max_step = 0.08;  ///< highest step between neighbouring cells, metres
+  /// A height difference the two patches' own uncertainty explains is no step: up to this many of their
+  /// combined standard deviations beyond max_step (issue 58: a lidar's far cells, seen once from 20-30 m,
+  /// sigma 0.1-0.15 m, stood 0.08-0.1 m from their neighbours as steps, and their edges left the robot no
+  /// room on flat ground). Closer scans shrink a patch's sigma, and a real step is a step again.
+  double step_sigmas = 1.0;
+  /// The most uncertainty forgives on top of max_step, metres: a far, noisy view never hides a curb.
+  double max_uncertain_step = 0.08;
   double max_slope = 0.2618;  ///< steepest ground, radians (15 degrees)
   double robot_height = 1.0;  ///< free space needed above a patch to drive there, metres
   /// The robot's patch is the horizontal patch nearest its ground height within this, metres.
@@ -58,6 +65,8 @@ class SurfaceGrid {
   struct Surface {
     float top = 0.0F;
     float bottom = 0.0F;
+    /// Of `top`, m^2 (MlsPatch::variance): how far apart two surfaces may measure and still meet.
+    float variance = 0.0F;
     bool vertical = false;
     bool traversable = false;
     /// Not measured: inferred where the scanner left a gap (core/mls/unseen_gaps.hpp).
@@ -74,9 +83,13 @@ class SurfaceGrid {
   [[nodiscard]] SurfaceGrid with_added(std::vector<std::pair<std::size_t, Surface>> added) const;
 
   /// The one rule for moving from cell to cell, shared by the drivable map's fill, the patch graph's edges
-  /// and the seams: the traversable surface of local cell (col, row) that a surface at height `top` steps
-  /// onto, the nearest in height and within max_step (ties to the higher one). None outside the region.
-  [[nodiscard]] std::optional<std::uint32_t> step_onto(int col, int row, float top) const;
+  /// and the seams: the traversable surface of local cell (col, row) that a surface at height `top` (of
+  /// that variance) steps onto, the nearest in height and within the step the two surfaces may differ by
+  /// (step_limit; ties to the higher one). None outside the region.
+  [[nodiscard]] std::optional<std::uint32_t> step_onto(int col, int row, float top, float variance) const;
+  /// The largest height difference between two surfaces of these variances that is no step: max_step, and
+  /// up to step_sigmas of their combined standard deviation more, at most max_uncertain_step more.
+  [[nodiscard]] float step_limit(float variance_a, float variance_b) const;
 
   /// Which surfaces may hold the robot or a goal.
   enum class Standing {

@@ -39,12 +39,12 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
             const int r = row + k * dy;
             if (c < 0 || r < 0 || c >= region.width || r >= region.height)
               break;
-            const auto allowed =
-                static_cast<float>(traversability.max_step + k * cell_length * config.max_grade);
+            const auto climb = static_cast<float>(k * cell_length * config.max_grade);
             const SurfaceGrid::Surface* end = nullptr;
             bool blocked = false;
             for (const SurfaceGrid::Surface& s : grid.surfaces(grid.cell(c, r))) {
-              if (measured_drivable(s) && std::abs(s.top - from.top) <= allowed &&
+              if (measured_drivable(s) &&
+                  std::abs(s.top - from.top) <= grid.step_limit(from.variance, s.variance) + climb &&
                   (end == nullptr || std::abs(s.top - from.top) < std::abs(end->top - from.top)))
                 end = &s;
               // Anything at the line's height or below it ends the line: a wall, a step, or ground seen
@@ -55,9 +55,13 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
               for (int i = 1; i < k; ++i) {
                 const float top =
                     from.top + (end->top - from.top) * static_cast<float>(i) / static_cast<float>(k);
-                added.push_back(
-                    {grid.cell(col + i * dx, row + i * dy),
-                     {.top = top, .bottom = top, .vertical = false, .traversable = true, .inferred = true}});
+                added.push_back({grid.cell(col + i * dx, row + i * dy),
+                                 {.top = top,
+                                  .bottom = top,
+                                  .variance = std::max(from.variance, end->variance),  // known no better
+                                  .vertical = false,
+                                  .traversable = true,
+                                  .inferred = true}});
               }
               break;
             }

@@ -81,17 +81,19 @@ void PatchGraph::link(const TraversabilityConfig& config) {
   const CellRegion& region = grid.region();
   const auto robot_height = static_cast<float>(config.robot_height);
   neighbours_.assign(grid.surface_count(), {kNone, kNone, kNone, kNone, kNone, kNone, kNone, kNone});
-  // The traversable patch of (col, row) that a patch at `top` meets (SurfaceGrid::step_onto).
-  const auto meet = [&](int col, int row, float top) -> Node {
-    return grid.step_onto(col, row, top).value_or(kNone);
+  // The traversable patch of (col, row) that a patch meets (SurfaceGrid::step_onto).
+  const auto meet = [&](int col, int row, const SurfaceGrid::Surface& from) -> Node {
+    return grid.step_onto(col, row, from.top, from.variance).value_or(kNone);
   };
   // Whether (col, row) holds something seen at or below a patch at `top`, up to the robot's roof: a wall,
   // a step, lower ground. Without that the cell is unknown at this level (unseen, or only a roof above).
+  // Ground inferred across a gap was not seen: the road inferred under a bridge deck is no drop beside
+  // the deck's own unseen cells (issue 58).
   const auto seen_at = [&](int col, int row, float top) {
     if (col < 0 || row < 0 || col >= region.width || row >= region.height)
       return false;
     for (const SurfaceGrid::Surface& s : grid.surfaces(grid.cell(col, row)))
-      if (s.bottom <= top + robot_height)
+      if (!s.inferred && s.bottom <= top + robot_height)
         return true;
     return false;
   };
@@ -109,18 +111,19 @@ void PatchGraph::link(const TraversabilityConfig& config) {
         const Node node = first + static_cast<Node>(i);
         if (traversable_[node] == 0)
           continue;
-        const float top = cell_surfaces[i].top;
+        const SurfaceGrid::Surface& from = cell_surfaces[i];
+        const float top = from.top;
         std::array<Node, 8>& out = neighbours_[node];
         for (int d = 0; d < 8; d += 2) {
           const int dx = kDirections[d][0];
           const int dy = kDirections[d][1];
-          out[static_cast<std::size_t>(d)] = meet(col + dx, row + dy, top);
+          out[static_cast<std::size_t>(d)] = meet(col + dx, row + dy, from);
         }
         for (int d = 1; d < 8; d += 2) {
           if (out[static_cast<std::size_t>(d - 1)] == kNone ||
               out[static_cast<std::size_t>((d + 1) % 8)] == kNone)
             continue;  // no corner cutting
-          out[static_cast<std::size_t>(d)] = meet(col + kDirections[d][0], row + kDirections[d][1], top);
+          out[static_cast<std::size_t>(d)] = meet(col + kDirections[d][0], row + kDirections[d][1], from);
         }
         for (int d = 0; d < 8; ++d) {
           if (out[static_cast<std::size_t>(d)] != kNone)
@@ -134,7 +137,7 @@ void PatchGraph::link(const TraversabilityConfig& config) {
             const int r2 = row + j * kDirections[d][1];
             // The ground goes on past the gap; or, a step away, diagonally across a corner the robot may not
             // cut: the ground a corner cell holds is no edge (the sides say whether something is there).
-            if (meet(c2, r2, top) != kNone)
+            if (meet(c2, r2, from) != kNone)
               break;
             if (seen_at(c2, r2, top)) {
               const float distance = side + static_cast<float>((j - 1) * step_length(d) * resolution_);

@@ -50,6 +50,8 @@ class MapStore {
                                                           const LocalizationMap* localization,
                                                           const DrivableMap* drivable, std::uint64_t version,
                                                           std::span<const Eigen::Isometry3d> trajectory = {});
+  /// Whether `format` is one of download()'s MCAP formats.
+  [[nodiscard]] static bool is_mcap(const std::string& format);
 
   [[nodiscard]] const std::filesystem::path& directory() const { return directory_; }
 

@@ -7,12 +7,14 @@
 //
 //   strata_live_navigation_bench [--world yard|campus] [--scanner tilting|lidar] [--seconds S]
 //                                [--spacing M] [--max-gap M] [--track 0|1] [--ascii FILE]
-//                                [--map FILE --at X,Y,Z] [--save-map FILE]
+//                                [--map FILE --at X,Y,Z] [--save-map FILE] [--goals-at X,Y,Z;X,Y,Z...]
 //
 //   --max-gap: the longest unseen gap inferred as ground (0: none)
 //   --track: 1 (default) marks the ground the robot drove over, as the live map does; 0 does not
 //   --map, --at: a map saved by the server, and where the robot stands on it, instead of a simulated drive
 //   --save-map: writes the map the goals are tried on (a native map file)
+//   --goals-at: also plans to these places, one line each ("place"), e.g. the campus ramp's goals on a map
+//           strata_goal_drive_bench --dump saved (issue 58)
 //   map     scans mapped, cells and patches of the live map, graph nodes, ms to build the graph
 //   goals   per distance band from the robot: goals tried, planned (a way found; strata_goal_drive_bench
 //           drives them), and why the others failed;
@@ -49,9 +51,13 @@ struct Options {
   double max_gap = UnseenGapConfig{}.max_gap;
   bool track = true;
   std::string ascii;
-  std::string map;              ///< a saved map instead of a simulated drive (with `at`)
-  Eigen::Vector3d at{0, 0, 0};  ///< where the robot stands on that map
-  std::string save_map;         ///< where to write the map; empty: not written
+  std::string map;                        ///< a saved map instead of a simulated drive (with `at`)
+  Eigen::Vector3d at{0, 0, 0};            ///< where the robot stands on that map
+  std::string save_map;                   ///< where to write the map; empty: not written
+  std::vector<Eigen::Vector3d> goals_at;  ///< places planned to besides the seen goals
+  double step_sigmas = TraversabilityConfig{}.step_sigmas;
+  double max_uncertain_step = TraversabilityConfig{}.max_uncertain_step;
+  std::vector<Eigen::Vector3d> inspect;  ///< cells whose surfaces are printed (x, y, half width in cells)
 };
 
 Options parse(int argc, char** argv) {
@@ -79,6 +85,26 @@ Options parse(int argc, char** argv) {
       options.save_map = value;
     else if (key == "--at")
       std::sscanf(value, "%lf,%lf,%lf", &options.at.x(), &options.at.y(), &options.at.z());
+    else if (key == "--step-sigmas")
+      options.step_sigmas = std::atof(value);
+    else if (key == "--max-uncertain-step")
+      options.max_uncertain_step = std::atof(value);
+    else if (key == "--inspect") {
+      Eigen::Vector3d at;
+      std::sscanf(value, "%lf,%lf,%lf", &at.x(), &at.y(), &at.z());
+      options.inspect.push_back(at);
+    } else if (key == "--goals-at")
+      for (const char* item = value; *item != '\0';) {
+        Eigen::Vector3d place;
+        int used = 0;
+        if (std::sscanf(item, "%lf,%lf,%lf%n", &place.x(), &place.y(), &place.z(), &used) != 3) {
+          std::fprintf(stderr, "--goals-at: \"%s\" is not X,Y,Z;...\n", value);
+          std::exit(2);
+        }
+        options.goals_at.push_back(place);
+        item += used;
+        item += *item == ';' ? 1 : 0;
+      }
   }
   return options;
 }
@@ -143,6 +169,8 @@ int main(int argc, char** argv) {
 
   PatchGraphConfig graph_config{.clearance_weight = 2.0};  // the navigator's
   graph_config.traversability.unseen_gaps.max_gap = options.max_gap;
+  graph_config.traversability.step_sigmas = options.step_sigmas;
+  graph_config.traversability.max_uncertain_step = options.max_uncertain_step;
   const auto build_start = std::chrono::steady_clock::now();
   const PatchGraph seen(std::make_shared<const SurfaceGrid>(live, CellRegion::of_tiles(live.tile_indices()),
                                                             graph_config.traversability),
@@ -155,6 +183,35 @@ int main(int argc, char** argv) {
       options.world.c_str(), options.scanner.c_str(), options.seconds, scans, live.occupied_cell_count(),
       live.patch_count(), seen.node_count(), build_ms, robot.x(), robot.y(), robot.z());
 
+  for (const Eigen::Vector3d& at : options.inspect) {
+    const SurfaceGrid& grid = seen.surfaces();
+    const auto [centre_col, centre_row] = grid.local(live.cell_of(at.x(), at.y()));
+    const int half = static_cast<int>(at.z());
+    for (int row = centre_row + half; row >= centre_row - half; --row)
+      for (int col = centre_col - half; col <= centre_col + half; ++col) {
+        if (!grid.contains_local(col, row))
+          continue;
+        std::printf("cell %d,%d", col - centre_col, row - centre_row);
+        const auto cell_surfaces = grid.surfaces(grid.cell(col, row));
+        for (std::size_t i = 0; i < cell_surfaces.size(); ++i) {
+          const SurfaceGrid::Surface& s = cell_surfaces[i];
+          const auto node = static_cast<PatchGraph::Node>(grid.first_surface(grid.cell(col, row)) + i);
+          std::printf(" [%.3f..%.3f sd=%.3f%s%s%s c=%.2f]", static_cast<double>(s.bottom),
+                      static_cast<double>(s.top), std::sqrt(static_cast<double>(s.variance)),
+                      s.vertical ? " V" : "", s.traversable ? " T" : "", s.inferred ? " I" : "",
+                      static_cast<double>(seen.clearance(node)));
+        }
+        std::printf("\n");
+      }
+  }
+  for (const Eigen::Vector3d& place : options.goals_at) {
+    // As the navigator moves a goal too near an edge: 0.1 of its distance, 0.5-2 m.
+    const double room = std::clamp(0.1 * std::hypot(place.x() - robot.x(), place.y() - robot.y()), 0.5, 2.0);
+    const PatchPath path = plan_on_patches(
+        seen, robot, {.x = place.x(), .y = place.y(), .z = place.z(), .room_search_radius = room});
+    std::printf("place at=%.2f,%.2f,%.2f status='%s' length_m=%.1f\n", place.x(), place.y(), place.z(),
+                std::string(describe(path.status)).c_str(), path.length);
+  }
   const std::vector<test::SeenGoal> goals = test::plan_to_seen_goals(*world, seen, robot, options.spacing);
   constexpr std::array<double, 6> kBands{2.0, 5.0, 10.0, 15.0, 20.0, 1e9};
   std::array<Band, kBands.size()> bands;

@@ -238,5 +238,62 @@ TEST(SurfaceGridRules, TheLabFloorAndTheRampTheRobotDroveAreTraversable) {
   EXPECT_GE(ramp, 0.95);
 }
 
+/// Ground from x = 0 to 8 m, y = -2 to 2 m, at z = 0 for x < 4 and `curb` beyond, a point every `step`,
+/// seen from `origin`, in stripes 0.5 m wide across x that lie `offset` above and below it in turn: from
+/// afar (sigma 0.14-0.18 m, MlsConfig) each stripe is a ring of one far revolution, whose tilt error
+/// times the range lifts or sinks it, as the campus lidar's live map at 5x holds its ground (issue 58).
+MlsMap ground_with_curb(double curb, const Eigen::Vector3d& origin, double step, double offset) {
+  MlsMap map;
+  std::mt19937 random(11);
+  std::normal_distribution<double> noise(0.0, 0.002);
+  PointCloud points;
+  for (double x = step / 2; x < 8.0; x += step)
+    for (double y = -2.0 + step / 2; y < 2.0; y += step) {
+      const double stripe = static_cast<int>(std::floor(x / 0.5)) % 2 == 0 ? offset : -offset;
+      points.emplace_back(x, y, (x < 4.0 ? 0.0 : curb) + stripe + noise(random));
+    }
+  map.insert_scan(points, origin);
+  return map;
+}
+
+PatchPath plan_across(const MlsMap& map, double curb, const TraversabilityConfig& traversability) {
+  PatchGraphConfig graph_config;
+  graph_config.traversability = traversability;
+  const PatchGraph graph(
+      std::make_shared<const SurfaceGrid>(map, CellRegion::of_tiles(map.tile_indices()), traversability),
+      map.resolution(), graph_config);
+  return plan_on_patches(graph, {1.0, 0.0, 0.0}, {.x = 7.0, .y = 0.0, .z = curb});
+}
+
+// Issue 58: at 5x the campus lidar's live map held the plateau as cells seen once from 20-30 m, 0.08-0.1 m
+// from their neighbours: steps to a rule that took heights as exact, and every one an edge the robot's
+// 0.45 m had to keep clear of, so flat ground had no room and the robot was stranded. A height difference
+// the patches' own uncertainty explains is no step; a curb seen well is one, and so is a high one seen
+// from afar.
+TEST(SurfaceGridRules, ThinFlatGroundSeenFromAfarIsDrivableACurbSeenWellIsNot) {
+  const Eigen::Vector3d far(-25.0, 0.0, 2.0);
+  const TraversabilityConfig rules;
+  TraversabilityConfig exact = rules;  // heights taken as exact: the rule before
+  exact.step_sigmas = 0.0;
+
+  const MlsMap thin = ground_with_curb(0.0, far, 0.1, 0.043);  // stripes 0.086 m apart
+  const PatchPath across = plan_across(thin, 0.0, rules);
+  EXPECT_TRUE(across.found()) << describe(across.status);
+  EXPECT_NEAR(across.length, 6.0, 1.0);
+  EXPECT_FALSE(plan_across(thin, 0.0, exact).found()) << "heights taken as exact leave no room";
+
+  // A 0.1 m curb seen from 2-4 m by many points: known to a centimetre, a step.
+  const MlsMap curb_seen_well = ground_with_curb(0.1, {4.0, 0.0, 1.5}, 0.04, 0.0);
+  EXPECT_EQ(plan_across(curb_seen_well, 0.1, rules).status, PatchPlanStatus::no_path)
+      << describe(plan_across(curb_seen_well, 0.1, rules).status);
+  // Beyond what uncertainty may forgive (max_step + max_uncertain_step), a curb seen from afar is one too.
+  const MlsMap high_curb_from_afar = ground_with_curb(0.3, far, 0.1, 0.043);
+  EXPECT_FALSE(plan_across(high_curb_from_afar, 0.3, rules).found());
+  // The same ground seen well, flat: drivable under both rules.
+  const MlsMap flat_seen_well = ground_with_curb(0.0, {4.0, 0.0, 1.5}, 0.04, 0.0);
+  EXPECT_TRUE(plan_across(flat_seen_well, 0.0, rules).found());
+  EXPECT_TRUE(plan_across(flat_seen_well, 0.0, exact).found());
+}
+
 }  // namespace
 }  // namespace strata
