@@ -20,6 +20,7 @@ apt_packages=(
   libgtest-dev libgmock-dev libbenchmark-dev libcli11-dev libspdlog-dev libfmt-dev libvalijson-dev
   libnanoflann-dev liblzf-dev libyaml-cpp-dev libssl-dev openssl
   libceres-dev  # the pose graph's optimizer
+  libmosquitto-dev mosquitto  # VDA 5050 over MQTT (server/fleet/): the client library; the tests' broker
   libzstd-dev  # MCAP files' zstd-compressed chunks (drivers/mcap/)
   chromium
   # The .deb (cmake/StrataPackaging.cmake, tests/deploy/): dpkg-shlibdeps for its dependencies; the deploy

@@ -104,8 +104,12 @@ pipeline::PipelineOptions pipeline_options(const ServeOptions& options) {
 }
 
 /// The network options as the server runs with them: the web root found, a token made when none is given,
-/// the machine's own names among the allowed hosts.
-NetworkOptions network_as_run(NetworkOptions network) {
+/// the machine's own names among the allowed hosts, the robot's size in the fleet's factsheet.
+NetworkOptions network_as_run(const ServeOptions& options) {
+  NetworkOptions network = options.network;
+  network.fleet.robot_radius = options.robot.radius;
+  network.fleet.robot_height = options.robot.height;
+  network.fleet.max_speed = pipeline::NavigatorConfig{}.max_speed;
   if (network.web_root.empty())
     network.web_root = default_web_root();
   if (!std::filesystem::exists(network.web_root / "index.html")) {
@@ -171,7 +175,7 @@ int serve(const ServeOptions& options) {
   std::unique_ptr<replay::Recorder> recorder = make_recorder(options, *driver);
   pipeline::RobotPipeline robot(std::move(driver), std::move(recorder), pipeline_options(options));
   ServerServices services = robot.services();
-  services.network = network_as_run(options.network);
+  services.network = network_as_run(options);
   net::NetworkServer network(services);  // a bad certificate, address or port stops the start here
   robot.on_map_published(network.map_publisher());
   robot.start();

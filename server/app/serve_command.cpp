@@ -238,6 +238,30 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
       ->add_option("--operator-token-file", options.network.operator_token_file,
                    "Read the operator token from this file")
       ->check(CLI::ExistingFile);
+  command->add_option("--vda5050", options.network.fleet.broker,
+                      "Join a fleet: VDA 5050 2.1 over MQTT to this broker, mqtt://HOST[:PORT] or "
+                      "mqtts://HOST[:PORT] (docs/fleet.md)");
+  command
+      ->add_option("--vda5050-manufacturer", options.network.fleet.manufacturer,
+                   "VDA 5050: the manufacturer in the topics and headers")
+      ->capture_default_str();
+  command->add_option(
+      "--vda5050-serial", options.network.fleet.serial_number,
+      "VDA 5050: the vehicle's serialNumber in the topics and headers (default: the host name)");
+  command
+      ->add_option("--vda5050-interface", options.network.fleet.interface_name,
+                   "VDA 5050: the topics' interface name, <interface>/v2/<manufacturer>/<serial>/<topic>")
+      ->capture_default_str();
+  command->add_option("--vda5050-username", options.network.fleet.username,
+                      "VDA 5050: the broker's user name");
+  command
+      ->add_option("--vda5050-password", options.network.fleet.password,
+                   "VDA 5050: the broker user's password (prefer the config file or STRATA_VDA5050_PASSWORD)")
+      ->envname("STRATA_VDA5050_PASSWORD");
+  command
+      ->add_option("--vda5050-ca-file", options.network.fleet.ca_file,
+                   "VDA 5050 over mqtts://: the broker's CA certificate (PEM); default: the system's CAs")
+      ->check(CLI::ExistingFile);
   command->fallthrough();  // `strata serve --config FILE` works as well as `strata --config FILE serve`
   return command;
 }

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "server/control/fleet_options.hpp"
+
 namespace strata {
 
 /// How the server meets its clients: where it listens, who may do what, how many at once. One struct from
@@ -36,6 +38,7 @@ struct NetworkOptions {
   /// Seconds a WebSocket client may stay silent (no message, no answer to the server's ping at half of
   /// it) before it is dropped and counted as not keeping up.
   double client_timeout_s = 20.0;
+  FleetOptions fleet;  ///< a fleet master over VDA 5050 (MQTT), beside the browser clients
 };
 
 }  // namespace strata

@@ -67,6 +67,8 @@ NetworkServer::NetworkServer(ServerServices services)
   });
   if (context_->navigation_stream)
     add_broadcast(20.0, [stream = context_->navigation_stream.get()] { return stream->poll(); });
+  if (!options.fleet.broker.empty())
+    fleet_ = std::make_shared<fleet::VdaVehicle>(io_, context_->services);  // a bad URL stops the start
 }
 
 // The broadcasts' pending timers go with the io_context, which is destroyed last.
@@ -98,6 +100,8 @@ void NetworkServer::start() {
   listener_->run();
   for (const auto& broadcast : broadcasts_)
     broadcast->start();
+  if (fleet_)
+    fleet_->start();
 }
 
 void NetworkServer::run() {
@@ -107,6 +111,8 @@ void NetworkServer::run() {
   io_.run();
   for (auto& thread : threads)
     thread.join();
+  if (fleet_)
+    fleet_->close();  // connection OFFLINE, on this thread now that the loop has stopped
   // A download, save or load under way finishes before the robot's pipeline stops; its answer is not sent.
   context_->map_work.join();
 }

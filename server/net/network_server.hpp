@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "server/control/server_services.hpp"
+#include "server/fleet/vda_vehicle.hpp"
 #include "server/net/listener.hpp"
 #include "server/net/periodic_broadcast.hpp"
 #include "server/net/server_context.hpp"
@@ -19,7 +20,8 @@ namespace strata::net {
 /// Everything on the network side of one server: the io_context and its threads, the listener, the shared
 /// ServerContext (client hub, streams, router) and the broadcasts that feed the streams: the pose at
 /// NetworkOptions::pose_rate, the status at 1 Hz, goal and path at 20 Hz, and the map pushed by the mapping
-/// thread as soon as it publishes. Runs until SIGINT or SIGTERM.
+/// thread as soon as it publishes; and with --vda5050, the robot as a VDA 5050 vehicle to a fleet master
+/// over MQTT on the same event loop. Runs until SIGINT or SIGTERM.
 class NetworkServer {
  public:
   /// Loads the TLS certificate and key and binds the port at once, so a bad file, a bad address or a port
@@ -52,6 +54,7 @@ class NetworkServer {
   std::shared_ptr<Listener> listener_;
   boost::asio::strand<boost::asio::io_context::executor_type> map_strand_;
   std::vector<std::shared_ptr<PeriodicBroadcast>> broadcasts_;
+  std::shared_ptr<fleet::VdaVehicle> fleet_;  // null: no --vda5050
   boost::asio::signal_set signals_;
 };
 

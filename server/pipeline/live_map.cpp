@@ -176,6 +176,7 @@ void LiveMap::refresh(const CellRegion& region, std::uint64_t since, MappingTime
   snapshot->memory_bytes = map_.memory_bytes();
   snapshot->rebuilds = rebuilds_;
   snapshot->localizing = localizing_;
+  snapshot->name = name_;
   snapshot_ = std::move(snapshot);
   times.snapshot_ms = ms_since(start);
 }

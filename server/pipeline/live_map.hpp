@@ -5,6 +5,7 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <string>
 #include <utility>
 
 #include "core/mls/drivable_map.hpp"
@@ -57,6 +58,9 @@ class LiveMap {
   /// Whether the robot localizes in this map (loaded for localizing: it does not change), for the
   /// snapshots from the next change on.
   void set_localizing(bool localizing) { localizing_ = localizing; }
+  /// The saved map's name this one was loaded from or saved as, for the snapshots from the next one on.
+  void set_name(std::string name) { name_ = std::move(name); }
+  [[nodiscard]] const std::string& name() const { return name_; }
 
   /// The robot moved on a map that is not changing (localizing in a loaded map): the drivable map at its
   /// level is computed again over the `radius` around it (a scan's reach), once it is `every` metres from
@@ -104,6 +108,7 @@ class LiveMap {
   std::shared_ptr<const MapSnapshot> snapshot_;
   std::size_t rebuilds_ = 0;
   bool localizing_ = false;
+  std::string name_;
   mutable WholeLevel whole_level_;  ///< the last one made: a cache, so whole_level() stays const
   double received_at_ = 0.0;        // of the scan being added: stamped on the tiles and image it changes
   /// The map's version before the first scan inserted and not yet refreshed; none: nothing pending.

@@ -311,6 +311,8 @@ CommandResult MappingWorker::save_map(const std::string& name) {
   run_on_mapping_thread([&] {
     const std::shared_ptr<const LocalizationMap> localization = localization_to_keep();
     result = store_.save(live_.map(), localization.get(), name);
+    if (result.ok)
+      live_.set_name(name);
   });
   return result;
 }
@@ -344,12 +346,15 @@ CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
       localizable ? std::make_shared<const LocalizationMap>(std::move(*loaded.localization)) : nullptr;
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
+    const std::string previous_name = live_.name();
     try {
       live_.set_localizing(mode == MapMode::kLocalize);  // before: the new map's snapshot says it
+      live_.set_name(name);
       live_.replace(std::move(loaded.map), LiveMap::Replacement::kLoaded);
       loaded_ = true;
     } catch (const std::exception& failure) {
       live_.set_localizing(mode_ == MapMode::kLocalize);
+      live_.set_name(previous_name);
       result = CommandResult::failure(
           ErrorCode::kIoError,
           std::string("the map could not be taken up, the live map is unchanged: ") + failure.what());

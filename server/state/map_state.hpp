@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 #include <mutex>
+#include <string>
 #include <vector>
 
 namespace strata {
@@ -45,6 +46,8 @@ struct MapSnapshot {
   std::size_t rebuilds = 0;  ///< times the map was rebuilt from keyframes the pose graph moved
   /// The robot localizes in a loaded map that does not change; false: the scans go into the map.
   bool localizing = false;
+  /// The saved map this one was loaded from or last saved as (a map store name); empty: never saved.
+  std::string name;
 };
 
 /// The newest map snapshot, written by the mapping worker, read by the network side. A shared_ptr swap

@@ -173,9 +173,13 @@ TEST(MappingWorker, SavesListsLoadsAndDownloads) {
   EXPECT_EQ(text_of(worker.download("pgm", yaml.version).bytes), text_of(pgm.bytes));
   EXPECT_TRUE(worker.download("pgm", yaml.version + 100).version_gone);
   EXPECT_GT(grown->patches, mapped->patches);
+  // The map's name (a fleet's mapId is made of it): none before the save, the saved name after it.
+  EXPECT_TRUE(mapped->name.empty());
+  EXPECT_EQ(grown->name, "campus.smls");
   const CommandResult loaded = worker.load_map("campus.smls", MapMode::kMapping);
   ASSERT_TRUE(loaded.ok) << loaded.message;
   const auto reloaded = state.snapshot();
+  EXPECT_EQ(reloaded->name, "campus.smls");
   EXPECT_GT(reloaded->version, grown->version);
   EXPECT_EQ(reloaded->patches, mapped->patches);
   // The saved map's tiles, and the tiles only the second scan made as empty ones (clients drop them).

@@ -1,0 +1,58 @@
+#include "server/fleet/broker_address.hpp"
+
+#include <charconv>
+
+namespace strata::fleet {
+namespace {
+
+std::optional<BrokerAddress> refuse(std::string* error, std::string why) {
+  if (error != nullptr)
+    *error = std::move(why);
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<BrokerAddress> parse_broker_url(std::string_view url, std::string* error) {
+  BrokerAddress address;
+  if (url.starts_with("mqtt://")) {
+    url.remove_prefix(7);
+  } else if (url.starts_with("mqtts://")) {
+    url.remove_prefix(8);
+    address.tls = true;
+    address.port = 8883;
+  } else {
+    return refuse(error, "the broker must be mqtt://HOST[:PORT] or mqtts://HOST[:PORT]");
+  }
+  if (!url.empty() && url.back() == '/')
+    url.remove_suffix(1);
+  std::string_view host = url;
+  // [v6::address]:port, host:port, host
+  if (url.starts_with('[')) {
+    const auto close = url.find(']');
+    if (close == std::string_view::npos)
+      return refuse(error, "the broker's IPv6 address has no closing ']'");
+    host = url.substr(1, close - 1);
+    url.remove_prefix(close + 1);
+    if (!url.empty() && url.front() != ':')
+      return refuse(error, "after the broker's IPv6 address only :PORT may follow");
+  } else {
+    const auto colon = url.rfind(':');
+    host = url.substr(0, colon);
+    url = colon == std::string_view::npos ? std::string_view() : url.substr(colon);
+  }
+  if (!url.empty()) {
+    url.remove_prefix(1);  // ':'
+    int port = 0;
+    const auto [end, failure] = std::from_chars(url.data(), url.data() + url.size(), port);
+    if (failure != std::errc() || end != url.data() + url.size() || port < 1 || port > 65535)
+      return refuse(error, "the broker's port must be a number from 1 to 65535");
+    address.port = port;
+  }
+  if (host.empty() || host.find_first_of("/?#@ ") != std::string_view::npos)
+    return refuse(error, "the broker needs a host name or address (no path, no user@)");
+  address.host = std::string(host);
+  return address;
+}
+
+}  // namespace strata::fleet

@@ -1,0 +1,243 @@
+// Issue 61, first slice: the robot as a VDA 5050 2.1 vehicle over MQTT, with real parts only: Debian's
+// mosquitto as the broker, the real `strata serve` (its vda5050 options from a config file), npm's
+// vda-5050-lib MasterController as the master, and every message the vehicle sends checked against the
+// specification's own 2.1.0 JSON schemas (../shared/vda5050/2.1.0, found through STRATA_VDA5050_DIR).
+// Usage: node --test vda5050.test.mjs   (env STRATA_BINARY, MOSQUITTO, STRATA_VDA5050_DIR)
+import assert from 'node:assert/strict';
+import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { tmpdir } from 'node:os';
+import path from 'node:path';
+import { after, before, test } from 'node:test';
+
+import Ajv2020 from 'ajv/dist/2020.js';
+import mqtt from 'mqtt';
+import { MasterController } from 'vda-5050-lib';
+
+import { startServer } from '../browser/server.mjs';
+import { startBroker } from './broker.mjs';
+
+const binary = process.env.STRATA_BINARY;
+const mosquitto = process.env.MOSQUITTO || '/usr/sbin/mosquitto';
+const schemaDir = path.join(process.env.STRATA_VDA5050_DIR || path.resolve('../../../shared/vda5050'), '2.1.0');
+const missing = !existsSync(schemaDir) ? `the VDA 5050 2.1.0 schemas are not at ${schemaDir} (STRATA_VDA5050_DIR)` : !existsSync(mosquitto) ? `no mosquitto at ${mosquitto} (deploy/install-deps.sh installs it)` : false;
+assert.ok(binary, 'STRATA_BINARY must name the strata executable');
+// ctest reports the test as skipped on this line (SKIP_REGULAR_EXPRESSION in tests/CMakeLists.txt).
+if (missing) console.log(`fleet test skipped: ${missing}`);
+
+const TOKEN = 'fleet-test-operator-token-0123456789';
+const agv = { manufacturer: 'StrataTest', serialNumber: 'robot-1' };
+const prefix = `uagv/v2/${agv.manufacturer}/${agv.serialNumber}`;
+const vehicleTopics = ['connection', 'state', 'visualization', 'factsheet'];
+
+let broker;
+let server;
+let watcher;
+let master;
+let scratch;
+const received = []; // every message on the vehicle's topics: { kind, body, at }
+const invalid = []; // the vehicle's messages the 2.1.0 schemas refuse
+let waiters = [];
+
+function validators() {
+  const ajv = new Ajv2020({ strict: false, allErrors: true });
+  ajv.addFormat('date-time', /^\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}(\.\d+)?(Z|[+-]\d{2}:\d{2})$/);
+  return Object.fromEntries(
+    vehicleTopics.map((kind) => [kind, ajv.compile(JSON.parse(readFileSync(path.join(schemaDir, `${kind}.schema`), 'utf8')))]),
+  );
+}
+
+/** The first message of `kind` from index `from` on that `predicate` accepts; waits up to `timeout` ms. */
+function waitFor(kind, predicate = () => true, { from = 0, timeout = 30000 } = {}) {
+  const match = (m) => m.kind === kind && predicate(m.body);
+  const found = received.slice(from).find(match);
+  if (found) return Promise.resolve(found.body);
+  return new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error(`no ${kind} message as expected within ${timeout} ms`)), timeout);
+    waiters.push((m) => {
+      if (!match(m)) return false;
+      clearTimeout(timer);
+      resolve(m.body);
+      return true;
+    });
+  });
+}
+
+const getJson = async (route) => (await fetch(`${server.url}${route}`)).json();
+const headers = { Authorization: `Bearer ${TOKEN}`, 'Content-Type': 'application/json' };
+
+/** Carries out instant actions through the MasterController; resolves with each action's final state. */
+function instantAction(actionType, actionParameters = []) {
+  return new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error(`${actionType}: no final action state`)), 60000);
+    master
+      .initiateInstantActions(agv, { instantActions: [{ actionId: master.createUuid(), actionType, blockingType: 'NONE', actionParameters }] }, {
+        onActionStateChanged: (actionState) => {
+          if (actionState.actionStatus === 'FINISHED' || actionState.actionStatus === 'FAILED') {
+            clearTimeout(timer);
+            resolve(actionState);
+          }
+        },
+        onActionError: (error) => {
+          clearTimeout(timer);
+          reject(new Error(`${actionType} refused: ${JSON.stringify(error)}`));
+        },
+      })
+      .catch(reject);
+  });
+}
+
+/** Publishes `payload` raw on the vehicle's instantActions topic, as a faulty master would. */
+function publishRaw(payload) {
+  return new Promise((resolve, reject) => watcher.publish(`${prefix}/instantActions`, payload, { qos: 0 }, (e) => (e ? reject(e) : resolve())));
+}
+
+const header = (headerId) => ({ headerId, timestamp: new Date().toISOString(), version: '2.1.0', ...agv });
+
+before(async () => {
+  if (missing) return;
+  const validate = validators();
+  broker = await startBroker(mosquitto);
+  watcher = mqtt.connect(broker.url, { reconnectPeriod: 200 });
+  watcher.on('message', (topic, payload) => {
+    const kind = topic.slice(prefix.length + 1);
+    if (!vehicleTopics.includes(kind)) return;
+    const body = JSON.parse(payload.toString());
+    if (!validate[kind](body)) invalid.push({ kind, body, errors: validate[kind].errors });
+    const message = { kind, body };
+    received.push(message);
+    waiters = waiters.filter((waiter) => !waiter(message));
+  });
+  await new Promise((resolve) => watcher.once('connect', resolve));
+  await new Promise((resolve, reject) => watcher.subscribe(`${prefix}/+`, { qos: 1 }, (e) => (e ? reject(e) : resolve())));
+
+  scratch = mkdtempSync(path.join(tmpdir(), 'strata-fleet-'));
+  const config = path.join(scratch, 'strata.ini');
+  writeFileSync(config, ['[serve]', `vda5050 = "${broker.url}"`, `vda5050-manufacturer = "${agv.manufacturer}"`, `vda5050-serial = "${agv.serialNumber}"`, ''].join('\n'));
+  server = await startServer(binary, ['--config', config, '--time-scale', '4', '--operator-token', TOKEN, '--maps-dir', path.join(scratch, 'maps')]);
+
+  // The lib validates against VDA 5050 2.0 and wants that version in every header; this vehicle speaks 2.1,
+  // which the test checks against the 2.1.0 schemas itself.
+  master = new MasterController(
+    { interfaceName: 'uagv', transport: { brokerUrl: broker.url }, vdaVersion: '2.0.0', topicObjectValidation: { inbound: false } },
+    { targetAgvs: agv },
+  );
+  await master.start();
+});
+
+after(async () => {
+  await server?.stop();
+  await master?.stop();
+  watcher?.end(true);
+  await broker?.stop();
+  if (scratch) rmSync(scratch, { recursive: true, force: true });
+});
+
+test('the vehicle comes ONLINE and its state, visualization and factsheet follow the 2.1.0 schemas', { skip: missing }, async () => {
+  const connection = await waitFor('connection', (c) => c.connectionState === 'ONLINE');
+  assert.equal(connection.serialNumber, agv.serialNumber);
+  const state = await waitFor('state', (s) => s.agvPosition !== undefined);
+  assert.equal(state.version, '2.1.0');
+  assert.equal(state.agvPosition.mapId, '~live@0', 'the live map, never saved, on level 0');
+  assert.equal(state.operatingMode, 'AUTOMATIC');
+  assert.deepEqual(state.safetyState, { eStop: 'NONE', fieldViolation: false });
+  const visualization = await waitFor('visualization', (v) => v.agvPosition !== undefined);
+  assert.ok(Number.isFinite(visualization.agvPosition.x));
+  const factsheet = await waitFor('factsheet');
+  const actions = factsheet.protocolFeatures.agvActions.map((a) => a.actionType);
+  for (const type of ['initPosition', 'stateRequest', 'factsheetRequest', 'cancelOrder', 'startPause', 'stopPause']) assert.ok(actions.includes(type), type);
+  assert.ok(factsheet.typeSpecification.localizationTypes.includes('NATURAL'));
+  // Header ids count up per topic.
+  const states = received.filter((m) => m.kind === 'state').map((m) => m.body.headerId);
+  assert.deepEqual(states, [...states].sort((a, b) => a - b));
+  assert.deepEqual(invalid, []);
+});
+
+test('initPosition goes the Set pose way: refused while mapping, a search once localizing; stateRequest answers', { skip: missing }, async () => {
+  const whileMapping = await instantAction('initPosition', [
+    { key: 'x', value: 0 }, { key: 'y', value: 0 }, { key: 'theta', value: 0 }, { key: 'mapId', value: '~live@0' }, { key: 'lastNodeId', value: '' },
+  ]);
+  assert.equal(whileMapping.actionStatus, 'FAILED');
+  assert.match(whileMapping.resultDescription, /mapping|saved map|localiz/i);
+
+  for (let waited = 0; (await getJson('/api/v1/status')).registration.scans < 2; waited += 1) {
+    assert.ok(waited < 600, 'the robot takes its first scans');
+    await new Promise((resolve) => setTimeout(resolve, 200));
+  }
+  const saved = await fetch(`${server.url}/api/v1/maps`, { method: 'POST', headers, body: JSON.stringify({ name: 'yard.smls' }) });
+  assert.equal(saved.status, 201, await saved.text());
+  const loaded = await fetch(`${server.url}/api/v1/maps/yard.smls/load`, { method: 'POST', headers, body: JSON.stringify({ mode: 'localize' }) });
+  assert.equal(loaded.status, 200, await loaded.text());
+  const state = await waitFor('state', (s) => s.agvPosition?.mapId === 'yard.smls@0');
+  assert.ok(state.maps.some((m) => m.mapId === 'yard.smls@0' && m.mapStatus === 'ENABLED'), JSON.stringify(state.maps));
+
+  const before = (await getJson('/api/v1/status')).relocalization;
+  const truth = (await getJson('/api/v1/pose')).truth;
+  const placed = await instantAction('initPosition', [
+    { key: 'x', value: truth.x + 0.3 }, { key: 'y', value: truth.y }, { key: 'theta', value: truth.yaw }, { key: 'mapId', value: 'yard.smls@0' }, { key: 'lastNodeId', value: '' },
+  ]);
+  assert.equal(placed.actionStatus, 'FINISHED', placed.resultDescription);
+  // The server searched around the estimate, as after the web app's Set pose.
+  for (let waited = 0; ; waited += 1) {
+    const now = (await getJson('/api/v1/status')).relocalization;
+    if (now && (!before || now.stamp !== before.stamp)) break;
+    assert.ok(waited < 600, 'a search for the robot follows the initPosition');
+    await new Promise((resolve) => setTimeout(resolve, 200));
+  }
+
+  const mark = received.length;
+  const answered = await instantAction('stateRequest');
+  assert.equal(answered.actionStatus, 'FINISHED');
+  await waitFor('state', (s) => s.actionStates.some((a) => a.actionId === answered.actionId && a.actionStatus === 'FINISHED'), { from: mark });
+  assert.deepEqual(invalid, []);
+});
+
+test('malformed, unknown and huge instantActions are refused with an error in state, and nothing is done', { skip: missing }, async () => {
+  const refused = async (payload, expect) => {
+    const mark = received.length;
+    await publishRaw(payload);
+    const state = await waitFor('state', (s) => s.errors.some((e) => e.errorType === 'validationError' && expect.test(e.errorDescription)), { from: mark });
+    return state;
+  };
+  const valid = (id) => ({ actionId: id, actionType: 'stateRequest', blockingType: 'NONE' });
+  // Wrong types: x as a string.
+  let state = await refused(
+    JSON.stringify({ ...header(900), actions: [valid('ok-1'), { actionId: 'bad-1', actionType: 'initPosition', blockingType: 'HARD', actionParameters: [{ key: 'x', value: '1' }, { key: 'y', value: 0 }, { key: 'theta', value: 0 }, { key: 'mapId', value: 'yard.smls@0' }] }] }),
+    /"x"/,
+  );
+  const error = state.errors.find((e) => e.errorType === 'validationError');
+  assert.ok(error.errorReferences.some((r) => r.referenceKey === 'actionId' && r.referenceValue === 'bad-1'), JSON.stringify(error));
+  assert.ok(!state.actionStates.some((a) => a.actionId === 'ok-1'), 'no action of a refused message is carried out');
+  // An action this vehicle does not know.
+  state = await refused(JSON.stringify({ ...header(901), actions: [valid('ok-2'), { actionId: 'lift-1', actionType: 'lift', blockingType: 'HARD' }] }), /lift/);
+  assert.ok(!state.actionStates.some((a) => a.actionId === 'ok-2'));
+  // Not JSON, and a huge message (1 MB).
+  await refused('{"headerId": 1, "actions": [', /not JSON/);
+  await refused(JSON.stringify({ ...header(902), actions: [valid('ok-3')], padding: 'x'.repeat(1 << 20) }), /bytes/);
+  // An order: not carried out yet, and said so as VDA 5050 says a vehicle refuses one it cannot do.
+  const mark = received.length;
+  await new Promise((resolve, reject) =>
+    watcher.publish(`${prefix}/order`, JSON.stringify({ ...header(903), orderId: 'o-1', orderUpdateId: 0, nodes: [], edges: [] }), (e) => (e ? reject(e) : resolve())),
+  );
+  await waitFor('state', (s) => s.errors.some((e) => e.errorType === 'orderError'), { from: mark });
+  // Still at work afterwards: a good message is carried out, and the refusal's error goes.
+  const answered = await instantAction('stateRequest');
+  assert.equal(answered.actionStatus, 'FINISHED');
+  const after = await waitFor('state', (s) => s.actionStates.some((a) => a.actionId === answered.actionId));
+  assert.ok(!after.errors.some((e) => e.errorType === 'validationError'), JSON.stringify(after.errors));
+  assert.ok(!after.actionStates.some((a) => ['ok-1', 'ok-2', 'ok-3'].includes(a.actionId)));
+  assert.deepEqual(invalid, []);
+});
+
+test('the broker restarted: the vehicle reconnects and is ONLINE again with its state; SIGTERM says OFFLINE', { skip: missing }, async () => {
+  const mark = received.length;
+  await broker.restart();
+  await waitFor('connection', (c) => c.connectionState === 'ONLINE', { from: mark, timeout: 30000 });
+  await waitFor('state', () => true, { from: mark });
+  // The robot's own work went on meanwhile: the server answers.
+  assert.ok((await getJson('/api/v1/status')).registration.scans >= 2);
+
+  const beforeStop = received.length;
+  assert.equal(await server.stop(), 0, 'strata exits cleanly on SIGTERM');
+  await waitFor('connection', (c) => c.connectionState === 'OFFLINE', { from: beforeStop, timeout: 10000 });
+  assert.deepEqual(invalid, []);
+});
