@@ -57,7 +57,7 @@ std::pair<double, double> watch(WsClient& client, const nlohmann::json& from,
 }
 
 /// Reads poses until the true pose has not changed for 20 poses; returns it.
-nlohmann::json wait_until_still(WsClient& client) {
+nlohmann::json wait_until_observed_still(WsClient& client) {
   nlohmann::json previous = next_truth(client);
   int still = 0;
   for (int i = 0; i < 5000 && still < 20; ++i) {
@@ -78,7 +78,7 @@ TEST(LinkSafety, TeleopCommandsHeldBackByAnOutageNeverMoveTheRobot) {
   TeleopStamper stamper(op->read_op("hello"));
   op->send_text(R"({"op":"teleop","v":0,"w":0,"id":"stop"})");  // ends the demo route; stops need no stamp
   op->read_op("ack");
-  const auto standing = wait_until_still(observer);
+  const auto standing = wait_until_observed_still(observer);
 
   // The operator holds the stick through a 3 s outage and lets go of it just before the link returns, as
   // in the report: 20 commands a second, sent but held back, then delivered all at once.
