@@ -9,6 +9,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "core/registration/fault_check.hpp"
 #include "server/fleet/map_id.hpp"
 
 namespace strata::fleet {
@@ -19,8 +20,6 @@ using Clock = std::chrono::steady_clock;
 
 constexpr auto kStateHeartbeat = std::chrono::seconds(30);  // VDA 5050 2.1, 6.10: at least every 30 s
 constexpr std::size_t kActionStatesKept = 32;
-/// Fault control refuses a match above this RMSE (FaultLimits::max_rmse): the score's zero.
-constexpr double kRefusedRmse = 0.15;
 
 std::string host_name() {
   char name[256] = {};
@@ -250,7 +249,8 @@ VehicleReport VdaVehicle::report() {
                          robot->localized && health != LocalizationState::kLost};
     if (registration.last) {
       // How closely the scans match: 1 at a perfect fit, 0 at the RMSE fault control refuses and when lost.
-      double score = std::clamp(1.0 - registration.last->rmse / kRefusedRmse, 0.0, 1.0);
+      // The score's zero is where fault control refuses a match (FaultLimits::max_rmse), not a copy of it.
+      double score = std::clamp(1.0 - registration.last->rmse / FaultLimits{}.max_rmse, 0.0, 1.0);
       if (health == LocalizationState::kDegraded)
         score *= 0.5;
       position.localization_score = health == LocalizationState::kLost ? 0.0 : score;
