@@ -149,6 +149,9 @@ test('a saved map is loaded to localize in, and a pose set by press-and-drag pla
   const error = Math.hypot(placed.x - placed.truth.x, placed.y - placed.truth.y);
   assert.ok(error < 0.25, `placed on the truth (${error.toFixed(2)} m off): ${JSON.stringify(placed)}`);
   await page.screenshot({ path: path.join(artifacts, 'pose_estimate_found.png') });
+  // Standing, the stop-and-go scanner takes no scans: the panel says what is happening, not a rate of
+  // "0.0 / min" (issue 63).
+  await page.locator('#scan-rate', { hasText: 'standing, no scans' }).waitFor({ timeout: 30000 });
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });

@@ -8,6 +8,7 @@ export class StatusPanel {
   constructor() {
     this.latency = { roundTripMs: null, poseAgeMs: null };
     this.driverFinished = false;
+    this.mode = null; // the robot's motion as last shown: 'standing', 'driving', ...
   }
 
   showPose(pose) {
@@ -19,6 +20,7 @@ export class StatusPanel {
     // A replay that has played everything stands, whatever its base could tell.
     const mode = this.driverFinished && pose.mode === 'driving' ? 'standing' : pose.mode;
     field('pose-mode').textContent = mode ?? '–';
+    this.mode = mode;
     field('loc-source').textContent = pose.source === 'registration' ? 'scan matching' : 'odometry only';
     if (pose.server_time) this.latency.poseAgeMs = Date.now() - pose.server_time * 1000;
   }
@@ -61,7 +63,11 @@ export class StatusPanel {
       }
     }
     const rate = field('scan-rate');
-    rate.textContent = `${(status.scan_rate * 60).toFixed(1)} / min`;
+    // No scans in the rate's window (10 s) is no news while the robot stands: a stop-and-go scanner scans
+    // on the move (issue 63: "0.0 / min" read as a fault).
+    const perMinute = status.scan_rate * 60;
+    if (perMinute >= 0.05) rate.textContent = `${perMinute.toFixed(1)} / min`;
+    else rate.textContent = this.mode === 'standing' ? 'standing, no scans' : 'no scans in the last 10 s';
     // The sensor stopped delivering scans it owes (a cable, a crashed lidar): say so until a scan comes.
     const stalled = status.sensor?.state === 'stalled';
     rate.dataset.sensor = stalled ? 'stalled' : 'ok';
