@@ -4,6 +4,7 @@
 // Usage: node --test map_view.test.mjs   (env STRATA_BINARY, STRATA_ARTIFACTS)
 import assert from 'node:assert/strict';
 import { mkdirSync, mkdtempSync } from 'node:fs';
+import { readFile } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
@@ -223,6 +224,29 @@ test('the operator token, entered once, makes the page an operator for the sessi
   const download = page.waitForEvent('download', { timeout: 30000 });
   await page.locator('#files-ok').click();
   assert.match((await download).suggestedFilename(), /\.ply$/);
+
+  // The drivable map for ROS map_server: the YAML and the image it names, of one map version while the
+  // robot maps on (issue 63: two links fetched the two at different versions).
+  await page.getByRole('button', { name: 'Download' }).click();
+  await page.locator('#download-format').selectOption('ros');
+  const files = {};
+  const both = new Promise((resolve) => {
+    page.on('download', async (file) => {
+      files[file.suggestedFilename()] = await readFile(await file.path());
+      if (Object.keys(files).length === 2) resolve();
+    });
+  });
+  await page.locator('#files-ok').click();
+  await Promise.race([both, page.waitForTimeout(30000)]);
+  assert.deepEqual(Object.keys(files).sort(), ['map.pgm', 'map.yaml']);
+  const yaml = files['map.yaml'].toString();
+  assert.match(yaml, /^image: map\.pgm$/m);
+  const version = yaml.match(/^# strata map version (\d+);/)?.[1];
+  assert.ok(version, yaml);
+  const named = await fetch(`${server.url}/api/v1/map?format=pgm&version=${version}`);
+  if (named.status === 200) assert.ok(Buffer.from(await named.arrayBuffer()).equals(files['map.pgm']), 'the image of the YAML\'s version');
+  else assert.equal(named.status, 410, 'the map moved on since: that version is gone');
+  assert.match(files['map.pgm'].subarray(0, 2).toString(), /P5/);
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });

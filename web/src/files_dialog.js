@@ -1,5 +1,5 @@
 // Save, Load and Download: one dialog in three modes for the map files.
-import { defaultMapName, downloadUrl, listMaps, NAME_PATTERN } from './map_files.js';
+import { defaultMapName, downloadUrl, fetchRosMap, listMaps, NAME_PATTERN } from './map_files.js';
 
 const $ = (id) => document.getElementById(id);
 
@@ -57,10 +57,37 @@ export function setUpFilesDialog({ command, notices }) {
       const loadMode = document.querySelector('input[name="load-mode"]:checked')?.value ?? 'mapping';
       if (name) command({ op: 'load_map', name, mode: loadMode });
     } else if (mode === 'download') {
-      const link = document.createElement('a');
-      link.href = downloadUrl($('download-format').value);
-      link.download = '';
-      link.click();
+      const format = $('download-format').value;
+      if (format === 'ros') downloadRosMap(notices);
+      else save(downloadUrl(format), '');
     }
   });
+}
+
+function save(href, name) {
+  const link = document.createElement('a');
+  link.href = href;
+  link.download = name;
+  link.click();
+}
+
+/** map.yaml and the map.pgm it names, of one map version (the server's names, so map_server reads them as
+ * they land side by side). */
+async function downloadRosMap(notices) {
+  let map;
+  try {
+    map = await fetchRosMap();
+  } catch (error) {
+    notices.serverError({ ...error, request: 'download' });
+    return;
+  }
+  for (const [blob, name] of [
+    [map.yaml, 'map.yaml'],
+    [map.pgm, 'map.pgm'],
+  ]) {
+    const url = URL.createObjectURL(blob);
+    save(url, name);
+    setTimeout(() => URL.revokeObjectURL(url), 60000);
+  }
+  notices.show(`Drivable map of version ${map.version}: map.yaml and map.pgm`, 'info', 4);
 }

@@ -33,3 +33,20 @@ export async function tokenRefused(token) {
 export function downloadUrl(format) {
   return `./api/v1/map?format=${encodeURIComponent(format)}`;
 }
+
+/** The drivable map for ROS map_server: the YAML and the image it names, of one map version. The map
+ * changes with every scan, so the image is asked for by the version the YAML came with; when the map has
+ * moved on in between (410 Gone), the pair is fetched again. Throws { code, message } as the server
+ * reported it. */
+export async function fetchRosMap(attempts = 5) {
+  const failure = async (response) => (await response.json().catch(() => null))?.error ?? { code: 'internal', message: `HTTP ${response.status}` };
+  for (let attempt = 0; attempt < attempts; attempt += 1) {
+    const yaml = await fetch(downloadUrl('yaml'));
+    if (!yaml.ok) throw await failure(yaml);
+    const version = yaml.headers.get('X-Strata-Version');
+    const pgm = await fetch(`${downloadUrl('pgm')}&version=${encodeURIComponent(version)}`);
+    if (pgm.ok) return { version, yaml: await yaml.blob(), pgm: await pgm.blob() };
+    if (pgm.status !== 410) throw await failure(pgm);
+  }
+  throw { code: 'unavailable', message: `the map changed ${attempts} times while its image was fetched: try again` };
+}

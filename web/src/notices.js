@@ -19,6 +19,7 @@ const ACTIONS = {
   save_map: 'Saving the map',
   load_map: 'Loading the map',
   set_pose: 'Setting the pose',
+  download: 'Downloading the map',
 };
 
 export class Notices {
