@@ -12,6 +12,8 @@ namespace strata {
 struct VelocityCommand {
   double v = 0.0;
   double w = 0.0;
+  /// An operator drives by hand (teleop): a stop-and-go base scans when they let go, not under them.
+  bool by_hand = false;
 };
 
 /// What the robot's base reports at one instant, from any driver (the simulator, a replay, a lidar):

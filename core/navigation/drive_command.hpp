@@ -7,6 +7,8 @@ namespace strata {
 struct DriveCommand {
   double v = 0.0;
   double w = 0.0;
+  /// An operator drives by hand (teleop): a stop-and-go base scans when they let go, not under them.
+  bool by_hand = false;
 };
 
 }  // namespace strata

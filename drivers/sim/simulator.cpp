@@ -22,7 +22,12 @@ Simulator::Simulator(std::shared_ptr<const World> world, SimulatorConfig config)
 void Simulator::step(double dt) {
   const bool stop_and_go = config_.scanner == ScannerKind::kTilting;
   VelocityCommand command = commanded_ ? command_ : driver_.command(base_.pose());
-  if (stop_and_go && (tilting_.scanning() || since_last_scan_ >= config_.scan_spacing)) {
+  // An operator driving by hand is not stopped for the schedule's scan (issue 63: the robot stood 1 s in
+  // every 2 m under a held joystick): a scan under way is dropped, and the base scans once they let go.
+  const bool by_hand = command.by_hand && (command.v != 0.0 || command.w != 0.0);
+  if (stop_and_go && by_hand && tilting_.scanning())
+    tilting_.abandon();
+  if (stop_and_go && !by_hand && (tilting_.scanning() || since_last_scan_ >= config_.scan_spacing)) {
     command = {};  // stand still to scan (thesis section 3.1)
     const bool stopped = base_.velocity().v == 0.0 && base_.velocity().w == 0.0;
     if (stopped && !tilting_.scanning())

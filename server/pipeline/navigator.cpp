@@ -141,8 +141,9 @@ CommandResult Navigator::teleop(double v, double w, std::chrono::steady_clock::t
   tracker_.cancel(stamp_);  // the operator drives now
   drop_path();
   goal_waiting_ = false;
-  teleop_ = {std::clamp(v, -config_.max_speed, config_.max_speed),
-             std::clamp(w, -config_.max_turn_rate, config_.max_turn_rate)};
+  teleop_ = {.v = std::clamp(v, -config_.max_speed, config_.max_speed),
+             .w = std::clamp(w, -config_.max_turn_rate, config_.max_turn_rate),
+             .by_hand = true};
   // The lease runs from when the operator sent it: a command that waited in the network drives less long.
   teleop_until_ = std::min(sent, clock_()) + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
                                                  std::chrono::duration<double>(config_.teleop_timeout));

@@ -110,7 +110,7 @@ void RobotPipeline::drive_the_base_from_the_navigator() {
     const auto command = navigator_.drive(snapshot ? snapshot->estimate : sample.odometry, sample.stamp);
     if (!command)
       return std::nullopt;
-    return VelocityCommand{command->v, command->w};
+    return VelocityCommand{.v = command->v, .w = command->w, .by_hand = command->by_hand};
   });
 }
 

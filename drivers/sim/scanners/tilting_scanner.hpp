@@ -36,6 +36,8 @@ class TiltingScanner {
   /// ray casting is spread over the scan's duration as on the real sensor.
   void begin(double t);
   [[nodiscard]] bool scanning() const { return next_slice_ >= 0; }
+  /// Drops the scan under way (the base has to move): the next begin() starts afresh.
+  void abandon() { next_slice_ = -1; }
   /// Fires the slices due in [t0, t1); returns the scan once its last slice is fired.
   std::optional<ScanEvent> advance(const World& world, const Eigen::Isometry3d& base_in_world, double t0,
                                    double t1);

@@ -162,6 +162,40 @@ TEST(Simulator, StopAndGoHoldsACommandedRobotWhileScanning) {
   EXPECT_EQ(scans, 2);  // the first at the start, the second 2 m on
 }
 
+TEST(Simulator, AnOperatorDrivingByHandIsNotStoppedToScanTheBaseScansWhenTheyLetGo) {
+  // Issue 63: under a held joystick the robot stood for a scan every 2 m.
+  Simulator sim(builtin("yard"), {.seed = 2,
+                                  .scanner = ScannerKind::kTilting,
+                                  .tilting = {.slice_step_deg = 3.0, .rotation_step_deg = 6.0}});  // coarse
+  sim.command({.v = 0.5, .w = 0.0, .by_hand = true});  // from the start, when the schedule owes a scan
+  int scans = 0;
+  double travelled = 0.0;
+  for (int i = 0; i < 1200; ++i) {  // 12 s: 6 m at 0.5 m/s, three scans' spacing
+    sim.step(0.01);
+    EXPECT_FALSE(sim.sample().scanning) << "at " << sim.sample().stamp << " s";
+    travelled += sim.sample().velocity.v * 0.01;
+    scans += static_cast<int>(sim.take_scans().size());
+  }
+  EXPECT_EQ(scans, 0);
+  EXPECT_GT(travelled, 5.5);
+  sim.command({});  // let go: the base stops and takes the scan it owes
+  for (int i = 0; i < 3000 && scans == 0; ++i) {
+    sim.step(0.01);
+    scans += static_cast<int>(sim.take_scans().size());
+  }
+  EXPECT_EQ(scans, 1);
+  // A scan under way when the operator takes the joystick again is dropped: the robot moves at once.
+  sim.command({.v = 0.5, .w = 0.0, .by_hand = false});
+  while (!sim.sample().scanning && sim.sample().stamp < 60.0)  // 2 m on
+    sim.step(0.01);
+  ASSERT_TRUE(sim.sample().scanning) << "a goal's drive still stops to scan every 2 m";
+  sim.command({.v = 0.5, .w = 0.0, .by_hand = true});
+  sim.step(0.01);
+  sim.step(0.01);
+  EXPECT_FALSE(sim.sample().scanning);
+  EXPECT_GT(sim.sample().velocity.v, 0.0);
+}
+
 TEST(Simulator, LidarScansWhileDriving) {
   Simulator sim(builtin("yard"), {.scanner = ScannerKind::kLidar});
   std::vector<ScanEvent> scans;
