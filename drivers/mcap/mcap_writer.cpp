@@ -6,31 +6,10 @@
 #include <limits>
 #include <stdexcept>
 
+#include "drivers/mcap/mcap_format.hpp"
+
 namespace strata::mcap {
 namespace {
-
-constexpr std::string_view kMagic("\x89MCAP0\r\n", 8);
-
-// Record opcodes (https://mcap.dev/spec, "Records").
-enum Opcode : std::uint8_t {
-  kHeader = 0x01,
-  kFooter = 0x02,
-  kSchema = 0x03,
-  kChannel = 0x04,
-  kMessage = 0x05,
-  kChunk = 0x06,
-  kMessageIndex = 0x07,
-  kChunkIndex = 0x08,
-  kStatistics = 0x0B,
-  kSummaryOffset = 0x0E,
-  kDataEnd = 0x0F,
-};
-
-std::uint32_t crc32(std::string_view bytes) {
-  boost::crc_32_type crc;
-  crc.process_bytes(bytes.data(), bytes.size());
-  return crc.checksum();
-}
 
 std::string zstd_compressed(const std::string& records) {
   std::string compressed(ZSTD_compressBound(records.size()), '\0');
