@@ -131,7 +131,7 @@ void RobotPipeline::record_what_the_server_works_out() {
     if (scan_observer_)
       scan_observer_(report);
   });
-  mapping_.add_listener([this](const MapUpdate& update) { recording_.record_map(update.drivable); });
+  mapping_.add_listener([this](const MapUpdate& update) { recording_.record_map(update); });
 }
 
 void RobotPipeline::on_map_published(std::function<void()> callback) {

@@ -89,36 +89,41 @@ void RunRecording::record_goal(const GoalStatus& goal, const PlannedPath* path, 
   }
 }
 
-void RunRecording::record_map(const DrivableMap& drivable) {
-  if (empty() || drivable.grid.cells.empty())
+void RunRecording::record_map(const MapUpdate& update) {
+  if (empty() || !update.whole_level)
     return;
-  std::optional<replay::TopicMessage> due;
+  double stamp = 0.0;
   {
     std::lock_guard lock(mutex_);
-    const double stamp = latest_stamp_;
-    replay::TopicMessage message{
-        "/map", ros2::OccupancyGrid::kType, stamp,
-        ros2::encode(ros2::occupancy_grid(drivable.grid, header(stamp, replay::kMapFrame)))};
+    stamp = latest_stamp_;
     if (map_recorded_at_ && stamp - *map_recorded_at_ < kMapPeriod) {
-      held_map_ = std::move(message);
+      held_map_ = update.whole_level;
       return;
     }
     map_recorded_at_ = stamp;
-    held_map_.reset();
-    due = std::move(message);
+    held_map_ = nullptr;
   }
-  record(*due);
+  record_grid(update.whole_level(), stamp);
+}
+
+void RunRecording::record_grid(const std::shared_ptr<const DrivableMap>& drivable, double stamp) {
+  if (drivable == nullptr || drivable->grid.cells.empty())
+    return;
+  const ros2::OccupancyGrid grid = ros2::occupancy_grid(drivable->grid, header(stamp, replay::kMapFrame));
+  record({"/map", ros2::OccupancyGrid::kType, stamp, ros2::encode(grid)});
 }
 
 void RunRecording::stop() {
-  std::optional<replay::TopicMessage> held;
+  std::function<std::shared_ptr<const DrivableMap>()> held;
+  double stamp = 0.0;
   {
     std::lock_guard lock(mutex_);
-    held = std::exchange(held_map_, std::nullopt);
+    held = std::exchange(held_map_, nullptr);
+    stamp = latest_stamp_;
   }
   if (held)
-    record(*held);
-  recorders_.clear();  // each writes what is queued and finishes its recording
+    record_grid(held(), stamp);  // the mapping thread has stopped: the newest map, made here
+  recorders_.clear();            // each writes what is queued and finishes its recording
 }
 
 }  // namespace strata::pipeline
