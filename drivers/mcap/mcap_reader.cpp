@@ -4,7 +4,6 @@
 #include <zstd.h>
 
 #include <algorithm>
-#include <boost/crc.hpp>
 #include <cstring>
 
 #include "drivers/mcap/mcap_format.hpp"
@@ -64,13 +63,17 @@ std::string record_prefix(std::uint8_t opcode, std::uint64_t length) {
 
 }  // namespace
 
-McapReader::McapReader(const std::filesystem::path& file) : path_(file), file_(file, std::ios::binary) {
-  if (!file_)
-    throw McapError(path_.string() + ": cannot open");
+McapReader::McapReader(const std::filesystem::path& file)
+    : McapReader(std::make_unique<std::ifstream>(file, std::ios::binary), file.string()) {}
+
+McapReader::McapReader(std::unique_ptr<std::istream> in, std::string name)
+    : name_(std::move(name)), in_(std::move(in)) {
+  if (!*in_)
+    throw McapError(name_ + ": cannot open");
   try {
     read_file();
   } catch (const McapError& e) {
-    throw McapError(path_.string() + ": " + e.what());
+    throw McapError(name_ + ": " + e.what());
   }
 }
 
@@ -84,8 +87,9 @@ std::string McapReader::read_record_content(std::uint64_t offset) {
     throw McapError(
         fmt::format("cut short: the file ends at byte {} inside the record starting at {}", size_, offset));
   std::string prefix(kRecordPrefix, '\0');
-  file_.seekg(static_cast<std::streamoff>(offset));
-  file_.read(prefix.data(), kRecordPrefix);
+  in_->clear();
+  in_->seekg(static_cast<std::streamoff>(offset));
+  in_->read(prefix.data(), kRecordPrefix);
   std::uint64_t length = 0;
   std::memcpy(&length, prefix.data() + 1, sizeof(length));
   if (length > size_ - offset - kRecordPrefix) {
@@ -97,20 +101,25 @@ std::string McapReader::read_record_content(std::uint64_t offset) {
     throw McapError(
         fmt::format("the record at byte {} claims {} bytes, more than this reader takes", offset, length));
   std::string content(length, '\0');
-  file_.read(content.data(), static_cast<std::streamsize>(length));
-  if (!file_)
+  in_->read(content.data(), static_cast<std::streamsize>(length));
+  if (!*in_)
     throw McapError(fmt::format("cannot read the record at byte {}", offset));
   return content;
 }
 
 void McapReader::read_file() {
-  size_ = std::filesystem::file_size(path_);
+  in_->seekg(0, std::ios::end);
+  const std::streamoff size = in_->tellg();
+  if (size < 0)
+    throw McapError("cannot tell the file's size");
+  size_ = static_cast<std::uint64_t>(size);
+  in_->seekg(0);
   std::string magic(kMagic.size(), '\0');
-  file_.read(magic.data(), static_cast<std::streamsize>(magic.size()));
-  if (!file_ || magic != kMagic)
+  in_->read(magic.data(), static_cast<std::streamsize>(magic.size()));
+  if (!*in_ || magic != kMagic)
     throw McapError("not an MCAP file (it does not start with the MCAP magic)");
-  boost::crc_32_type data_crc;  // of everything before Data End
-  data_crc.process_bytes(magic.data(), magic.size());
+  Crc32 data_crc;  // of everything before Data End
+  data_crc.update(magic);
   std::uint64_t offset = kMagic.size();
   bool header_seen = false, data_end_seen = false;
   std::uint64_t summary_crc_start = 0;
@@ -122,9 +131,9 @@ void McapReader::read_file() {
                       "chunks)",
                       offset));
     const std::string content = read_record_content(offset);
-    file_.seekg(static_cast<std::streamoff>(offset));
+    in_->seekg(static_cast<std::streamoff>(offset));
     char opcode_byte = 0;
-    file_.get(opcode_byte);
+    in_->get(opcode_byte);
     const auto opcode = static_cast<std::uint8_t>(opcode_byte);
     const std::string prefix = record_prefix(opcode, content.size());
     const std::string what = fmt::format("{} at byte {}", record_name(opcode), offset);
@@ -172,11 +181,11 @@ void McapReader::read_file() {
         break;
       case kDataEnd: {
         const auto crc = fields.get<std::uint32_t>();
-        if (crc != 0 && crc != data_crc.checksum())
+        if (crc != 0 && crc != data_crc.value())
           throw McapError(
               fmt::format("{}: the data section's CRC32 is {:08x}, Data End says {:08x} (the "
                           "file is damaged)",
-                          what, data_crc.checksum(), crc));
+                          what, data_crc.value(), crc));
         data_end_seen = true;
         summary_crc_start = offset + kRecordPrefix + content.size();
         break;
@@ -192,17 +201,17 @@ void McapReader::read_file() {
           if (crc_from < summary_crc_start || crc_from > offset)
             throw McapError(what + ": the footer's summary start lies outside the summary");
           std::string covered(offset - crc_from, '\0');
-          file_.seekg(static_cast<std::streamoff>(crc_from));
-          file_.read(covered.data(), static_cast<std::streamsize>(covered.size()));
+          in_->seekg(static_cast<std::streamoff>(crc_from));
+          in_->read(covered.data(), static_cast<std::streamsize>(covered.size()));
           covered += prefix + content.substr(0, content.size() - sizeof(std::uint32_t));
-          if (crc32(covered) != crc)
+          if (crc32_of(covered) != crc)
             throw McapError(what + ": the summary's CRC32 does not match the footer's (the file is damaged)");
         }
         const std::uint64_t end = offset + kRecordPrefix + content.size();
         std::string closing(kMagic.size(), '\0');
-        file_.seekg(static_cast<std::streamoff>(end));
-        file_.read(closing.data(), static_cast<std::streamsize>(closing.size()));
-        if (!file_ || closing != kMagic || end + kMagic.size() != size_)
+        in_->seekg(static_cast<std::streamoff>(end));
+        in_->read(closing.data(), static_cast<std::streamsize>(closing.size()));
+        if (!*in_ || closing != kMagic || end + kMagic.size() != size_)
           throw McapError(
               fmt::format("the footer at byte {} is not followed by the closing magic and the "
                           "file's end (cut short or damaged)",
@@ -213,8 +222,8 @@ void McapReader::read_file() {
         break;  // message indexes, the summary's indexes and statistics, metadata, attachments: not needed
     }
     if (!data_end_seen) {
-      data_crc.process_bytes(prefix.data(), prefix.size());
-      data_crc.process_bytes(content.data(), content.size());
+      data_crc.update(prefix);
+      data_crc.update(content);
     }
     offset += kRecordPrefix + content.size();
   }
@@ -236,6 +245,12 @@ std::string McapReader::chunk_records(const std::string& content, std::uint64_t 
   if (compression.empty()) {
     records = stored;
   } else if (compression == "zstd") {
+    // The frame says its size (ZSTD_compress writes it): a damaged claim is caught before allocating it.
+    const unsigned long long frame_size = ZSTD_getFrameContentSize(stored.data(), stored.size());
+    if (frame_size == ZSTD_CONTENTSIZE_ERROR ||
+        (frame_size != ZSTD_CONTENTSIZE_UNKNOWN && frame_size != uncompressed_size))
+      throw McapError(
+          fmt::format("the chunk at byte {} is not a zstd frame of its {} bytes", offset, uncompressed_size));
     records.resize(uncompressed_size);
     const std::size_t size = ZSTD_decompress(records.data(), records.size(), stored.data(), stored.size());
     if (ZSTD_isError(size) != 0)
@@ -250,7 +265,7 @@ std::string McapReader::chunk_records(const std::string& content, std::uint64_t 
   if (records.size() != uncompressed_size)
     throw McapError(fmt::format("the chunk at byte {} holds {} bytes, its record says {}", offset,
                                 records.size(), uncompressed_size));
-  if (uncompressed_crc != 0 && crc32(records) != uncompressed_crc)
+  if (uncompressed_crc != 0 && crc32_of(records) != uncompressed_crc)
     throw McapError(
         fmt::format("the chunk at byte {}: its CRC32 does not match (the file is damaged)", offset));
   return records;
@@ -291,18 +306,18 @@ void McapReader::read_chunk(const std::string& content, std::uint64_t offset) {
 
 std::string McapReader::message_data(const McapMessage& message) {
   if (message.chunk >= chunks_.size())
-    throw McapError(path_.string() + ": no such chunk");
+    throw McapError(name_ + ": no such chunk");
   if (cached_chunk_ != message.chunk) {
     const std::uint64_t offset = chunks_[message.chunk].offset;
     try {
       cached_records_ = chunk_records(read_record_content(offset), offset);
     } catch (const McapError& e) {
-      throw McapError(path_.string() + ": " + e.what());
+      throw McapError(name_ + ": " + e.what());
     }
     cached_chunk_ = message.chunk;
   }
   if (message.offset + message.size > cached_records_.size())
-    throw McapError(path_.string() + ": a message beyond its chunk (the file changed)");
+    throw McapError(name_ + ": a message beyond its chunk (the file changed)");
   return cached_records_.substr(message.offset, message.size);
 }
 

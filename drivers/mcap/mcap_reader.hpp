@@ -3,7 +3,9 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <istream>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -47,6 +49,8 @@ class McapReader {
 
   /// Throws McapError naming the file, the byte offset and what is wrong.
   explicit McapReader(const std::filesystem::path& file);
+  /// The same over any seekable stream (`name` for the errors): a file in memory, the fuzz target's.
+  McapReader(std::unique_ptr<std::istream> in, std::string name);
 
   [[nodiscard]] const std::vector<McapChannel>& channels() const { return channels_; }
   [[nodiscard]] const std::vector<McapMessage>& messages() const { return messages_; }
@@ -66,8 +70,8 @@ class McapReader {
   void read_chunk(const std::string& content, std::uint64_t offset);
   [[nodiscard]] std::string read_record_content(std::uint64_t offset);
 
-  std::filesystem::path path_;
-  std::ifstream file_;
+  std::string name_;
+  std::unique_ptr<std::istream> in_;
   std::uint64_t size_ = 0;
   std::vector<McapChannel> channels_;
   std::vector<std::uint16_t> schema_ids_;  ///< the Schema records seen
