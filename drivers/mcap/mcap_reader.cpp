@@ -245,12 +245,13 @@ std::string McapReader::chunk_records(const std::string& content, std::uint64_t 
   if (compression.empty()) {
     records = stored;
   } else if (compression == "zstd") {
-    // The frame says its size (ZSTD_compress writes it): a damaged claim is caught before allocating it.
+    // One frame that says its size, as ZSTD_compress writes it: a damaged claim is refused before it is
+    // allocated.
+    const std::size_t frame_bytes = ZSTD_findFrameCompressedSize(stored.data(), stored.size());
     const unsigned long long frame_size = ZSTD_getFrameContentSize(stored.data(), stored.size());
-    if (frame_size == ZSTD_CONTENTSIZE_ERROR ||
-        (frame_size != ZSTD_CONTENTSIZE_UNKNOWN && frame_size != uncompressed_size))
-      throw McapError(
-          fmt::format("the chunk at byte {} is not a zstd frame of its {} bytes", offset, uncompressed_size));
+    if (ZSTD_isError(frame_bytes) != 0 || frame_bytes != stored.size() || frame_size != uncompressed_size)
+      throw McapError(fmt::format("the chunk at byte {} is not one zstd frame of its {} bytes that says so",
+                                  offset, uncompressed_size));
     records.resize(uncompressed_size);
     const std::size_t size = ZSTD_decompress(records.data(), records.size(), stored.data(), stored.size());
     if (ZSTD_isError(size) != 0)

@@ -45,7 +45,7 @@ struct McapMessage {
 class McapReader {
  public:
   /// Largest chunk (uncompressed) or record taken: a damaged length must not allocate gigabytes.
-  static constexpr std::uint64_t kMaxRecordSize = std::uint64_t{1} << 30;
+  static constexpr std::uint64_t kMaxRecordSize = std::uint64_t{1} << 28;  // 256 MiB: a chunk is ~1 MiB
 
   /// Throws McapError naming the file, the byte offset and what is wrong.
   explicit McapReader(const std::filesystem::path& file);

@@ -14,15 +14,18 @@ import { startServer } from '../browser/server.mjs';
 import { openMcap, decodeAll, streamRecords, rosMap, checkGridIsTheExport } from './mcap_files.mjs';
 
 const scans = 3;
+const token = 'recording-mcap-test-operator-token';
 let work;
 let ros;
 let bytes;
+let goal;  // the goal sent after the scans, as GET /api/v1/goal last reported it
 
 before(async () => {
   work = mkdtempSync(join(tmpdir(), 'strata-recording-mcap-'));
   const server = await startServer(process.env.STRATA_BINARY, [
     '--world', 'yard', '--scanner', 'tilting', '--seed', '7', '--time-scale', '4', '--max-scans', String(scans),
     '--record', join(work, 'own'), '--record-mcap', join(work, 'run.mcap'), '--maps-dir', join(work, 'maps'),
+    '--operator-token', token,
   ]);
   try {
     // Every scan mapped: the map's version counts them.
@@ -34,6 +37,20 @@ before(async () => {
     }
     assert.ok(existsSync(join(work, 'run.mcap.part')), 'written as FILE.part while it runs');
     ros = await rosMap(server.url);
+    // A goal 1.5 m ahead on the mapped ground: its events and its path go into the recording.
+    const pose = await (await fetch(`${server.url}/api/v1/pose`)).json();
+    const sent = await fetch(`${server.url}/api/v1/goal`, {
+      method: 'POST',
+      headers: { Authorization: `Bearer ${token}`, 'Content-Type': 'application/json' },
+      body: JSON.stringify({ x: pose.x + 1.5 * Math.cos(pose.yaw), y: pose.y + 1.5 * Math.sin(pose.yaw) }),
+    });
+    assert.ok(sent.ok, await sent.text());
+    for (let i = 0; ; i++) {
+      goal = await (await fetch(`${server.url}/api/v1/goal`)).json();
+      if (['reached', 'failed'].includes(goal.phase)) break;
+      if (i === 600) throw new Error(`the goal is still ${goal.phase} after 60 s`);
+      await new Promise((resolve) => setTimeout(resolve, 100));
+    }
   } finally {
     assert.equal(await server.stop(), 0);
   }
@@ -62,6 +79,8 @@ test('every message of the recorded run decodes, and matches the own layout and 
     '/strata/scans': 'std_msgs/msg/String', '/odom': 'nav_msgs/msg/Odometry', '/tf': 'tf2_msgs/msg/TFMessage',
     '/imu': 'sensor_msgs/msg/Imu', '/scan': 'sensor_msgs/msg/PointCloud2',
     '/pose': 'geometry_msgs/msg/PoseWithCovarianceStamped', '/map': 'nav_msgs/msg/OccupancyGrid',
+    '/goal_events': 'std_msgs/msg/String',
+    ...(goal.phase === 'reached' ? { '/plan': 'nav_msgs/msg/Path' } : {}),
   });
 
   // The scans: the points of the own layout's PCD files, byte for byte, in the sensor frame.
@@ -102,6 +121,16 @@ test('every message of the recorded run decodes, and matches the own layout and 
   assert.deepEqual(Object.fromEntries(parents), { base_link: 'odom', sensor: 'base_link', odom: 'map' });
   assert.equal(messages['/pose'].length, scans);
   assert.equal(messages['/pose'][0].header.frame_id, 'map');
+
+  // The goal's phases as JSON, the last the one the API reports; the path it drove, in map.
+  const events = messages['/goal_events'].map((m) => JSON.parse(m.data));
+  assert.ok(events.every((event) => event.id === goal.id));
+  assert.equal(events.at(-1).phase, goal.phase, JSON.stringify(events));
+  if (goal.phase === 'reached') {
+    const plan = messages['/plan'].at(-1);
+    assert.equal(plan.header.frame_id, 'map');
+    assert.ok(plan.poses.length >= 2, `${plan.poses.length} poses`);
+  }
 
   // The drivable map as it changed; the last one is the map's PGM/YAML export.
   const free = checkGridIsTheExport(messages['/map'].at(-1), ros);

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -114,6 +115,19 @@ TEST_F(McapReaderTest, NotAnMcapFileAndAnAbsurdLengthAreRefused) {
   for (std::size_t k = 9; k < 17; ++k)
     file[k] = '\x7f';
   EXPECT_NE(error_for(file).find("cut short"), std::string::npos);
+}
+
+TEST_F(McapReaderTest, AChunkClaimingMoreThanItsZstdFrameHoldsIsRefusedBeforeItIsAllocated) {
+  std::string file = written_file(Compression::kZstd);
+  std::size_t offset = 8;  // after the magic: the records, up to the first chunk
+  while (static_cast<std::uint8_t>(file[offset]) != 0x06) {
+    std::uint64_t length = 0;
+    std::memcpy(&length, file.data() + offset + 1, sizeof(length));
+    offset += 9 + length;
+  }
+  const std::uint64_t claim = std::uint64_t{200} << 20;  // its uncompressed size: 200 MiB
+  std::memcpy(file.data() + offset + 9 + 16, &claim, sizeof(claim));
+  EXPECT_NE(error_for(file).find("not one zstd frame"), std::string::npos) << error_for(file);
 }
 
 }  // namespace
