@@ -25,6 +25,7 @@ class McapRecordingWriter final : public RecordingWriter {
   void write(const RobotSample& sample) override;
   void write(const ScanEvent& scan) override;
   void write(const TopicMessage& message) override;
+  [[nodiscard]] bool keeps_topic_messages() const override { return true; }
   void finish(const RecorderStatus& status) override;
   [[nodiscard]] std::string where() const override { return file_.string(); }
 

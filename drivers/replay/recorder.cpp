@@ -69,6 +69,8 @@ void Recorder::record(const ScanEvent& scan) {
 }
 
 void Recorder::record(TopicMessage message) {
+  if (!writer_->keeps_topic_messages())
+    return;
   {
     std::lock_guard lock(mutex_);
     if (queued_samples_ >= limits_.queued_samples)

@@ -38,6 +38,8 @@ class RecordingWriter {
   virtual void write(const RobotSample& sample) = 0;
   virtual void write(const ScanEvent& scan) = 0;
   virtual void write(const TopicMessage& /*message*/) {}
+  /// Whether write(TopicMessage) keeps them (else the recorder does not queue them).
+  [[nodiscard]] virtual bool keeps_topic_messages() const { return false; }
   /// The clean end of the run, with the recorder's counts.
   virtual void finish(const RecorderStatus& status) = 0;
   /// Where it writes, for the log.
