@@ -17,6 +17,7 @@ inline constexpr std::string_view kScanTopic = "/scan";  ///< PointCloud2 in the
 inline constexpr std::string_view kOdometryTopic = "/odom";
 inline constexpr std::string_view kImuTopic = "/imu";
 inline constexpr std::string_view kTfTopic = "/tf";
+inline constexpr std::string_view kMapTopic = "/map";  ///< latched, as map_server's (offered_qos_profiles)
 inline constexpr std::string_view kMcapRecordingFormat = "strata-recording-mcap";
 inline constexpr int kMcapRecordingVersion = 1;
 

@@ -9,6 +9,7 @@
 #include "drivers/replay/layout_writer.hpp"
 #include "drivers/replay/mcap_recording_layout.hpp"
 #include "drivers/replay/recording_layout.hpp"
+#include "drivers/ros2/map_messages.hpp"
 #include "drivers/ros2/message_encoding.hpp"
 #include "drivers/ros2/message_schemas.hpp"
 
@@ -111,7 +112,9 @@ std::uint16_t McapRecordingWriter::channel(std::string_view topic, std::string_v
   if (schema == schemas_.end())
     schema =
         schemas_.emplace(type, writer_.add_schema(type, "ros2msg", ros2::ros2msg_definition(type))).first;
-  const std::uint16_t id = writer_.add_channel(schema->second, topic, "cdr");
+  const std::uint16_t id = writer_.add_channel(
+      schema->second, topic, "cdr",
+      topic == kMapTopic ? ros2::latched_channel_metadata() : std::map<std::string, std::string>{});
   channels_.emplace(topic, id);
   return id;
 }

@@ -110,7 +110,7 @@ void RunRecording::record_grid(const std::shared_ptr<const DrivableMap>& drivabl
   if (drivable == nullptr || drivable->grid.cells.empty())
     return;
   const ros2::OccupancyGrid grid = ros2::occupancy_grid(drivable->grid, header(stamp, replay::kMapFrame));
-  record({"/map", ros2::OccupancyGrid::kType, stamp, ros2::encode(grid)});
+  record({std::string(replay::kMapTopic), ros2::OccupancyGrid::kType, stamp, ros2::encode(grid)});
 }
 
 void RunRecording::stop() {

@@ -68,7 +68,12 @@ test('every message of the recorded run decodes, and matches the own layout and 
   const reader = await openMcap(bytes);  // the footer, the summary and its CRC
   assert.equal(reader.header.profile, 'ros2');
   for (const chunk of reader.chunkIndexes) assert.equal(chunk.compression, 'zstd');
-  const messages = await decodeAll(reader);  // every chunk's CRC
+  const messages = await decodeAll(reader, (channel) => {  // every chunk's CRC
+    // /map is latched for ros2 bag play, as map_server publishes it (transient local); the rest the default.
+    const qos = channel.metadata.get('offered_qos_profiles');
+    if (channel.topic === '/map') assert.match(qos, /durability: 1/);
+    else assert.equal(qos, undefined, channel.topic);
+  });
   const types = Object.fromEntries(Object.entries(messages).map(([topic, list]) => [topic, list[0].type]));
   for (const topic of ['/strata/recording', '/strata/odometry', '/strata/scans', '/odom', '/tf', '/imu', '/scan',
     '/pose', '/map']) {
