@@ -7,9 +7,11 @@
 // the indexed reader and reads up to the cut with the streaming one.
 import { test, before, after } from 'node:test';
 import assert from 'node:assert/strict';
-import { existsSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
+import { copyFileSync, existsSync, mkdtempSync, readFileSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
+import { execFile } from 'node:child_process';
+import { promisify } from 'node:util';
 import { startServer } from '../browser/server.mjs';
 import { openMcap, decodeAll, streamRecords, rosMap, checkGridIsTheExport } from './mcap_files.mjs';
 
@@ -159,4 +161,39 @@ test('a recording cut short is refused by the indexed reader and reads up to the
     read.forEach((message, i) => assert.equal(message.sequence, all[i].sequence));
     if (cut > 4000) assert.ok(read.length > 0, `cut at ${cut}: messages before the cut`);
   }
+});
+
+test('a killed recorder leaves FILE.part, which reads to its last chunk and which --replay refuses', async () => {
+  const part = join(work, 'killed.mcap.part');
+  const server = await startServer(process.env.STRATA_BINARY, [
+    '--world', 'yard', '--scanner', 'tilting', '--seed', '7', '--time-scale', '4', '--max-scans', '2',
+    '--record-mcap', join(work, 'killed.mcap'), '--maps-dir', join(work, 'killed-maps'),
+  ]);
+  let scansRead = 0;
+  try {
+    // Each scan closes its chunk: wait until both are in the file, as any reader reads it.
+    for (let i = 0; scansRead < 2; i++) {
+      if (i === 1200) throw new Error(`${scansRead} scans in ${part} after 120 s`);
+      await new Promise((resolve) => setTimeout(resolve, 100));
+      const { records } = streamRecords(new Uint8Array(readFileSync(part)));
+      const channels = new Map(records.filter((r) => r.type === 'Channel').map((r) => [r.id, r.topic]));
+      scansRead = records.filter((r) => r.type === 'Message' && channels.get(r.channelId) === '/scan').length;
+    }
+  } finally {
+    await server.kill();
+  }
+  assert.ok(!existsSync(join(work, 'killed.mcap')), 'not renamed: the run did not stop cleanly');
+  const bytes = new Uint8Array(readFileSync(part));
+  const { records, done } = streamRecords(bytes);
+  assert.ok(!done, 'no footer');
+  assert.ok(records.filter((r) => r.type === 'Message').length > 2);
+  await assert.rejects(openMcap(bytes));
+  // Under its final name, --replay refuses it: nothing starts.
+  const named = join(work, 'killed.mcap');
+  copyFileSync(part, named);
+  const replay = await promisify(execFile)(process.env.STRATA_BINARY, ['serve', '--port', '0', '--replay', named])
+    .then(() => assert.fail('the replay started'), (error) => error);
+  assert.notEqual(replay.code, 0);
+  assert.match(replay.stderr + replay.stdout, /killed\.mcap: cut short/);
+  assert.doesNotMatch(replay.stdout, /serving on/);
 });
