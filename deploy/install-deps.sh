@@ -22,6 +22,7 @@ apt_packages=(
   libceres-dev  # the pose graph's optimizer
   libmosquitto-dev mosquitto  # VDA 5050 over MQTT (server/fleet/): the client library; the tests' broker
   libzstd-dev  # MCAP files' zstd-compressed chunks (drivers/mcap/)
+  zlib1g-dev  # MCAP files' CRC-32s (drivers/mcap/mcap_format.hpp)
   chromium
   # The .deb (cmake/StrataPackaging.cmake, tests/deploy/): dpkg-shlibdeps for its dependencies; the deploy
   # test's HTTP client; systemd-analyze to verify the unit (the package works without systemd running).

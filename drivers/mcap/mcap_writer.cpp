@@ -6,31 +6,10 @@
 #include <limits>
 #include <stdexcept>
 
+#include "drivers/mcap/mcap_format.hpp"
+
 namespace strata::mcap {
 namespace {
-
-constexpr std::string_view kMagic("\x89MCAP0\r\n", 8);
-
-// Record opcodes (https://mcap.dev/spec, "Records").
-enum Opcode : std::uint8_t {
-  kHeader = 0x01,
-  kFooter = 0x02,
-  kSchema = 0x03,
-  kChannel = 0x04,
-  kMessage = 0x05,
-  kChunk = 0x06,
-  kMessageIndex = 0x07,
-  kChunkIndex = 0x08,
-  kStatistics = 0x0B,
-  kSummaryOffset = 0x0E,
-  kDataEnd = 0x0F,
-};
-
-std::uint32_t crc32(std::string_view bytes) {
-  boost::crc_32_type crc;
-  crc.process_bytes(bytes.data(), bytes.size());
-  return crc.checksum();
-}
 
 std::string zstd_compressed(const std::string& records) {
   std::string compressed(ZSTD_compressBound(records.size()), '\0');
@@ -56,7 +35,7 @@ void put_pairs(RecordBuffer& out, const Range& pairs) {
 
 McapWriter::McapWriter(McapWriterOptions options) : options_(std::move(options)) {
   output_.append(kMagic);
-  data_crc_.process_bytes(kMagic.data(), kMagic.size());
+  data_crc_.update(kMagic);
   RecordBuffer header;
   header.put_string(options_.profile);
   header.put_string(options_.library);
@@ -67,7 +46,7 @@ void McapWriter::write_record(std::uint8_t opcode, std::string_view content) {
   RecordBuffer record;
   record.put_record(opcode, content);
   if (!finished_)
-    data_crc_.process_bytes(record.bytes().data(), record.size());
+    data_crc_.update(record.bytes());
   output_.append(record.bytes());
 }
 
@@ -157,7 +136,7 @@ void McapWriter::close_chunk() {
   chunk.put(chunk_start_time_);
   chunk.put(chunk_end_time_);
   chunk.put(static_cast<std::uint64_t>(records.size()));
-  chunk.put(crc32(records));
+  chunk.put(crc32_of(records));
   chunk.put_string(zstd ? "zstd" : "");
   chunk.put(static_cast<std::uint64_t>(stored.size()));
   chunk.put_bytes(stored);
@@ -191,7 +170,7 @@ void McapWriter::finish() {
     return;
   close_chunk();
   RecordBuffer data_end;
-  data_end.put(static_cast<std::uint32_t>(data_crc_.checksum()));
+  data_end.put(data_crc_.value());
   finished_ = true;  // from here on the records are the summary's: no longer in the data section's CRC
   write_record(kDataEnd, data_end.bytes());
 
@@ -249,11 +228,11 @@ void McapWriter::finish() {
   footer.put(summary_offset_start);
   RecordBuffer footer_prefix;
   footer_prefix.put_record(kFooter, footer.bytes() + std::string(4, '\0'));
-  boost::crc_32_type summary_crc;
+  Crc32 summary_crc;
   const std::size_t summary_in_output = output_.size() - (position() - summary_start);
-  summary_crc.process_bytes(output_.data() + summary_in_output, output_.size() - summary_in_output);
-  summary_crc.process_bytes(footer_prefix.bytes().data(), footer_prefix.size() - 4);
-  footer.put(static_cast<std::uint32_t>(summary_crc.checksum()));
+  summary_crc.update(std::string_view(output_).substr(summary_in_output));
+  summary_crc.update(std::string_view(footer_prefix.bytes()).substr(0, footer_prefix.size() - 4));
+  footer.put(summary_crc.value());
   write_record(kFooter, footer.bytes());
   output_.append(kMagic);
 }

@@ -1,6 +1,5 @@
 #pragma once
 
-#include <boost/crc.hpp>
 #include <cstdint>
 #include <map>
 #include <span>
@@ -9,6 +8,7 @@
 #include <utility>
 #include <vector>
 
+#include "drivers/mcap/mcap_format.hpp"
 #include "drivers/mcap/record_buffer.hpp"
 
 namespace strata::mcap {
@@ -75,9 +75,9 @@ class McapWriter {
                                                       const std::vector<std::string>& records);
 
   McapWriterOptions options_;
-  std::string output_;           ///< written, not yet taken
-  std::uint64_t taken_ = 0;      ///< bytes taken before output_
-  boost::crc_32_type data_crc_;  ///< of everything before Data End
+  std::string output_;       ///< written, not yet taken
+  std::uint64_t taken_ = 0;  ///< bytes taken before output_
+  Crc32 data_crc_;           ///< of everything before Data End
   bool finished_ = false;
 
   std::vector<std::string> schemas_;  ///< Schema record contents, id - 1

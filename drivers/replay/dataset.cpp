@@ -15,6 +15,7 @@
 #include "drivers/io/point_cloud_file.hpp"
 #include "drivers/io/threedtk_reader.hpp"
 #include "drivers/replay/csv_table.hpp"
+#include "drivers/replay/mcap_dataset.hpp"
 #include "drivers/replay/recording_layout.hpp"
 #include "drivers/replay/scan_list.hpp"
 
@@ -54,19 +55,7 @@ std::vector<DatasetScan> read_scan_list(const fs::path& directory) {
 
 std::vector<DatasetOdometry> read_odometry_stream(const fs::path& path) {
   std::ifstream in = open_csv(path);
-  const CsvTable table(in, path.string());
-  std::vector<DatasetOdometry> samples;
-  for (std::size_t row = 0; row < table.size(); ++row) {
-    DatasetOdometry sample;
-    sample.stamp = table.number(row, "stamp");
-    const auto odometry = table.pose(row, "");
-    if (!odometry)
-      throw DatasetError(fmt::format("{}: row {} has no odometry pose", path.string(), row + 1));
-    sample.odometry = *odometry;
-    sample.reference = table.pose(row, "truth_");
-    samples.push_back(sample);
-  }
-  return samples;
+  return parse_odometry_stream(in, path.string());
 }
 
 Dataset read_recording(const fs::path& directory, bool with_metadata) {
@@ -76,35 +65,14 @@ Dataset read_recording(const fs::path& directory, bool with_metadata) {
   dataset.scans = read_scan_list(directory);
   if (is_file(directory / kOdometryFile))
     dataset.odometry = read_odometry_stream(directory / kOdometryFile);
-  std::string source = "a list of point files";
+  dataset.description = fmt::format("a list of point files ({} scans, {} odometry samples)",
+                                    dataset.scans.size(), dataset.odometry.size());
   if (with_metadata) {
     const fs::path path = directory / kRecordingFile;
     std::ifstream in(path);
     const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    const io::JsonInput input = io::parse_json(text);
-    if (!input.ok())
-      throw DatasetError(path.string() + ": " + input.error);
-    const nlohmann::json& metadata = input.value;
-    if (!metadata.is_object() || metadata.value("format", "") != kRecordingFormat)
-      throw DatasetError(path.string() + ": not a Strata recording (format '" +
-                         std::string(kRecordingFormat) + "')");
-    if (metadata.value("version", 0) != kRecordingVersion) {
-      throw DatasetError(fmt::format("{}: recording version {} (this Strata reads version {})", path.string(),
-                                     metadata.value("version", 0), kRecordingVersion));
-    }
-    if (metadata.contains("initial_map_from_odom")) {
-      const auto& values = metadata["initial_map_from_odom"];
-      if (!values.is_array() || values.size() != 12 ||
-          !std::all_of(values.begin(), values.end(), [](const auto& v) { return v.is_number(); }))
-        throw DatasetError(path.string() + ": initial_map_from_odom is not 12 numbers (3x4 row-major)");
-      dataset.initial_map_from_odom = transform_from_row_major(values.get<std::vector<double>>());
-    }
-    source = "a Strata recording of " + metadata.value("source", std::string("?"));
-    for (DatasetScan& scan : dataset.scans)
-      scan.times_from_stamp = true;  // what the recorder writes (encode_binary_pcd)
+    read_recording_metadata(text, path.string(), kRecordingFormat, kRecordingVersion, dataset);
   }
-  dataset.description = fmt::format("{} ({} scans, {} odometry samples)", source, dataset.scans.size(),
-                                    dataset.odometry.size());
   return dataset;
 }
 
@@ -229,6 +197,48 @@ Dataset read_kitti(const fs::path& directory) {
 
 }  // namespace
 
+std::vector<DatasetOdometry> parse_odometry_stream(std::istream& csv, const std::string& source) {
+  const CsvTable table(csv, source);
+  std::vector<DatasetOdometry> samples;
+  for (std::size_t row = 0; row < table.size(); ++row) {
+    DatasetOdometry sample;
+    sample.stamp = table.number(row, "stamp");
+    const auto odometry = table.pose(row, "");
+    if (!odometry)
+      throw DatasetError(fmt::format("{}: row {} has no odometry pose", source, row + 1));
+    sample.odometry = *odometry;
+    sample.reference = table.pose(row, "truth_");
+    samples.push_back(sample);
+  }
+  return samples;
+}
+
+void read_recording_metadata(const std::string& text, const std::string& source, std::string_view format,
+                             int version, Dataset& dataset) {
+  const io::JsonInput input = io::parse_json(text);
+  if (!input.ok())
+    throw DatasetError(source + ": " + input.error);
+  const nlohmann::json& metadata = input.value;
+  if (!metadata.is_object() || metadata.value("format", "") != format)
+    throw DatasetError(source + ": not a Strata recording (format '" + std::string(format) + "')");
+  if (metadata.value("version", 0) != version) {
+    throw DatasetError(fmt::format("{}: recording version {} (this Strata reads version {})", source,
+                                   metadata.value("version", 0), version));
+  }
+  if (metadata.contains("initial_map_from_odom")) {
+    const auto& values = metadata["initial_map_from_odom"];
+    if (!values.is_array() || values.size() != 12 ||
+        !std::all_of(values.begin(), values.end(), [](const auto& v) { return v.is_number(); }))
+      throw DatasetError(source + ": initial_map_from_odom is not 12 numbers (3x4 row-major)");
+    dataset.initial_map_from_odom = transform_from_row_major(values.get<std::vector<double>>());
+  }
+  for (DatasetScan& scan : dataset.scans)
+    scan.times_from_stamp = true;  // what the recorder writes (encode_binary_pcd, the /scan time field)
+  dataset.description =
+      fmt::format("a Strata recording of {} ({} scans, {} odometry samples)",
+                  metadata.value("source", std::string("?")), dataset.scans.size(), dataset.odometry.size());
+}
+
 std::string to_string(DatasetLayout layout) {
   switch (layout) {
     case DatasetLayout::kRecording:
@@ -239,12 +249,16 @@ std::string to_string(DatasetLayout layout) {
       return "3dtk";
     case DatasetLayout::kKitti:
       return "kitti";
+    case DatasetLayout::kMcap:
+      return "mcap";
   }
   return "unknown";
 }
 
 Dataset open_dataset(const fs::path& directory) {
   std::error_code error;
+  if (directory.extension() == ".mcap" && !fs::is_directory(directory, error))
+    return open_mcap_recording(directory);
   if (!fs::is_directory(directory, error))
     throw DatasetError(directory.string() + ": not a directory");
   if (is_file(directory / kRecordingFile))
@@ -262,6 +276,8 @@ Dataset open_dataset(const fs::path& directory) {
 }
 
 std::vector<Eigen::Vector3f> load_points(const DatasetScan& scan, std::vector<float>* times) {
+  if (scan.store)
+    return scan.store->points(scan.store_index, times);
   io::LoadedCloud cloud;
   try {
     cloud = scan.file.extension() == ".bin" ? io::read_kitti_velodyne(scan.file)

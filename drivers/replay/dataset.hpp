@@ -3,9 +3,12 @@
 #include <Eigen/Geometry>
 #include <cstddef>
 #include <filesystem>
+#include <istream>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "core/geometry/gravity.hpp"
@@ -30,8 +33,19 @@ enum class DatasetLayout {
                ///< recording.json
   kThreeDtk,   ///< 3DTK / slam6D: scanNNN.3d + scanNNN.pose, optional scanNNN.frames as reference poses
   kKitti,      ///< KITTI odometry: velodyne/NNNNNN.bin + poses.txt (reference), optional times.txt, calib.txt
+  kMcap,       ///< Strata's recording as an MCAP file of ROS 2 messages (strata serve --record-mcap)
 };
 [[nodiscard]] std::string to_string(DatasetLayout layout);
+
+/// Where the points of scans are when they are not in files of their own (an MCAP recording's /scan
+/// messages): read on the replay's thread.
+class ScanStore {
+ public:
+  virtual ~ScanStore() = default;
+  /// The index-th scan's points in its sensor frame and, when `times` is given, their times (s from the
+  /// stamp; empty where not recorded). Throws DatasetError.
+  [[nodiscard]] virtual std::vector<Eigen::Vector3f> points(std::size_t index, std::vector<float>* times) = 0;
+};
 
 /// One scan of a dataset; its points are read only when it is played (load_points).
 struct DatasetScan {
@@ -53,6 +67,9 @@ struct DatasetScan {
   /// The point file's "time" field is seconds from `stamp` (Strata's recordings); other files' times have
   /// references of their own and are not used.
   bool times_from_stamp = false;
+  /// Set where the points are in a store (`store_index` there) rather than in `file`.
+  std::shared_ptr<ScanStore> store;
+  std::size_t store_index = 0;
 };
 
 /// An odometry sample between scans (a recording has the full stream; other layouts have none).
@@ -72,10 +89,18 @@ struct Dataset {
   std::string description;  ///< for the log, e.g. "3DTK, 3 scans, reference poses from reference_slam6d_2009"
 };
 
-/// Recognises the layout of `directory` and reads its index: every list and pose file is read and checked
-/// (counts match, numbers are numbers, the point files exist), the point files themselves are not.
-/// Throws DatasetError naming what is missing or wrong.
+/// Recognises the layout of `directory` (or an MCAP recording, a file ending in .mcap) and reads its index:
+/// every list and pose file is read and checked (counts match, numbers are numbers, the point files exist),
+/// the point files themselves are not. Throws DatasetError naming what is missing or wrong.
 [[nodiscard]] Dataset open_dataset(const std::filesystem::path& directory);
+
+/// The odometry.csv rows in `csv` (header first); `source` names it in errors. Throws DatasetError.
+[[nodiscard]] std::vector<DatasetOdometry> parse_odometry_stream(std::istream& csv,
+                                                                 const std::string& source);
+/// recording.json's metadata: the format's name and version are checked (`format`, `version`), the initial
+/// pose read into `dataset`, the description made. `source` names it in errors. Throws DatasetError.
+void read_recording_metadata(const std::string& text, const std::string& source, std::string_view format,
+                             int version, Dataset& dataset);
 
 /// The points of one scan, in its sensor frame, as float (what a ScanEvent carries). `times`, when given,
 /// gets when each was measured, seconds from the stamp, where the dataset says so (a recording of a lidar;

@@ -6,27 +6,20 @@
 #include <deque>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <mutex>
 #include <nlohmann/json.hpp>
 #include <thread>
 #include <utility>
 #include <variant>
 
-#include "drivers/robot_sample.hpp"
-#include "drivers/scan_event.hpp"
+#include "drivers/replay/recording_writer.hpp"
 
 namespace strata::replay {
 
-/// What the recorder has done: for the log at the end, and tests.
-struct RecorderStatus {
-  std::size_t scans = 0;    ///< scan files written and listed
-  std::size_t samples = 0;  ///< odometry rows written
-  std::size_t dropped = 0;  ///< scans or samples dropped because the disk fell behind (queue full)
-  std::size_t errors = 0;   ///< writes that failed (logged)
-};
-
-/// Writes the scans and odometry a server receives into Strata's recording layout (recording_layout.hpp),
-/// so the run can be replayed exactly (`strata serve --replay DIR`). The driver's thread only queues: the
+/// Writes the scans and odometry a server receives through a RecordingWriter: Strata's recording layout
+/// (LayoutWriter, `--record DIR`) or an MCAP file of ROS 2 messages (McapRecordingWriter, `--record-mcap`),
+/// so the run can be replayed exactly (`strata serve --replay`). The driver's thread only queues: the
 /// files are written on the recorder's own thread, and when the disk falls behind the bounded queue drops
 /// (and counts) rather than stalling the robot. A failed write is logged and counted, never thrown.
 class Recorder {
@@ -36,14 +29,15 @@ class Recorder {
     std::size_t queued_samples = 100000;  ///< odometry samples waiting (about 17 min at 100 Hz)
   };
 
-  /// Creates `directory` (and scans/) and writes recording.json with `metadata` (source, seed, ...) and the
-  /// initial pose. Throws std::runtime_error when the directory cannot be made or already holds a recording.
+  Recorder(std::unique_ptr<RecordingWriter> writer, Limits limits);
+  /// Into Strata's recording layout (LayoutWriter: throws std::runtime_error when the directory cannot be
+  /// made or already holds a recording).
   Recorder(std::filesystem::path directory, const nlohmann::json& metadata,
            const Eigen::Isometry3d& initial_map_from_odom, Limits limits);
   Recorder(std::filesystem::path directory, const nlohmann::json& metadata,
            const Eigen::Isometry3d& initial_map_from_odom)
       : Recorder(std::move(directory), metadata, initial_map_from_odom, Limits{}) {}
-  /// Writes what is queued, then completes recording.json.
+  /// Writes what is queued, then finishes the writer (recording.json completed, the MCAP file closed).
   ~Recorder();
   Recorder(const Recorder&) = delete;
   Recorder& operator=(const Recorder&) = delete;
@@ -51,23 +45,20 @@ class Recorder {
   /// From the driver's thread; return at once.
   void record(const RobotSample& sample);
   void record(const ScanEvent& scan);
+  /// What the server worked out (pose, path, goal events, map): dropped, not counted, when the queue is full.
+  void record(TopicMessage message);
   /// Waits until everything queued so far is written (tests, shutdown).
   void flush();
   [[nodiscard]] RecorderStatus status() const;
-  [[nodiscard]] const std::filesystem::path& directory() const { return directory_; }
+  [[nodiscard]] std::string where() const { return writer_->where(); }
 
  private:
-  using Item = std::variant<RobotSample, ScanEvent>;
+  using Item = std::variant<RobotSample, ScanEvent, TopicMessage>;
   void run();
   void write(const Item& item);
-  void write_metadata(bool finished);
 
-  std::filesystem::path directory_;
-  nlohmann::json metadata_;
+  std::unique_ptr<RecordingWriter> writer_;  // recorder thread only (after the constructor)
   Limits limits_;
-  std::ofstream scans_csv_;         // recorder thread only
-  std::ofstream odometry_csv_;      // recorder thread only
-  std::size_t next_scan_file_ = 0;  // recorder thread only
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   std::condition_variable drained_;

@@ -9,8 +9,6 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "CdrWriter writes the host's byte order as CDR_LE");
 
-constexpr std::size_t kEncapsulationHeader = 4;
-
 std::uint32_t checked_size(std::size_t count) {
   if (count > std::numeric_limits<std::uint32_t>::max())
     throw std::length_error("a CDR sequence or string holds at most 2^32 - 1 elements");

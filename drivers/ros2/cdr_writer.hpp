@@ -8,6 +8,9 @@
 
 namespace strata::ros2 {
 
+/// CDR_LE: the 4 bytes every message starts with; alignment counts from their end.
+inline constexpr std::size_t kEncapsulationHeader = 4;
+
 /// Serializes a ROS 2 message as the DDS middleware puts it on the wire and rosbag2 stores it: plain CDR
 /// (XCDR1), little-endian. The bytes start with the 4-byte encapsulation header 00 01 00 00 (CDR_LE);
 /// every primitive is aligned to its own size (8 at most) counted from the end of that header. A string is

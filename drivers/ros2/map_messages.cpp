@@ -22,25 +22,27 @@ static_assert(sizeof(PatchPoint) == 20);
 
 enum PatchClass : std::uint8_t { kFloor = 0, kVertical = 1, kDriven = 2 };
 
-/// The ros2 profile's channel metadata: rosbag2 replays with the QoS offered; a map is latched.
-const std::map<std::string, std::string> kLatched = {
-    {"offered_qos_profiles",
-     "- history: 1\n  depth: 1\n  reliability: 1\n  durability: 1\n  deadline:\n    sec: 2147483647\n"
-     "    nsec: 4294967295\n  lifespan:\n    sec: 2147483647\n    nsec: 4294967295\n  liveliness: 1\n"
-     "  liveliness_lease_duration:\n    sec: 2147483647\n    nsec: 4294967295\n"
-     "  avoid_ros_namespace_conventions: false\n"}};
-
 /// Writes `message` on a channel of its own (topic, schema) at `stamp_ns`.
 template <typename Message>
 void write_message(mcap::McapWriter& writer, std::string_view topic, const Message& message,
                    std::uint64_t stamp_ns) {
   const std::uint16_t schema =
       writer.add_schema(Message::kType, "ros2msg", ros2msg_definition(Message::kType));
-  const std::uint16_t channel = writer.add_channel(schema, topic, "cdr", kLatched);
+  const std::uint16_t channel = writer.add_channel(schema, topic, "cdr", latched_channel_metadata());
   writer.add_message(channel, stamp_ns, stamp_ns, encode(message));
 }
 
 }  // namespace
+
+const std::map<std::string, std::string>& latched_channel_metadata() {
+  static const std::map<std::string, std::string> latched = {
+      {"offered_qos_profiles",
+       "- history: 1\n  depth: 1\n  reliability: 1\n  durability: 1\n  deadline:\n    sec: 2147483647\n"
+       "    nsec: 4294967295\n  lifespan:\n    sec: 2147483647\n    nsec: 4294967295\n  liveliness: 1\n"
+       "  liveliness_lease_duration:\n    sec: 2147483647\n    nsec: 4294967295\n"
+       "  avoid_ros_namespace_conventions: false\n"}};
+  return latched;
+}
 
 PointCloud2 patch_cloud(const MlsMap& map, const Header& header) {
   PointCloud2 cloud;

@@ -2,6 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <cstdint>
+#include <map>
 #include <span>
 #include <string>
 
@@ -26,6 +27,10 @@ inline constexpr std::string_view kBaseFrame = "base_link";
 /// The drivable map as nav_msgs/OccupancyGrid: the same cells, origin and resolution as the ROS map_server
 /// export of it (core/mls/map_export.hpp), rows from the lowest y, 0 free, 100 occupied, -1 unknown.
 [[nodiscard]] OccupancyGrid occupancy_grid(const LevelGrid& grid, const Header& header);
+
+/// The ros2 profile's channel metadata of a latched topic (a map): rosbag2 replays it with the QoS offered,
+/// reliable and transient local, depth 1, as map_server publishes /map.
+[[nodiscard]] const std::map<std::string, std::string>& latched_channel_metadata();
 
 /// Now, in nanoseconds since the Unix epoch: a file's stamp, as rosbag2 records with the system clock.
 [[nodiscard]] std::uint64_t system_time_ns();

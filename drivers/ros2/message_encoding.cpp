@@ -133,6 +133,27 @@ std::vector<std::uint8_t> encode(const Odometry& message) {
   return out.take();
 }
 
+std::vector<std::uint8_t> encode(const Imu& message) {
+  CdrWriter out;
+  write(out, message.header);
+  out.write(message.orientation.x());
+  out.write(message.orientation.y());
+  out.write(message.orientation.z());
+  out.write(message.orientation.w());
+  out.write_doubles(message.orientation_covariance);
+  write_vector(out, message.angular_velocity);
+  out.write_doubles(message.angular_velocity_covariance);
+  write_vector(out, message.linear_acceleration);
+  out.write_doubles(message.linear_acceleration_covariance);
+  return out.take();
+}
+
+std::vector<std::uint8_t> encode(const String& message) {
+  CdrWriter out;
+  out.write_string(message.data);
+  return out.take();
+}
+
 Time Time::from_nanoseconds(std::uint64_t nanoseconds) {
   return {static_cast<std::int32_t>(nanoseconds / 1'000'000'000U),
           static_cast<std::uint32_t>(nanoseconds % 1'000'000'000U)};

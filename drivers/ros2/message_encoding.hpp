@@ -16,5 +16,7 @@ namespace strata::ros2 {
 [[nodiscard]] std::vector<std::uint8_t> encode(const PoseWithCovarianceStamped& message);
 [[nodiscard]] std::vector<std::uint8_t> encode(const Path& message);
 [[nodiscard]] std::vector<std::uint8_t> encode(const Odometry& message);
+[[nodiscard]] std::vector<std::uint8_t> encode(const Imu& message);
+[[nodiscard]] std::vector<std::uint8_t> encode(const String& message);
 
 }  // namespace strata::ros2

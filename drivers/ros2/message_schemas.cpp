@@ -44,6 +44,11 @@ constexpr Definition kDefinitions[] = {
     {"sensor_msgs/PointCloud2",
      "std_msgs/Header header\nuint32 height\nuint32 width\nsensor_msgs/PointField[] fields\n"
      "bool is_bigendian\nuint32 point_step\nuint32 row_step\nuint8[] data\nbool is_dense\n"},
+    {"sensor_msgs/Imu",
+     "std_msgs/Header header\ngeometry_msgs/Quaternion orientation\nfloat64[9] orientation_covariance\n"
+     "geometry_msgs/Vector3 angular_velocity\nfloat64[9] angular_velocity_covariance\n"
+     "geometry_msgs/Vector3 linear_acceleration\nfloat64[9] linear_acceleration_covariance\n"},
+    {"std_msgs/String", "string data\n"},
 };
 
 const Definition& definition_of(std::string_view type) {

@@ -123,4 +123,22 @@ struct Odometry {
   TwistWithCovariance twist;  ///< in child_frame_id
 };
 
+/// sensor_msgs/Imu: a covariance's first element -1 says the reading is not there (ROS's convention).
+struct Imu {
+  static constexpr std::string_view kType = "sensor_msgs/msg/Imu";
+  Header header;
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  std::array<double, 9> orientation_covariance{};
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+  std::array<double, 9> angular_velocity_covariance{};
+  Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();
+  std::array<double, 9> linear_acceleration_covariance{};
+};
+
+/// std_msgs/String: text (here JSON or a CSV row) for what no standard message carries.
+struct String {
+  static constexpr std::string_view kType = "std_msgs/msg/String";
+  std::string data;
+};
+
 }  // namespace strata::ros2

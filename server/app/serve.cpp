@@ -13,6 +13,7 @@
 #include <string>
 #include <system_error>
 
+#include "drivers/replay/mcap_recording_writer.hpp"
 #include "drivers/replay/recorder.hpp"
 #include "drivers/robot_driver.hpp"
 #include "drivers/sim/world/world_file.hpp"
@@ -71,10 +72,12 @@ sim::WorldDescription load_world(const std::string& name_or_path) {
 
 namespace {
 
-// --record: every sample and scan the pipeline receives, on the recorder's own thread.
-std::unique_ptr<replay::Recorder> make_recorder(const ServeOptions& options, const RobotDriver& driver) {
-  if (options.record.empty())
-    return nullptr;
+// --record and --record-mcap: every sample and scan the pipeline receives, each on its recorder's thread.
+std::vector<std::unique_ptr<replay::Recorder>> make_recorders(const ServeOptions& options,
+                                                              const RobotDriver& driver) {
+  std::vector<std::unique_ptr<replay::Recorder>> recorders;
+  if (options.record.empty() && options.record_mcap.empty())
+    return recorders;
   const bool simulated = driver.world() != nullptr;
   const nlohmann::json metadata{{"source", driver.kind()},
                                 {"description", driver.description()},
@@ -83,7 +86,17 @@ std::unique_ptr<replay::Recorder> make_recorder(const ServeOptions& options, con
                                 {"world", simulated ? options.world : ""},
                                 {"scanner", simulated ? name_of(kScannerNames, options.scanner) : ""},
                                 {"strata_version", build_info::version()}};
-  return std::make_unique<replay::Recorder>(options.record, metadata, driver.initial_map_from_odom());
+  if (!options.record.empty())
+    recorders.push_back(
+        std::make_unique<replay::Recorder>(options.record, metadata, driver.initial_map_from_odom()));
+  if (!options.record_mcap.empty()) {
+    recorders.push_back(std::make_unique<replay::Recorder>(
+        std::make_unique<replay::McapRecordingWriter>(
+            options.record_mcap, metadata, driver.initial_map_from_odom(),
+            options.record_mcap_uncompressed ? mcap::Compression::kNone : mcap::Compression::kZstd),
+        replay::Recorder::Limits{}));
+  }
+  return recorders;
 }
 
 pipeline::PipelineOptions pipeline_options(const ServeOptions& options) {
@@ -133,6 +146,9 @@ void announce(const ServeOptions& options, const RobotDriver& driver, const net:
     spdlog::info("the {} cannot move: goals are planned on its map, but nothing drives", driver.kind());
   if (!options.record.empty())
     spdlog::info("recording to {}", options.record.string());
+  if (!options.record_mcap.empty())
+    spdlog::info("recording to {} (MCAP; {} until it is finished)", options.record_mcap.string(),
+                 replay::McapRecordingWriter::partial_path(options.record_mcap).string());
   if (network.tls()) {
     spdlog::info("TLS on (certificate {}): https:// and wss:// only, plain HTTP is refused",
                  options.network.tls_certificate.string());
@@ -172,8 +188,8 @@ int serve(const ServeOptions& options) {
   std::signal(SIGXFSZ, SIG_IGN);
   // The driver first: a world, a dataset or a capture that cannot be used stops the start with its name.
   std::unique_ptr<RobotDriver> driver = make_driver(options);
-  std::unique_ptr<replay::Recorder> recorder = make_recorder(options, *driver);
-  pipeline::RobotPipeline robot(std::move(driver), std::move(recorder), pipeline_options(options));
+  auto recorders = make_recorders(options, *driver);
+  pipeline::RobotPipeline robot(std::move(driver), std::move(recorders), pipeline_options(options));
   ServerServices services = robot.services();
   services.network = network_as_run(options);
   net::NetworkServer network(services);  // a bad certificate, address or port stops the start here

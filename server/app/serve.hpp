@@ -85,9 +85,11 @@ struct ServeOptions {
   MapMode map_mode = MapMode::kMapping;
   /// Where the IMU calibration is kept between runs; empty: default_imu_calibration_file().
   std::filesystem::path imu_calibration;
-  bool keep_imu_calibration = true;  ///< false: none is loaded or kept (--no-imu-calibration)
-  std::filesystem::path record;      ///< write the scans and odometry here (replay layout); empty: none
-  std::size_t max_scans = 0;         ///< hand at most this many scans to the pipeline; 0: all
+  bool keep_imu_calibration = true;   ///< false: none is loaded or kept (--no-imu-calibration)
+  std::filesystem::path record;       ///< write the scans and odometry here (replay layout); empty: none
+  std::filesystem::path record_mcap;  ///< record the run into this MCAP file of ROS 2 messages; empty: none
+  bool record_mcap_uncompressed = false;  ///< --record-mcap without zstd
+  std::size_t max_scans = 0;              ///< hand at most this many scans to the pipeline; 0: all
   /// Wall-clock seconds a due scan may be late before the status says the sensor stalled; 0: 10 s, longer
   /// when --time-scale slows the simulator down.
   double sensor_timeout = 0.0;

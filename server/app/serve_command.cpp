@@ -102,10 +102,12 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
       ->capture_default_str()
       ->check(CLI::Range(0.0, 60.0));
   command
-      ->add_option("--replay", options.replay.directory,
-                   "Replay a dataset instead of simulating: a Strata recording (--record), 3DTK scanNNN.3d + "
-                   ".pose, KITTI velodyne/*.bin + poses.txt, or scans.csv listing PCD/PLY files")
-      ->check(CLI::ExistingDirectory);
+      ->add_option(
+          "--replay", options.replay.directory,
+          "Replay a dataset instead of simulating: a Strata recording (--record, or a FILE.mcap from "
+          "--record-mcap), 3DTK scanNNN.3d + .pose, KITTI velodyne/*.bin + poses.txt, or scans.csv "
+          "listing PCD/PLY files")
+      ->check(CLI::ExistingPath);
   add_choice(command, "--replay-rate", options.replay.rate, kReplayRateNames,
              "recorded: at the dataset's clock times --time-scale; max: as fast as the pipeline takes the "
              "scans (none dropped)");
@@ -153,6 +155,12 @@ CLI::App* add_serve_command(CLI::App& app, ServeOptions& options) {
   command->add_option("--record", options.record,
                       "Record the scans and odometry the pipeline receives into this directory (replay "
                       "layout), to replay the run later with --replay");
+  command->add_option("--record-mcap", options.record_mcap,
+                      "Record the run into this MCAP file of ROS 2 messages (scans, odometry, IMU, pose, tf, "
+                      "path, goal events, the drivable map; docs/interop.md), written as FILE.part until a "
+                      "clean stop; replay it with --replay FILE");
+  command->add_flag("--record-mcap-uncompressed", options.record_mcap_uncompressed,
+                    "--record-mcap without zstd compression");
   command
       ->add_option("--max-scans", options.max_scans,
                    "Hand at most this many scans to the pipeline, then keep serving the map (0: all)")

@@ -3,6 +3,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <functional>
+#include <memory>
 
 #include "core/mls/drivable_map.hpp"
 #include "core/mls/mls_map.hpp"
@@ -17,6 +18,9 @@ struct MapUpdate {
   const DrivableMap& drivable;
   Eigen::Vector3d robot_ground;
   std::uint64_t version = 0;
+  /// The drivable map at the robot's level over the whole map (what the PGM/YAML export holds), made when
+  /// asked for, on the mapping thread or after it stopped; null without a robot position.
+  std::function<std::shared_ptr<const DrivableMap>()> whole_level;
 };
 
 using MapUpdateListener = std::function<void(const MapUpdate&)>;

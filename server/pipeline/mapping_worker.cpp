@@ -273,7 +273,8 @@ void MappingWorker::publish() {
   const DrivableMap* drivable = live_.drivable();
   if (drivable == nullptr || !live_.robot_ground())
     return;
-  const MapUpdate update{live_.map(), *drivable, *live_.robot_ground(), live_.map().version()};
+  const MapUpdate update{live_.map(), *drivable, *live_.robot_ground(), live_.map().version(),
+                         [this] { return live_.whole_level(std::nullopt).drivable; }};
   for (const MapUpdateListener& listener : listeners_) {
     try {
       listener(update);

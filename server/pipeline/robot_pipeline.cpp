@@ -38,10 +38,11 @@ ImuCalibrationStore calibration_store(const std::filesystem::path& file, const R
 
 }  // namespace
 
-RobotPipeline::RobotPipeline(std::unique_ptr<RobotDriver> driver, std::unique_ptr<replay::Recorder> recorder,
+RobotPipeline::RobotPipeline(std::unique_ptr<RobotDriver> driver,
+                             std::vector<std::unique_ptr<replay::Recorder>> recorders,
                              const PipelineOptions& options)
     : driver_(std::move(driver)),
-      recorder_(std::move(recorder)),
+      recording_(std::move(recorders)),
       navigator_(navigation_for(options.robot)),
       mapping_(map_state_, options.maps_dir, mapping_for(options.robot)),
       calibration_(calibration_store(options.imu_calibration_file, *driver_)),
@@ -56,6 +57,7 @@ RobotPipeline::RobotPipeline(std::unique_ptr<RobotDriver> driver, std::unique_pt
   map_the_registered_scans();
   plan_on_the_live_map();
   drive_the_base_from_the_navigator();
+  record_what_the_server_works_out();
 }
 
 RobotPipeline::~RobotPipeline() {
@@ -65,16 +67,18 @@ RobotPipeline::~RobotPipeline() {
 void RobotPipeline::take_scans_from_the_driver() {
   outputs_.on_sample = [this](const RobotSample& sample) {
     robot_state_.publish(sample);
-    if (recorder_)
-      recorder_->record(sample);
+    if (!recording_.empty()) {
+      recording_.record(sample);
+      const auto path = navigator_.path();
+      recording_.record_goal(navigator_.goal_status(), path.get(), sample.stamp);
+    }
   };
   outputs_.on_scan = [this](ScanEvent scan) {
     robot_state_.scan_delivered();  // the sensor works, whether or not the pipeline takes the scan
     if (max_scans_ != 0 && scans_taken_ >= max_scans_)
       return;  // --max-scans: a run of a fixed length; the map stays as it is
     ++scans_taken_;
-    if (recorder_)
-      recorder_->record(scan);
+    recording_.record(scan);
     localizer_.submit(std::move(scan));
   };
   // A replay as fast as possible waits for the pipeline instead of dropping scans.
@@ -114,6 +118,22 @@ void RobotPipeline::drive_the_base_from_the_navigator() {
   });
 }
 
+void RobotPipeline::record_what_the_server_works_out() {
+  localizer_.set_scan_observer([this](const LocalizerWorker::ScanReport& report) {
+    if (!recording_.empty()) {
+      // The correction as the robot state holds it after the scan: the estimate over the odometry.
+      const auto snapshot = robot_state_.snapshot();
+      const Eigen::Isometry3d map_from_odom =
+          snapshot ? snapshot->estimate.to_isometry() * snapshot->sample.odometry.to_isometry().inverse()
+                   : Eigen::Isometry3d::Identity();
+      recording_.record_pose(report.stamp, report.pose, map_from_odom);
+    }
+    if (scan_observer_)
+      scan_observer_(report);
+  });
+  mapping_.add_listener([this](const MapUpdate& update) { recording_.record_map(update); });
+}
+
 void RobotPipeline::on_map_published(std::function<void()> callback) {
   mapping_.on_published(std::move(callback));
 }
@@ -137,11 +157,11 @@ void RobotPipeline::stop() {
   if (stopped_)
     return;
   stopped_ = true;
-  driver_->stop();    // first: its thread calls into everything below
-  recorder_.reset();  // writes what is queued, completes recording.json
+  driver_->stop();  // first: its thread calls into everything below
   navigator_.stop();
   localizer_.stop();
   mapping_.stop();
+  recording_.stop();  // last, when nothing records any more: writes what is queued, finishes each file
 }
 
 ServerServices RobotPipeline::services() {

@@ -5,6 +5,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "drivers/replay/recorder.hpp"
 #include "drivers/robot_driver.hpp"
@@ -13,6 +14,7 @@
 #include "server/pipeline/localizer_worker.hpp"
 #include "server/pipeline/mapping_worker.hpp"
 #include "server/pipeline/navigator.hpp"
+#include "server/pipeline/run_recording.hpp"
 #include "server/state/map_state.hpp"
 #include "server/state/robot_state.hpp"
 
@@ -46,8 +48,8 @@ struct PipelineOptions {
 /// arrow of the data flow. The network side reads and commands it through services().
 class RobotPipeline {
  public:
-  /// `recorder` may be null (no --record).
-  RobotPipeline(std::unique_ptr<RobotDriver> driver, std::unique_ptr<replay::Recorder> recorder,
+  /// `recorders` may be empty (no --record, no --record-mcap).
+  RobotPipeline(std::unique_ptr<RobotDriver> driver, std::vector<std::unique_ptr<replay::Recorder>> recorders,
                 const PipelineOptions& options);
   /// Stops everything first (stop()).
   ~RobotPipeline();
@@ -58,15 +60,13 @@ class RobotPipeline {
   /// pushes what changed). Whatever it reaches must outlive stop().
   void on_map_published(std::function<void()> callback);
   /// Before start(): called on the localizer's thread after every scan it processed (benchmarks).
-  void on_scan_localized(LocalizerWorker::ScanObserver observer) {
-    localizer_.set_scan_observer(std::move(observer));
-  }
+  void on_scan_localized(LocalizerWorker::ScanObserver observer) { scan_observer_ = std::move(observer); }
 
   /// Starts the workers, loads the initial map if there is one (throws std::runtime_error saying why when
   /// it cannot), then starts the driver's thread.
   void start();
-  /// Stops the driver first (nothing new comes in), then the recorder (flushes), the navigator, the
-  /// localizer and the mapping worker. Idempotent.
+  /// Stops the driver first (nothing new comes in), then the navigator, the localizer and the mapping
+  /// worker, then the recordings (flushed and finished). Idempotent.
   void stop();
 
   /// The state and commands the network side serves; NetworkOptions left at their defaults.
@@ -79,16 +79,18 @@ class RobotPipeline {
   void map_the_registered_scans();           // localizer (steps 1-5) -> mapping (6-8)
   void plan_on_the_live_map();               // mapping (step 8) -> navigator
   void drive_the_base_from_the_navigator();  // navigator -> driver (goals, teleop)
+  void record_what_the_server_works_out();   // localizer, navigator, mapping -> recordings
 
   RobotState robot_state_;
   std::unique_ptr<RobotDriver> driver_;
-  std::unique_ptr<replay::Recorder> recorder_;
+  RunRecording recording_;
   Navigator navigator_;
   MapState map_state_;
   MappingWorker mapping_;
   ImuCalibrationStore calibration_;  // before the localizer, which saves into it
   LocalizerWorker localizer_;
-  RobotDriver::Outputs outputs_;  // handed to the driver at start()
+  RobotDriver::Outputs outputs_;                 // handed to the driver at start()
+  LocalizerWorker::ScanObserver scan_observer_;  // on_scan_localized
   std::size_t max_scans_ = 0;
   std::string initial_map_;
   MapMode initial_map_mode_ = MapMode::kMapping;

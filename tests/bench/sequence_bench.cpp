@@ -88,7 +88,7 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
   Observed observed;
   pipeline::PipelineOptions pipeline_options;
   pipeline_options.maps_dir = scratch / "maps";  // nothing is saved there
-  pipeline::RobotPipeline robot(std::move(driver), nullptr, pipeline_options);
+  pipeline::RobotPipeline robot(std::move(driver), {}, pipeline_options);
   robot.on_scan_localized([&observed](const pipeline::LocalizerWorker::ScanReport& outcome) {
     std::lock_guard lock(observed.mutex);
     observed.outcomes.push_back(outcome);

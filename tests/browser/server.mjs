@@ -35,5 +35,11 @@ export async function startServer(binary, args = [], { port = 0 } = {}) {
       const [code] = await once(child, 'exit');
       return code;
     },
+    /// SIGKILL: no chance to clean up, as a power cut or the OOM killer.
+    async kill() {
+      if (child.exitCode !== null || child.signalCode !== null) return;
+      child.kill('SIGKILL');
+      await once(child, 'exit');
+    },
   };
 }

@@ -101,6 +101,61 @@ TEST(Replay, RecordedRunReplaysToTheSameMap) {
   fs::remove_all(replay_maps);
 }
 
+/// Replays `recording` (a directory or an MCAP file) as fast as possible; returns the saved map's bytes.
+std::string replayed_map(const fs::path& recording, const fs::path& maps, int scans) {
+  ServerProcess replay({"--replay", recording.string(), "--replay-rate", "max", "--maps-dir", maps.string()});
+  auto op = WsClient::operator_client(replay.port(), kTestOperatorToken);
+  const auto status =
+      wait_for_status(*op, [](const nlohmann::json& s) { return s["driver"]["finished"] == true; });
+  EXPECT_EQ(status["driver"]["kind"], "replay");
+  EXPECT_EQ(status["registration"]["scans"], scans);
+  EXPECT_EQ(status["registration"]["dropped"], 0);
+  return save_map(*op, maps, "replay.strata");
+}
+
+// Issue 62: the run recorded as MCAP of ROS 2 messages beside the own layout replays to the same map, bit
+// for bit; cut short anywhere, the file is refused with a clear error and nothing starts.
+TEST(Replay, AnMcapRecordingReplaysToTheOwnLayoutsMapAndACutOneIsRefused) {
+  constexpr int kScans = 3;
+  const fs::path recording = temporary("mcap-layout");
+  const fs::path mcap = temporary("mcap") += ".mcap";
+  const fs::path maps = temporary("mcap-maps");
+  {
+    ServerProcess live({"--world", "yard", "--scanner", "tilting", "--seed", "7", "--time-scale", "4",
+                        "--max-scans", std::to_string(kScans), "--record", recording.string(),
+                        "--record-mcap", mcap.string(), "--maps-dir", maps.string()});
+    auto op = WsClient::operator_client(live.port(), kTestOperatorToken);
+    wait_for_status(*op,
+                    [](const nlohmann::json& s) { return s["registration"]["scans"].get<int>() >= kScans; });
+    EXPECT_TRUE(fs::exists(fs::path(mcap.string() + ".part"))) << "written as FILE.part while it runs";
+    EXPECT_FALSE(fs::exists(mcap));
+    EXPECT_EQ(live.stop(), 0);
+  }
+  ASSERT_TRUE(fs::exists(mcap)) << "renamed to FILE at the clean stop";
+  EXPECT_FALSE(fs::exists(fs::path(mcap.string() + ".part")));
+  const std::string own_map = replayed_map(recording, maps / "own", kScans);
+  const std::string mcap_map = replayed_map(mcap, maps / "mcap", kScans);
+  ASSERT_GT(own_map.size(), 1000u);
+  EXPECT_TRUE(mcap_map == own_map) << "the MCAP replay's map differs from the own layout's";
+
+  // Cut at the end of the magic, in the first chunk, in the middle, just before the end.
+  const std::string bytes = read_bytes(mcap);
+  for (const std::size_t cut : {std::size_t{8}, std::size_t{300}, bytes.size() / 2, bytes.size() - 3}) {
+    const fs::path cut_file = temporary("cut") += ".mcap";
+    std::ofstream(cut_file, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(cut));
+    const auto result = run_strata({"serve", "--port", "0", "--replay", cut_file.string()});
+    EXPECT_NE(result.exit_code, 0) << "cut at " << cut;
+    EXPECT_NE(result.output.find(cut_file.string() + ": "), std::string::npos) << result.output;
+    EXPECT_NE(result.output.find("cut short"), std::string::npos)
+        << "cut at " << cut << ": " << result.output;
+    EXPECT_EQ(result.output.find("serving on"), std::string::npos) << "nothing starts";
+    fs::remove(cut_file);
+  }
+  fs::remove_all(recording);
+  fs::remove(mcap);
+  fs::remove_all(maps);
+}
+
 TEST(Replay, ThreeDtkScansThroughThePipeline) {
   const fs::path data = data_dir() / "3dtk_dat";
   if (!fs::exists(data / "scan000.3d"))

@@ -13,11 +13,8 @@ import { tmpdir } from 'node:os';
 import { join } from 'node:path';
 import { promisify } from 'node:util';
 import { crc32 } from 'node:zlib';
-import { McapIndexedReader } from '@mcap/core';
-import { parse } from '@foxglove/rosmsg';
-import { MessageReader } from '@foxglove/rosmsg2-serialization';
-import { decompress } from 'fzstd';
 import { startServer } from '../browser/server.mjs';
+import { openMcap as open, decodeAll as decodeAllOf, rosMap as rosMapOf, checkGridIsTheExport } from './mcap_files.mjs';
 
 const token = 'map-mcap-test-operator-token';
 let server;
@@ -48,79 +45,21 @@ async function download(query) {
   return { response, bytes: new Uint8Array(await response.arrayBuffer()) };
 }
 
-/// The reader over bytes in memory, with zstd from fzstd (@mcap/core leaves decompression to its user).
-function open(bytes) {
-  const readable = {
-    size: async () => BigInt(bytes.length),
-    read: async (offset, length) => bytes.subarray(Number(offset), Number(offset + length)),
-  };
-  return McapIndexedReader.Initialize({
-    readable,
-    decompressHandlers: { zstd: (buffer, size) => decompress(buffer, new Uint8Array(Number(size))) },
-  });
-}
+/// Every message decoded, by topic; each channel offers rosbag2's QoS.
+const decodeAll = (reader) => decodeAllOf(reader, (channel) => {
+  assert.ok(channel.metadata.get('offered_qos_profiles'), 'the ros2 profile asks for the QoS');
+});
 
-/// Every message of the file decoded by its channel's schema, by topic.
-async function decodeAll(reader) {
-  const decoders = new Map();
-  for (const [id, channel] of reader.channelsById) {
-    const schema = reader.schemasById.get(channel.schemaId);
-    assert.equal(schema.encoding, 'ros2msg');
-    assert.equal(channel.messageEncoding, 'cdr');
-    assert.ok(channel.metadata.get('offered_qos_profiles'), 'the ros2 profile asks for the QoS');
-    decoders.set(id, {
-      topic: channel.topic,
-      type: schema.name,
-      reader: new MessageReader(parse(new TextDecoder().decode(schema.data), { ros2: true })),
-    });
-  }
-  const messages = {};
-  for await (const message of reader.readMessages({ validateCrcs: true })) {
-    const decoder = decoders.get(message.channelId);
-    (messages[decoder.topic] ??= []).push({ type: decoder.type, logTime: message.logTime, ...decoder.reader.readMessage(message.data) });
-  }
-  return messages;
-}
-
-/// The ROS map_server pair of the current map: its version, YAML fields and PGM cells.
-async function rosMap() {
-  const { response, bytes: yamlBytes } = await download('format=yaml');
-  const version = response.headers.get('x-strata-version');
-  const yaml = new TextDecoder().decode(yamlBytes);
-  const origin = yaml.match(/^origin: \[([^,]+), ([^,]+), /m).slice(1).map(Number);
-  const resolution = Number(yaml.match(/^resolution: (\S+)$/m)[1]);
-  const { bytes: pgm } = await download(`format=pgm&version=${version}`);
-  const header = new TextDecoder('latin1').decode(pgm.subarray(0, 64)).match(/^P5\n(?:#[^\n]*\n)*(\d+) (\d+)\n255\n/);
-  const [width, height] = [Number(header[1]), Number(header[2])];
-  return { version, origin, resolution, width, height, cells: pgm.subarray(header[0].length) };
-}
+const rosMap = () => rosMapOf(server.url);
 
 /// Checks the decoded messages against the ROS export `ros`; returns what they held, for the log.
 function checkMessages(messages, ros) {
   assert.deepEqual(Object.keys(messages).sort(), ['/map', '/map_patches', '/tf', '/trajectory']);
   for (const list of Object.values(messages)) assert.equal(list.length, 1);
 
-  // The drivable map: the PGM/YAML of the same version, cell for cell (the PGM's first row is the highest y).
+  // The drivable map: the PGM/YAML of the same version, cell for cell.
   const grid = messages['/map'][0];
-  assert.equal(grid.type, 'nav_msgs/msg/OccupancyGrid');
-  assert.equal(grid.header.frame_id, 'map');
-  assert.equal(grid.info.width, ros.width);
-  assert.equal(grid.info.height, ros.height);
-  assert.ok(Math.abs(grid.info.resolution - ros.resolution) < 1e-6);
-  assert.ok(Math.abs(grid.info.origin.position.x - ros.origin[0]) < 1e-6, `${grid.info.origin.position.x} ${ros.origin[0]}`);
-  assert.ok(Math.abs(grid.info.origin.position.y - ros.origin[1]) < 1e-6);
-  assert.equal(grid.info.origin.orientation.w, 1);
-  assert.equal(grid.data.length, ros.width * ros.height);
-  const pgmValue = { 0: 254, 100: 0, [-1]: 205 };
-  let free = 0;
-  for (let row = 0; row < ros.height; row++) {
-    for (let col = 0; col < ros.width; col++) {
-      const cell = grid.data[row * ros.width + col];
-      if (cell === 0) free++;
-      const pixel = ros.cells[(ros.height - 1 - row) * ros.width + col];
-      if (pgmValue[cell] !== pixel) assert.fail(`cell ${col},${row}: ${cell} in the grid, ${pixel} in the PGM`);
-    }
-  }
+  const free = checkGridIsTheExport(grid, ros);
   assert.ok(free > 100, `${free} free cells`);
 
   // The patches: x, y, z, height, class, level, every point inside the map's extent.

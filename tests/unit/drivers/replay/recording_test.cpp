@@ -12,6 +12,7 @@
 
 #include "drivers/io/pcd_writer.hpp"
 #include "drivers/replay/dataset.hpp"
+#include "drivers/replay/mcap_recording_writer.hpp"
 #include "drivers/replay/recorder.hpp"
 #include "drivers/replay/reference_odometry.hpp"
 #include "drivers/replay/replay_driver.hpp"
@@ -22,7 +23,7 @@ namespace {
 namespace fs = std::filesystem;
 
 class Recording : public testing::Test {
- protected:
+ public:  // the fixed run's values, for the checks outside the fixture too
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
            ("strata_recording_" + std::string(testing::UnitTest::GetInstance()->current_test_info()->name()));
@@ -64,13 +65,19 @@ class Recording : public testing::Test {
       s.standing_gyro = StandingGyro{.rate = 1.0 / 7.0 * 1e-4, .seconds = 4.8, .sigma = 1.7e-4 / 3.0};
     return s;
   }
-  /// Records 10 samples and 2 scans (at samples 3 and 7).
-  void record_run() {
-    Recorder recorder(dir_, {{"source", "test"}, {"seed", 7}}, initial());
+  /// Records 10 samples and 2 scans (at samples 3 and 7): into dir_ in the own layout, or into `mcap_file`.
+  void record_run(const fs::path& mcap_file = {}) {
+    const nlohmann::json metadata{{"source", "test"}, {"seed", 7}};
+    const auto recorder =
+        mcap_file.empty()
+            ? std::make_unique<Recorder>(dir_, metadata, initial())
+            : std::make_unique<Recorder>(std::make_unique<McapRecordingWriter>(mcap_file, metadata, initial(),
+                                                                               mcap::Compression::kZstd),
+                                         Recorder::Limits{});
     for (int i = 0; i < 10; ++i) {
-      recorder.record(sample(i * 0.01));
+      recorder->record(sample(i * 0.01));
       if (i == 3 || i == 7)
-        recorder.record(scan(i * 0.01, static_cast<float>(i) / 3.0f));
+        recorder->record(scan(i * 0.01, static_cast<float>(i) / 3.0f));
     }
   }
   static Eigen::Isometry3d initial() {
@@ -109,18 +116,16 @@ class Recording : public testing::Test {
   fs::path dir_;
 };
 
-TEST_F(Recording, ReadsBackExactly) {
-  record_run();
-  const Dataset dataset = open_dataset(dir_);
-  EXPECT_EQ(dataset.layout, DatasetLayout::kRecording);
+/// The run record_run() recorded, as `dataset` reads it back: every number and point bit for bit.
+void expect_the_recorded_run(const Dataset& dataset) {
   ASSERT_TRUE(dataset.initial_map_from_odom.has_value());
-  EXPECT_EQ(dataset.initial_map_from_odom->matrix(), initial().matrix());
+  EXPECT_EQ(dataset.initial_map_from_odom->matrix(), Recording::initial().matrix());
   ASSERT_EQ(dataset.odometry.size(), 10u);
-  EXPECT_EQ(dataset.odometry[9].stamp, sample(0.09).stamp);
-  EXPECT_EQ(dataset.odometry[9].odometry.position, sample(0.09).odometry.position);
-  EXPECT_EQ(dataset.odometry[9].reference->yaw, sample(0.09).truth->yaw);
+  EXPECT_EQ(dataset.odometry[9].stamp, Recording::sample(0.09).stamp);
+  EXPECT_EQ(dataset.odometry[9].odometry.position, Recording::sample(0.09).odometry.position);
+  EXPECT_EQ(dataset.odometry[9].reference->yaw, Recording::sample(0.09).truth->yaw);
   ASSERT_EQ(dataset.scans.size(), 2u);
-  const ScanEvent expected = scan(0.07, 7.0f / 3.0f);
+  const ScanEvent expected = Recording::scan(0.07, 7.0f / 3.0f);
   const DatasetScan& got = dataset.scans[1];
   EXPECT_EQ(got.stamp, expected.stamp);
   EXPECT_EQ(got.duration, expected.duration);
@@ -144,12 +149,42 @@ TEST_F(Recording, ReadsBackExactly) {
   EXPECT_EQ(got.standing_gyro->seconds, expected.standing_gyro->seconds);
   EXPECT_EQ(got.standing_gyro->sigma, expected.standing_gyro->sigma);
   EXPECT_FALSE(dataset.scans[0].standing_gyro.has_value());
+}
 
+TEST_F(Recording, ReadsBackExactly) {
+  record_run();
+  const Dataset dataset = open_dataset(dir_);
+  EXPECT_EQ(dataset.layout, DatasetLayout::kRecording);
+  expect_the_recorded_run(dataset);
   std::ifstream in(dir_ / "recording.json");
   const auto metadata = nlohmann::json::parse(in);
   EXPECT_EQ(metadata["finished"], true);
   EXPECT_EQ(metadata["scans"], 2);
   EXPECT_EQ(metadata["seed"], 7);
+}
+
+TEST_F(Recording, AnMcapRecordingReadsBackExactlyAndIsFileDotPartUntilItIsFinished) {
+  fs::create_directories(dir_);
+  const fs::path file = dir_ / "run.mcap";
+  record_run(file);
+  EXPECT_FALSE(fs::exists(McapRecordingWriter::partial_path(file)));
+  const Dataset dataset = open_dataset(file);
+  EXPECT_EQ(dataset.layout, DatasetLayout::kMcap);
+  expect_the_recorded_run(dataset);
+  {
+    Recorder recorder(std::make_unique<McapRecordingWriter>(dir_ / "second.mcap", nlohmann::json::object(),
+                                                            initial(), mcap::Compression::kNone),
+                      Recorder::Limits{});
+    recorder.record(sample(0.0));
+    recorder.record(scan(0.01, 1.0f));
+    recorder.flush();
+    EXPECT_TRUE(fs::exists(dir_ / "second.mcap.part"));
+    EXPECT_FALSE(fs::exists(dir_ / "second.mcap"));
+    EXPECT_THROW((void)open_dataset(McapRecordingWriter::partial_path(dir_ / "second.mcap")), DatasetError);
+  }
+  EXPECT_EQ(open_dataset(dir_ / "second.mcap").scans.size(), 1u);
+  EXPECT_THROW((McapRecordingWriter(file, {}, initial(), mcap::Compression::kZstd)), std::runtime_error)
+      << "an existing file is not overwritten";
 }
 
 TEST_F(Recording, RefusesADirectoryThatHoldsARecording) {
