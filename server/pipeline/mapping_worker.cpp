@@ -425,7 +425,8 @@ CommandResult MappingWorker::take_up(MapStore::Loaded loaded, const std::string&
     } else {
       result.message = "mapping on in the loaded map";
     }
-    spdlog::info("map loaded from {} ({}): {}", (store_.directory() / name).string(), to_string(mode),
+    spdlog::info("map loaded from {}{} ({}): {}", (store_.directory() / name).string(),
+                 loaded.version.empty() ? std::string() : ", version " + loaded.version, to_string(mode),
                  result.message);
     publish();
   });
