@@ -17,6 +17,7 @@
 #include "core/mls/map_export.hpp"
 #include "core/mls/mls_file.hpp"
 #include "drivers/ros2/map_messages.hpp"
+#include "server/pipeline/file_bytes.hpp"
 #include "server/pipeline/file_hash.hpp"
 #include "server/protocol/client_messages.hpp"
 
@@ -32,16 +33,6 @@ std::vector<double> keyframe_heights(const LocalizationMap* localization) {
       heights.insert(std::round(pose.translation().z() * 4.0) / 4.0);
   }
   return {heights.begin(), heights.end()};
-}
-
-std::optional<std::string> read_file(const std::filesystem::path& path) {
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream)
-    return std::nullopt;
-  std::string bytes{std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
-  if (stream.bad())
-    return std::nullopt;
-  return bytes;
 }
 
 }  // namespace
@@ -118,7 +109,7 @@ MapStore::Loaded MapStore::load_file(const std::filesystem::path& path, const st
   // A regular file inside the directory, never what a link points to (/etc/passwd, a map elsewhere).
   if (std::filesystem::symlink_status(path, error).type() != std::filesystem::file_type::regular)
     return {CommandResult::failure(ErrorCode::kNotFound, "no " + label), MlsMap(), std::nullopt, {}};
-  const auto bytes = read_file(path);
+  const auto bytes = read_file_bytes(path);
   if (!bytes)
     return {CommandResult::failure(ErrorCode::kIoError, label + " could not be read"),
             MlsMap(),

@@ -12,6 +12,7 @@
 
 #include "core/files/atomic_file.hpp"
 #include "core/files/temporary_files.hpp"
+#include "server/pipeline/file_bytes.hpp"
 #include "server/protocol/client_messages.hpp"
 
 namespace strata::pipeline {
@@ -24,16 +25,6 @@ constexpr std::size_t kMaxMetaBytes = 64 * 1024;
 bool is_regular(const std::filesystem::path& path) {
   std::error_code error;
   return std::filesystem::symlink_status(path, error).type() == std::filesystem::file_type::regular;
-}
-
-std::optional<std::string> read_whole(const std::filesystem::path& path) {
-  std::ifstream stream(path, std::ios::binary);
-  if (!stream)
-    return std::nullopt;
-  std::string bytes{std::istreambuf_iterator<char>(stream), std::istreambuf_iterator<char>()};
-  if (stream.bad())
-    return std::nullopt;
-  return bytes;
 }
 
 std::optional<std::uint64_t> whole_number(std::string_view text) {
@@ -82,7 +73,7 @@ std::vector<MapVersionInfo> MapVersions::versions_of(const std::filesystem::path
     if (!is_valid_version(version) || temporary_file_owner(file))
       continue;
     MapVersionInfo info{name, version, entry.file_size(error), {}, {}};
-    const auto meta_text = read_whole(meta_of(name, version));
+    const auto meta_text = read_file_bytes(meta_of(name, version));
     if (!meta_text || meta_text->size() > kMaxMetaBytes) {
       spdlog::warn("map version {} {}: no meta file, not listed", name, version);
       continue;
@@ -179,7 +170,7 @@ MapVersionFile MapVersions::read(const std::string& name, const std::string& ver
     result.result = CommandResult::failure(ErrorCode::kNotFound, "no version " + version + " of map " + name);
     return result;
   }
-  auto bytes = read_whole(file_of(name, version));
+  auto bytes = read_file_bytes(file_of(name, version));
   if (!bytes || bytes->size() != info->bytes) {
     result.result = CommandResult::failure(ErrorCode::kIoError,
                                            "version " + version + " of map " + name + " could not be read");
