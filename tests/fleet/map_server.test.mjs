@@ -8,32 +8,25 @@
 // Usage: node --test map_server.test.mjs   (env STRATA_BINARY, MOSQUITTO, STRATA_VDA5050_DIR)
 import assert from 'node:assert/strict';
 import { createHash } from 'node:crypto';
-import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { createServer } from 'node:http';
 import { once } from 'node:events';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 
-import Ajv2020 from 'ajv/dist/2020.js';
 import mqtt from 'mqtt';
 import { MasterController } from 'vda-5050-lib';
 
 import { startServer } from '../browser/server.mjs';
 import { startBroker } from './broker.mjs';
+import { fleetSetup, instantAction as runInstantAction, validators, vehicleTopics } from './master.mjs';
 
-const binary = process.env.STRATA_BINARY;
-const mosquitto = process.env.MOSQUITTO || '/usr/sbin/mosquitto';
-const schemaDir = path.join(process.env.STRATA_VDA5050_DIR || path.resolve('../../../shared/vda5050'), '2.1.0');
-const missing = !existsSync(schemaDir) ? `the VDA 5050 2.1.0 schemas are not at ${schemaDir} (STRATA_VDA5050_DIR)` : !existsSync(mosquitto) ? `no mosquitto at ${mosquitto} (deploy/install-deps.sh installs it)` : false;
-assert.ok(binary, 'STRATA_BINARY must name the strata executable');
-// ctest reports the test as skipped on this line (SKIP_REGULAR_EXPRESSION in tests/CMakeLists.txt).
-if (missing) console.log(`fleet test skipped: ${missing}`);
+const { binary, mosquitto, schemaDir, missing } = fleetSetup();
 
 const TOKEN = 'fleet-test-operator-token-0123456789';
 const robotA = { manufacturer: 'StrataTest', serialNumber: 'robot-a' };
 const robotB = { manufacturer: 'StrataTest', serialNumber: 'robot-b' };
-const vehicleTopics = ['connection', 'state', 'visualization', 'factsheet'];
 
 let broker;
 let serverA;
@@ -46,14 +39,6 @@ let version; // A's saved map version: { name, version, bytes, sha256, url }
 const received = []; // { serial, kind, body }
 const invalid = [];
 let waiters = [];
-
-function validators() {
-  const ajv = new Ajv2020({ strict: false, allErrors: true });
-  ajv.addFormat('date-time', /^\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}(\.\d+)?(Z|[+-]\d{2}:\d{2})$/);
-  return Object.fromEntries(
-    vehicleTopics.map((kind) => [kind, ajv.compile(JSON.parse(readFileSync(path.join(schemaDir, `${kind}.schema`), 'utf8')))]),
-  );
-}
 
 /** The first `kind` message of vehicle `serial` from index `from` on that `predicate` accepts. */
 function waitFor(serial, kind, predicate = () => true, { from = 0, timeout = 30000 } = {}) {
@@ -76,27 +61,9 @@ const getJson = async (server, route) => (await fetch(`${server.url}${route}`)).
 const sha256 = (bytes) => createHash('sha256').update(bytes).digest('hex');
 const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
 
-/** One instant action through the MasterController; resolves with its final action state. */
-function instantAction(agv, actionType, parameters = {}) {
-  const actionParameters = Object.entries(parameters).map(([key, value]) => ({ key, value }));
-  return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error(`${actionType}: no final action state`)), 60000);
-    master
-      .initiateInstantActions(agv, { instantActions: [{ actionId: master.createUuid(), actionType, blockingType: 'NONE', actionParameters }] }, {
-        onActionStateChanged: (actionState) => {
-          if (actionState.actionStatus === 'FINISHED' || actionState.actionStatus === 'FAILED') {
-            clearTimeout(timer);
-            resolve(actionState);
-          }
-        },
-        onActionError: (error) => {
-          clearTimeout(timer);
-          reject(new Error(`${actionType} refused: ${JSON.stringify(error)}`));
-        },
-      })
-      .catch(reject);
-  });
-}
+/** One instant action through the MasterController, its parameters as an object; its final state. */
+const instantAction = (agv, actionType, parameters = {}) =>
+  runInstantAction(master, agv, actionType, Object.entries(parameters).map(([key, value]) => ({ key, value })));
 
 async function serve(agv, extra = []) {
   const config = path.join(scratch, `${agv.serialNumber}.ini`);
@@ -106,7 +73,7 @@ async function serve(agv, extra = []) {
 
 before(async () => {
   if (missing) return;
-  const validate = validators();
+  const validate = validators(schemaDir);
   broker = await startBroker(mosquitto);
   watcher = mqtt.connect(broker.url, { reconnectPeriod: 200 });
   watcher.on('message', (topic, payload) => {
