@@ -8,8 +8,9 @@
 // Usage: node --test map_server.test.mjs   (env STRATA_BINARY, MOSQUITTO, STRATA_VDA5050_DIR)
 import assert from 'node:assert/strict';
 import { createHash } from 'node:crypto';
-import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
 import { createServer } from 'node:http';
+import { createServer as createHttpsServer } from 'node:https';
 import { once } from 'node:events';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
@@ -20,6 +21,7 @@ import { MasterController } from 'vda-5050-lib';
 
 import { startServer } from '../browser/server.mjs';
 import { startBroker } from './broker.mjs';
+import { makeCertificates } from './certificates.mjs';
 import { fleetSetup, instantAction as runInstantAction, validators, vehicleTopics } from './master.mjs';
 
 const { binary, mosquitto, schemaDir, missing } = fleetSetup();
@@ -32,6 +34,8 @@ let broker;
 let serverA;
 let serverB;
 let corruptServer; // a plain HTTP server handing out a damaged copy of the map
+let trusted; // certificates signed by the CA the servers trust (SSL_CERT_FILE)
+const fileServers = []; // node's HTTPS servers of the map's file
 let watcher;
 let master;
 let scratch;
@@ -89,6 +93,10 @@ before(async () => {
   await new Promise((resolve, reject) => watcher.subscribe('uagv/v2/StrataTest/+/+', { qos: 1 }, (e) => (e ? reject(e) : resolve())));
 
   scratch = mkdtempSync(path.join(tmpdir(), 'strata-fleet-maps-'));
+  // The CA the servers' https client trusts: OpenSSL's default verify paths read SSL_CERT_FILE.
+  mkdirSync(path.join(scratch, 'trusted'));
+  trusted = makeCertificates(path.join(scratch, 'trusted'));
+  process.env.SSL_CERT_FILE = trusted.ca;
   [serverA, serverB] = await Promise.all([serve(robotA), serve(robotB)]);
   master = new MasterController(
     { interfaceName: 'uagv', transport: { brokerUrl: broker.url }, vdaVersion: '2.0.0', topicObjectValidation: { inbound: false } },
@@ -103,6 +111,7 @@ after(async () => {
   watcher?.end(true);
   await broker?.stop();
   corruptServer?.close();
+  for (const server of fileServers) server.close();
   if (scratch) rmSync(scratch, { recursive: true, force: true });
 });
 
@@ -225,6 +234,31 @@ test('robot B downloads A\'s map through the master, enables it, is placed and l
   const position = (await waitFor(robotB.serialNumber, 'visualization', (v) => v.agvPosition?.mapId === 'yard.smls@0', { from: received.length - 1 })).agvPosition;
   assert.ok(Math.hypot(position.x - pose.x, position.y - pose.y) < 0.5, `B is where A's map has it: ${JSON.stringify(position)} vs ${JSON.stringify(pose)}`);
   assert.equal(localized.maps.find((m) => m.mapStatus === 'ENABLED' && m.mapId === 'yard.smls@0').mapVersion, '1');
+  assert.deepEqual(invalid, []);
+});
+
+/** An HTTPS server of `bytes` with `certificates`; its URL. */
+async function httpsFile(certificates, bytes) {
+  const server = createHttpsServer({ cert: readFileSync(certificates.cert), key: readFileSync(certificates.key) }, (request, response) =>
+    response.writeHead(200, { 'Content-Type': 'application/octet-stream' }).end(bytes),
+  );
+  fileServers.push(server);
+  server.listen(0, '127.0.0.1');
+  await once(server, 'listening');
+  return `https://127.0.0.1:${server.address().port}/yard.smls`;
+}
+
+test('downloadMap over https: a server with a trusted certificate is taken, another is refused', { skip: missing }, async () => {
+  const bytes = Buffer.from(await (await fetch(`${serverA.url}${version.url}`)).arrayBuffer());
+  const taken = await instantAction(robotB, 'downloadMap', { mapId: 'yard.smls@0', mapVersion: 'tls-1', mapDownloadLink: await httpsFile(trusted, bytes), mapHash: version.sha256 });
+  assert.equal(taken.actionStatus, 'FINISHED', taken.resultDescription);
+  mkdirSync(path.join(scratch, 'stranger'));
+  const stranger = makeCertificates(path.join(scratch, 'stranger')); // signed by a CA nobody trusts
+  const refused = await instantAction(robotB, 'downloadMap', { mapId: 'yard.smls@0', mapVersion: 'tls-2', mapDownloadLink: await httpsFile(stranger, bytes), mapHash: version.sha256 });
+  assert.equal(refused.actionStatus, 'FAILED');
+  assert.match(refused.resultDescription, /certificate/);
+  const versions = (await getJson(serverB, '/api/v1/map-versions')).versions.map((v) => v.version);
+  assert.deepEqual(versions, ['1', 'tls-1']);
   assert.deepEqual(invalid, []);
 });
 
