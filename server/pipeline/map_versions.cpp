@@ -154,6 +154,7 @@ void MapVersions::add(const MapVersionInfo& info, std::string_view bytes) const 
   if (!protocol::is_valid_map_name(info.name) || !is_valid_version(info.version))
     throw std::runtime_error("not a map name and version: " + info.name + " " + info.version);
   const std::filesystem::path file = file_of(info.name, info.version);
+  const std::lock_guard lock(writing_);
   if (std::filesystem::exists(file))
     throw std::runtime_error("version " + info.version + " of " + info.name + " is there already");
   std::filesystem::create_directories(file.parent_path());
@@ -184,6 +185,7 @@ MapVersionFile MapVersions::read(const std::string& name, const std::string& ver
 bool MapVersions::remove(const std::string& name, const std::string& version) const {
   if (!find(name, version))
     return false;
+  const std::lock_guard lock(writing_);
   std::error_code error;
   // The file first: without it the version is gone, whatever happens to the meta.
   if (!std::filesystem::remove(file_of(name, version), error))

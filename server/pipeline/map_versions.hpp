@@ -1,6 +1,7 @@
 #pragma once
 
 #include <filesystem>
+#include <mutex>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -44,6 +45,9 @@ class MapVersions {
   [[nodiscard]] std::vector<MapVersionInfo> versions_of(const std::filesystem::path& name_dir) const;
 
   std::filesystem::path root_;
+  /// add's check that a version is new and its write are one step: a save (the mapping thread) and a
+  /// downloadMap (the fleet's map thread) may add the same version at once; the second is refused.
+  mutable std::mutex writing_;
 };
 
 }  // namespace strata::pipeline
