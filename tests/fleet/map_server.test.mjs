@@ -273,3 +273,7 @@ test('deleteMap removes a version not in use', { skip: missing }, async () => {
   assert.deepEqual((await getJson(serverA, '/api/v1/map-versions')).versions.map((v) => v.name), ['yard-copy.smls']);
   assert.deepEqual(invalid, []);
 });
+
+test('both servers stop cleanly on SIGTERM (exit status 0: no sanitizer report, no crash)', { skip: missing }, async () => {
+  assert.deepEqual(await Promise.all([serverA.stop(), serverB.stop()]), [0, 0]);
+});
