@@ -4,6 +4,7 @@
 
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -53,11 +54,33 @@ protocol::HttpResponse HttpRouter::handle(const protocol::HttpRequest& request) 
   }
 }
 
+namespace {
+
+/// "/api/v1/maps/{name}/versions/{version}": the name and the version.
+std::optional<std::pair<std::string_view, std::string_view>> map_version_of(std::string_view path) {
+  constexpr std::string_view kPrefix = "/api/v1/maps/";
+  constexpr std::string_view kVersions = "/versions/";
+  if (!path.starts_with(kPrefix))
+    return std::nullopt;
+  path.remove_prefix(kPrefix.size());
+  const std::size_t at = path.find(kVersions);
+  if (at == 0 || at == std::string_view::npos)
+    return std::nullopt;
+  const std::string_view version = path.substr(at + kVersions.size());
+  if (version.empty() || version.find('/') != std::string_view::npos)
+    return std::nullopt;
+  return std::pair{path.substr(0, at), version};
+}
+
+}  // namespace
+
 bool HttpRouter::works_on_the_whole_map(const protocol::HttpRequest& request) {
   const std::string_view target = request.target();
   const std::string_view path = target.substr(0, target.find('?'));
   if (path == "/api/v1/map")
     return true;
+  if (map_version_of(path))
+    return true;  // reads a whole map file
   // POST /api/v1/maps saves, POST /api/v1/maps/{name}/load loads; GET only lists.
   return request.method() == http::verb::post &&
          (path == "/api/v1/maps" || path.starts_with("/api/v1/maps/"));
@@ -108,6 +131,10 @@ std::optional<protocol::HttpResponse> HttpRouter::route_api(const protocol::Http
     return read_only([&] { return tile_index(request); });
   if (path.starts_with("/api/v1/tiles/"))
     return read_only([&] { return tile(request, path.substr(std::string_view("/api/v1/tiles/").size())); });
+  if (path == "/api/v1/map-versions")
+    return read_only([&] { return map_version_list(request); });
+  if (const auto version = map_version_of(path))  // anyone may fetch a version, as the map's download
+    return read_only([&] { return map_version(request, version->first, version->second); });
   if (path == "/api/v1/maps" || path.starts_with("/api/v1/maps/"))
     return maps(request, path.substr(std::string_view("/api/v1/maps").size()));
   return std::nullopt;

@@ -48,6 +48,10 @@ class HttpRouter {
                                             std::string_view coordinates) const;
   [[nodiscard]] protocol::HttpResponse maps(const protocol::HttpRequest& request,
                                             std::string_view rest) const;
+  // api/map_version_endpoints.cpp
+  [[nodiscard]] protocol::HttpResponse map_version_list(const protocol::HttpRequest& request) const;
+  [[nodiscard]] protocol::HttpResponse map_version(const protocol::HttpRequest& request,
+                                                   std::string_view name, std::string_view version) const;
   // api/metrics_endpoint.cpp
   [[nodiscard]] protocol::HttpResponse metrics(const protocol::HttpRequest& request) const;
 

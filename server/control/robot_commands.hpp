@@ -66,6 +66,24 @@ struct MapDownload {
   bool reused = false;              ///< the bytes of an earlier request for the same map and format
 };
 
+/// One immutable version of a saved map on the map server (docs/fleet.md, "The map server"): every save
+/// makes one (numbered 1, 2, ... per name), a fleet's downloadMap stores one under the name and version the
+/// master gives. Never written again once there; removed only by deleteMap.
+struct MapVersionInfo {
+  std::string name;     ///< the map's name (a map store name)
+  std::string version;  ///< A-Z a-z 0-9 . _ -, as map names
+  std::uintmax_t bytes = 0;
+  std::string sha256;           ///< of the file, 64 lowercase hex digits
+  std::vector<double> heights;  ///< m: the ground heights its robot drove at (keyframes, 0.25 m apart)
+};
+
+/// A map version's file, for the map server's REST endpoint.
+struct MapVersionFile {
+  CommandResult result;  ///< kNotFound, kIoError
+  MapVersionInfo info;
+  std::string bytes;
+};
+
 /// Saving and loading the map (pipeline::MappingWorker). Names are plain file names inside the configured
 /// maps directory, never paths.
 
@@ -123,6 +141,34 @@ class MapCommands {
   /// server keeps until the next download of a newer one: a PGM and a YAML fetched apart then agree.
   [[nodiscard]] virtual MapDownload download(const std::string& format,
                                              std::optional<std::uint64_t> version) const = 0;
+
+  // The map server's immutable versions (MapVersionInfo). A server without them answers kUnavailable.
+  [[nodiscard]] virtual std::vector<MapVersionInfo> list_map_versions() const { return {}; }
+  [[nodiscard]] virtual MapVersionFile read_map_version(const std::string& /*name*/,
+                                                        const std::string& /*version*/) const {
+    return {unavailable(), {}, {}};
+  }
+  /// Stores `bytes` as version `version` of map `name`, DISABLED (the map in use is not touched): checked
+  /// against `sha256` when that is not empty (kBadParams), checked whole as a load checks a file
+  /// (kCorruptFile), refused when that version is there already (kBadParams). Nothing is stored on a failure.
+  virtual CommandResult add_map_version(const std::string& /*name*/, const std::string& /*version*/,
+                                        std::string_view /*bytes*/, std::string_view /*sha256*/) {
+    return unavailable();
+  }
+  /// Loads a stored version as load_map() loads a map by name; the snapshot then names the version.
+  virtual CommandResult load_map_version(const std::string& /*name*/, const std::string& /*version*/,
+                                         MapMode /*mode*/) {
+    return unavailable();
+  }
+  /// Removes a stored version; refused (kBadParams) while the robot uses it.
+  virtual CommandResult delete_map_version(const std::string& /*name*/, const std::string& /*version*/) {
+    return unavailable();
+  }
+
+ private:
+  static CommandResult unavailable() {
+    return CommandResult::failure(ErrorCode::kUnavailable, "this server keeps no map versions");
+  }
 };
 
 }  // namespace strata

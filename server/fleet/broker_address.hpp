@@ -13,6 +13,15 @@ struct BrokerAddress {
   bool tls = false;
 };
 
+/// A URL's `HOST[:PORT]`, `[V6]:PORT` part (the "authority" without user@): the host and the port, or
+/// `default_port`; none with `error` saying what is wrong. `what` names the server in the error ("broker").
+struct HostPort {
+  std::string host;
+  int port = 0;
+};
+[[nodiscard]] std::optional<HostPort> parse_host_port(std::string_view authority, int default_port,
+                                                      std::string_view what, std::string* error = nullptr);
+
 /// The address in `url`, or none with `error` saying what is wrong with it.
 [[nodiscard]] std::optional<BrokerAddress> parse_broker_url(std::string_view url,
                                                             std::string* error = nullptr);

@@ -1,12 +1,15 @@
 #include "server/fleet/instant_actions.hpp"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
 
 #include "drivers/io/json_input.hpp"
+#include "server/fleet/map_id.hpp"
+#include "server/protocol/client_messages.hpp"
 
 namespace strata::fleet {
 namespace {
@@ -86,6 +89,45 @@ InitPosition init_position_of(const std::map<std::string, json>& parameters, con
   return position;
 }
 
+std::string string_parameter(const std::map<std::string, json>& parameters, const std::string& key,
+                             const InstantAction& action, bool optional = false) {
+  const auto found = parameters.find(key);
+  if (found == parameters.end() && optional)
+    return {};
+  if (found == parameters.end() || !found->second.is_string())
+    throw Refusal{action.action_type + " needs \"" + key + "\" as a string", action.action_id};
+  return found->second.get<std::string>();
+}
+
+MapAction map_action_of(const std::map<std::string, json>& parameters, const InstantAction& action) {
+  MapAction map;
+  const std::string map_id = string_parameter(parameters, "mapId", action);
+  // A level's mapId or the map's own name: a map's levels are one file, stored, enabled and deleted together.
+  if (const auto level = parse_map_id(map_id))
+    map.map_name = level->map_name;
+  else
+    map.map_name = map_id;
+  if (!protocol::is_valid_map_name(map.map_name))
+    throw Refusal{"\"mapId\" must name a map: NAME or NAME@LEVEL, NAME of A-Z a-z 0-9 . _ -",
+                  action.action_id};
+  map.map_version = string_parameter(parameters, "mapVersion", action);
+  if (!protocol::is_valid_map_name(map.map_version))
+    throw Refusal{"\"mapVersion\" must be 1-64 characters of A-Z a-z 0-9 . _ -, not starting with a dot",
+                  action.action_id};
+  if (action.action_type != "downloadMap")
+    return map;
+  map.download_link = string_parameter(parameters, "mapDownloadLink", action);
+  if (map.download_link.size() > 2048 ||
+      !(map.download_link.starts_with("http://") || map.download_link.starts_with("https://")))
+    throw Refusal{"\"mapDownloadLink\" must be an http:// or https:// URL", action.action_id};
+  map.hash = string_parameter(parameters, "mapHash", action, true);
+  const bool hex = std::all_of(map.hash.begin(), map.hash.end(),
+                               [](char c) { return std::isxdigit(static_cast<unsigned char>(c)); });
+  if (!map.hash.empty() && (map.hash.size() != 64 || !hex))
+    throw Refusal{"\"mapHash\" must be a SHA-256: 64 hex digits", action.action_id};
+  return map;
+}
+
 InstantAction action_of(const json& item) {
   if (!item.is_object())
     throw Refusal{"an action must be an object"};
@@ -109,6 +151,9 @@ InstantAction action_of(const json& item) {
   const auto parameters = parameters_of(item, action.action_id);
   if (action.action_type == "initPosition")
     action.init_position = init_position_of(parameters, action.action_id);
+  if (action.action_type == "downloadMap" || action.action_type == "enableMap" ||
+      action.action_type == "deleteMap")
+    action.map = map_action_of(parameters, action);
   return action;
 }
 

@@ -26,10 +26,19 @@ struct InitPosition {
   std::string last_node_id;
 };
 
+/// downloadMap's, enableMap's and deleteMap's parameters (VDA 5050 2.1, 6.7 and 6.8.1).
+struct MapAction {
+  std::string map_name;       ///< the mapId's map: "yard.smls" of "yard.smls@0" (all its levels are one file)
+  std::string map_version;    ///< a version's name (A-Z a-z 0-9 . _ -)
+  std::string download_link;  ///< downloadMap: http:// or https://
+  std::string hash;           ///< downloadMap: SHA-256 in hex, or empty
+};
+
 struct InstantAction {
   std::string action_id;
   std::string action_type;                    ///< one of supported_instant_actions()
   std::optional<InitPosition> init_position;  ///< for initPosition
+  std::optional<MapAction> map;               ///< for downloadMap, enableMap, deleteMap
 };
 
 /// A message on the instantActions topic, checked whole: either every action in it is well-formed and one

@@ -128,7 +128,8 @@ json connection_body(std::string_view connection_state) {
 
 const std::vector<std::string>& supported_instant_actions() {
   static const std::vector<std::string> kActions{"factsheetRequest", "stateRequest", "initPosition",
-                                                 "startPause",       "stopPause",    "cancelOrder"};
+                                                 "startPause",       "stopPause",    "cancelOrder",
+                                                 "downloadMap",      "enableMap",    "deleteMap"};
   return kActions;
 }
 
@@ -143,6 +144,17 @@ json factsheet_body(const VehicleFacts& facts) {
           {{"key", "theta"}, {"valueDataType", "NUMBER"}},
           {{"key", "mapId"}, {"valueDataType", "STRING"}},
           {{"key", "lastNodeId"}, {"valueDataType", "STRING"}, {"isOptional", true}}};
+    }
+    if (type == "downloadMap" || type == "enableMap" || type == "deleteMap") {
+      action["actionParameters"] = {{{"key", "mapId"}, {"valueDataType", "STRING"}},
+                                    {{"key", "mapVersion"}, {"valueDataType", "STRING"}}};
+      if (type == "downloadMap") {
+        action["actionParameters"].push_back({{"key", "mapDownloadLink"}, {"valueDataType", "STRING"}});
+        action["actionParameters"].push_back({{"key", "mapHash"},
+                                              {"valueDataType", "STRING"},
+                                              {"description", "SHA-256 of the file, 64 hex digits"},
+                                              {"isOptional", true}});
+      }
     }
     actions.push_back(std::move(action));
   }

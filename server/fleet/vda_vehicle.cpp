@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "core/registration/fault_check.hpp"
+#include "server/fleet/map_fetch.hpp"
 #include "server/fleet/map_id.hpp"
 
 namespace strata::fleet {
@@ -102,6 +103,8 @@ void VdaVehicle::start() {
 
 void VdaVehicle::close() {
   poll_timer_.cancel();
+  map_thread_.stop();  // a map action under way finishes (a download within its timeout)
+  map_thread_.join();
   link_->close(id_.topic("connection"),
                connection_header_.stamp(connection_body("OFFLINE"), std::chrono::system_clock::now()).dump(),
                std::chrono::seconds(1));
@@ -148,6 +151,10 @@ void VdaVehicle::on_instant_actions(std::string_view payload) {
 }
 
 void VdaVehicle::run(const InstantAction& action) {
+  if (action.map) {
+    start_map_action(action);
+    return;
+  }
   record(carry_out(action));
   if (action.action_type == "factsheetRequest")
     publish_factsheet();
@@ -219,6 +226,59 @@ ActionState VdaVehicle::carry_out(const InstantAction& action) {
   return state;  // factsheetRequest, stateRequest: run() sends them
 }
 
+void VdaVehicle::start_map_action(const InstantAction& action) {
+  record({action.action_id, action.action_type, "RUNNING", {}});
+  boost::asio::post(map_thread_, [self = shared_from_this(), action] {
+    ActionState done = self->carry_out_map_action(action);
+    boost::asio::post(self->strand_, [self, done = std::move(done)]() mutable {
+      self->record(std::move(done));
+      self->refresh_stored_maps();
+    });
+  });
+}
+
+ActionState VdaVehicle::carry_out_map_action(const InstantAction& action) const {
+  ActionState state{action.action_id, action.action_type, "FINISHED", {}};
+  const auto fail = [&state](std::string why) {
+    state.status = "FAILED";
+    state.result = std::move(why);
+    spdlog::warn("VDA 5050: {} {} failed: {}", state.action_type, state.action_id, state.result);
+    return state;
+  };
+  if (services_.maps == nullptr)
+    return fail("this vehicle keeps no maps");
+  const MapAction& map = *action.map;
+  CommandResult result;
+  if (action.action_type == "downloadMap") {
+    const auto started = Clock::now();
+    const FetchResult fetched = fetch_url(map.download_link);
+    if (!fetched.ok())
+      return fail("the download failed, nothing changed: " + fetched.error);
+    result = services_.maps->add_map_version(map.map_name, map.map_version, fetched.body, map.hash);
+    if (!result.ok)
+      return fail("the map was not stored, nothing changed: " + result.message);
+    const double seconds = std::chrono::duration<double>(Clock::now() - started).count();
+    spdlog::info("VDA 5050: map {} version {} downloaded and stored in {:.3f} s ({} bytes)", map.map_name,
+                 map.map_version, seconds, fetched.body.size());
+    state.result = "stored, DISABLED: " + std::to_string(fetched.body.size()) + " bytes";
+  } else if (action.action_type == "enableMap") {
+    result = services_.maps->load_map_version(map.map_name, map.map_version, MapMode::kLocalize);
+    if (!result.ok)
+      return fail(result.message);
+    state.result = "localizing in it: send initPosition to place the vehicle";
+  } else {
+    result = services_.maps->delete_map_version(map.map_name, map.map_version);
+    if (!result.ok)
+      return fail(result.message);
+  }
+  return state;
+}
+
+void VdaVehicle::refresh_stored_maps() {
+  if (services_.maps != nullptr)
+    stored_maps_ = services_.maps->list_map_versions();
+}
+
 void VdaVehicle::record(ActionState action) {
   const auto same = std::find_if(actions_.begin(), actions_.end(), [&action](const ActionState& known) {
     return known.action_id == action.action_id;
@@ -269,10 +329,33 @@ VehicleReport VdaVehicle::report() {
         services_.motion != nullptr && services_.motion->goal_status().phase == GoalPhase::kDriving;
     report.driving = moving || driving_goal;
   }
-  // While mapping the map changes with every scan ("live"); a map localized in keeps its version.
-  const std::string version = map != nullptr && map->localizing ? std::to_string(map->version) : "live";
-  for (const int level : levels_)
-    report.maps.push_back({map_id(name, level), version, true});
+  // The stored versions (the map server's): the one in use ENABLED, the others DISABLED; each on the
+  // levels its robot drove (and the in-use one also on those this robot stood on).
+  const std::string saved_version = map != nullptr ? map->saved_version : std::string();
+  if (const std::string key = name + "\n" + saved_version; key != stored_maps_key_) {
+    stored_maps_key_ = key;
+    refresh_stored_maps();  // a save made a version, a load took one up
+  }
+  bool in_use_listed = false;
+  for (const auto& stored : stored_maps_) {
+    const bool in_use = stored.name == name && !saved_version.empty() && stored.version == saved_version;
+    std::set<int> levels;
+    for (const double height : stored.heights)
+      levels.insert(level_of(height));
+    if (in_use)
+      levels.insert(levels_.begin(), levels_.end());
+    if (levels.empty())
+      levels.insert(0);
+    for (const int level : levels)
+      report.maps.push_back({map_id(stored.name, level), stored.version, in_use});
+    in_use_listed = in_use_listed || in_use;
+  }
+  if (!in_use_listed) {
+    // While mapping the map changes with every scan ("live"); a map localized in keeps its version.
+    const std::string version = map != nullptr && map->localizing ? std::to_string(map->version) : "live";
+    for (const int level : levels_)
+      report.maps.push_back({map_id(name, level), version, true});
+  }
   report.errors.insert(report.errors.end(), message_errors_.begin(), message_errors_.end());
   report.actions.assign(actions_.begin(), actions_.end());
   report.paused = paused_;

@@ -2,6 +2,7 @@
 
 #include <boost/asio/io_context.hpp>
 #include <boost/asio/steady_timer.hpp>
+#include <boost/asio/thread_pool.hpp>
 #include <chrono>
 #include <cstdint>
 #include <deque>
@@ -38,6 +39,13 @@ class VdaVehicle : public std::enable_shared_from_this<VdaVehicle> {
   void on_instant_actions(std::string_view payload);
   void run(const InstantAction& action);
   [[nodiscard]] ActionState carry_out(const InstantAction& action);
+  /// downloadMap, enableMap, deleteMap: RUNNING at once, then carried out on the map thread, one after
+  /// another in the order they came (a download, then its enableMap).
+  void start_map_action(const InstantAction& action);
+  /// On the map thread: a download takes seconds, a load too; the link's strand goes on meanwhile.
+  [[nodiscard]] ActionState carry_out_map_action(const InstantAction& action) const;
+  /// The map server's versions, for state.maps (read again when they may have changed).
+  void refresh_stored_maps();
   void poll();
   [[nodiscard]] VehicleReport report();
   void publish_state(const VehicleReport& report);
@@ -63,7 +71,10 @@ class VdaVehicle : public std::enable_shared_from_this<VdaVehicle> {
   std::string map_name_;                      ///< of the map the levels below were seen on
   std::set<int> levels_;                      ///< the levels the robot stood on in that map
   bool paused_ = false;
-  std::optional<GoalRequest> paused_goal_;  ///< the goal startPause stopped, for stopPause
+  std::optional<GoalRequest> paused_goal_;   ///< the goal startPause stopped, for stopPause
+  std::vector<MapVersionInfo> stored_maps_;  ///< the map versions on this vehicle
+  std::string stored_maps_key_;              ///< the map in use (name, version) when they were read
+  boost::asio::thread_pool map_thread_{1};   ///< the map actions' thread
 };
 
 }  // namespace strata::fleet

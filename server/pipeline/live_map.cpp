@@ -177,8 +177,16 @@ void LiveMap::refresh(const CellRegion& region, std::uint64_t since, MappingTime
   snapshot->rebuilds = rebuilds_;
   snapshot->localizing = localizing_;
   snapshot->name = name_;
+  snapshot->saved_version = saved_version_;
   snapshot_ = std::move(snapshot);
   times.snapshot_ms = ms_since(start);
+}
+
+void LiveMap::rename_snapshot() {
+  auto snapshot = std::make_shared<MapSnapshot>(*snapshot_);
+  snapshot->name = name_;
+  snapshot->saved_version = saved_version_;
+  snapshot_ = std::move(snapshot);
 }
 
 LiveMap::WholeLevel LiveMap::whole_level(std::optional<std::uint64_t> version) const {

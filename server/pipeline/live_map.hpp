@@ -61,6 +61,11 @@ class LiveMap {
   /// The saved map's name this one was loaded from or saved as, for the snapshots from the next one on.
   void set_name(std::string name) { name_ = std::move(name); }
   [[nodiscard]] const std::string& name() const { return name_; }
+  /// The stored version (map server) of that name the map is; empty: none (changed since, or unversioned).
+  void set_saved_version(std::string version) { saved_version_ = std::move(version); }
+  [[nodiscard]] const std::string& saved_version() const { return saved_version_; }
+  /// The snapshot again with the name and version set since (a save: the map itself is unchanged).
+  void rename_snapshot();
 
   /// The robot moved on a map that is not changing (localizing in a loaded map): the drivable map at its
   /// level is computed again over the `radius` around it (a scan's reach), once it is `every` metres from
@@ -109,6 +114,7 @@ class LiveMap {
   std::size_t rebuilds_ = 0;
   bool localizing_ = false;
   std::string name_;
+  std::string saved_version_;
   mutable WholeLevel whole_level_;  ///< the last one made: a cache, so whole_level() stays const
   double received_at_ = 0.0;        // of the scan being added: stamped on the tiles and image it changes
   /// The map's version before the first scan inserted and not yet refreshed; none: nothing pending.

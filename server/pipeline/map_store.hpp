@@ -11,6 +11,7 @@
 #include "core/mls/drivable_map.hpp"
 #include "core/mls/mls_map.hpp"
 #include "server/control/robot_commands.hpp"
+#include "server/pipeline/map_versions.hpp"
 
 namespace strata::pipeline {
 
@@ -26,18 +27,27 @@ class MapStore {
   /// Whether `name` can be saved as: success, or kBadParams saying why not.
   [[nodiscard]] static CommandResult check_name(const std::string& name);
   /// Saves `map` as `name` atomically (the previous file survives a failure), with what localizing in it
-  /// needs when there is that (`localization` may be null); kIoError with the reason.
+  /// needs when there is that (`localization` may be null); kIoError with the reason. Every save is also
+  /// an immutable map version (versions()): a new number, or the version with the same bytes if there is
+  /// one; `version` (if not null) gets it.
   [[nodiscard]] CommandResult save(const MlsMap& map, const LocalizationMap* localization,
-                                   const std::string& name) const;
+                                   const std::string& name, std::string* version = nullptr) const;
 
   /// A map read from the store: `map` is set only when `result` is a success.
   struct Loaded {
     CommandResult result;
     MlsMap map;
     std::optional<LocalizationMap> localization;  ///< none in older files (view only)
+    std::string version;                          ///< the stored version with these bytes; empty: none
   };
   /// Reads and checks the whole file; kNotFound or kCorruptFile (with the decoder's reason) otherwise.
   [[nodiscard]] Loaded load(const std::string& name) const;
+  /// The same for a stored version of a map.
+  [[nodiscard]] Loaded load_version(const std::string& name, const std::string& version) const;
+  /// Stores `bytes` as a new version, DISABLED (MapCommands::add_map_version).
+  [[nodiscard]] CommandResult add_version(const std::string& name, const std::string& version,
+                                          std::string_view bytes, std::string_view sha256) const;
+  [[nodiscard]] const MapVersions& versions() const { return versions_; }
   /// The saved maps by name; hidden files, temporaries and names the API would refuse are not maps.
   [[nodiscard]] std::vector<MapFileInfo> list() const;
 
@@ -58,8 +68,13 @@ class MapStore {
  private:
   /// A file error's message as clients get it: no absolute paths, no process id (docs/architecture.md 6).
   [[nodiscard]] std::string for_clients(std::string message) const;
+  /// Decodes a whole file read from `path` (a regular file, never a link), a file of map `name`, `label`
+  /// naming it to clients.
+  [[nodiscard]] Loaded load_file(const std::filesystem::path& path, const std::string& name,
+                                 const std::string& label) const;
 
   std::filesystem::path directory_;
+  MapVersions versions_;
 };
 
 }  // namespace strata::pipeline

@@ -134,6 +134,7 @@ bool MappingWorker::insert(const Scan& scan, MappingTimes& times) {
     spdlog::error("mapping: scan at t={:.1f} not mapped: {}", event.stamp, error.what());
     return false;
   }
+  live_.set_saved_version({});  // the map is no stored version any more
   return true;
 }
 
@@ -228,6 +229,7 @@ bool MappingWorker::rebuild_from(const std::vector<KeyframePose>& keyframes) {
       return;
     try {
       live_.replace(std::move(map), LiveMap::Replacement::kRebuilt);
+      live_.set_saved_version({});
     } catch (const std::exception& error) {  // an encoder failure: the old map stays
       spdlog::error("mapping: the rebuilt map could not replace the live map: {}", error.what());
       return;
@@ -311,9 +313,17 @@ CommandResult MappingWorker::save_map(const std::string& name) {
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
     const std::shared_ptr<const LocalizationMap> localization = localization_to_keep();
-    result = store_.save(live_.map(), localization.get(), name);
-    if (result.ok)
+    std::string version;
+    result = store_.save(live_.map(), localization.get(), name, &version);
+    if (result.ok) {
       live_.set_name(name);
+      live_.set_saved_version(version);
+      // The snapshot names the map and its version at once (the map itself is as it was: no listeners).
+      live_.rename_snapshot();
+      state_.publish(live_.snapshot());
+      if (on_published_)
+        on_published_();
+    }
   });
   return result;
 }
@@ -332,7 +342,45 @@ std::shared_ptr<const LocalizationMap> MappingWorker::localization_to_keep() con
 CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
   // Read and checked here, on the caller's thread: the mapping goes on meanwhile, and a corrupt file
   // changes nothing.
-  MapStore::Loaded loaded = store_.load(name);
+  return take_up(store_.load(name), name, mode);
+}
+
+CommandResult MappingWorker::load_map_version(const std::string& name, const std::string& version,
+                                              MapMode mode) {
+  return take_up(store_.load_version(name, version), name, mode);
+}
+
+std::vector<MapVersionInfo> MappingWorker::list_map_versions() const {
+  return store_.versions().list();
+}
+
+MapVersionFile MappingWorker::read_map_version(const std::string& name, const std::string& version) const {
+  return store_.versions().read(name, version);
+}
+
+CommandResult MappingWorker::add_map_version(const std::string& name, const std::string& version,
+                                             std::string_view bytes, std::string_view sha256) {
+  return store_.add_version(name, version, bytes, sha256);  // the caller's thread: the map is not touched
+}
+
+CommandResult MappingWorker::delete_map_version(const std::string& name, const std::string& version) {
+  CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
+  // On the mapping thread: no load of the same version between the check and the removal.
+  run_on_mapping_thread([&] {
+    if (live_.name() == name && live_.saved_version() == version) {
+      result = CommandResult::failure(ErrorCode::kBadParams,
+                                      "version " + version + " of map " + name + " is in use");
+      return;
+    }
+    result = store_.versions().remove(name, version)
+                 ? CommandResult::success()
+                 : CommandResult::failure(ErrorCode::kNotFound, "no version " + version.substr(0, 64) +
+                                                                    " of map " + name.substr(0, 64));
+  });
+  return result;
+}
+
+CommandResult MappingWorker::take_up(MapStore::Loaded loaded, const std::string& name, MapMode mode) {
   if (!loaded.result.ok)
     return loaded.result;
   const bool localizable = loaded.localization && !loaded.localization->empty();
@@ -348,14 +396,17 @@ CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
   CommandResult result = CommandResult::failure(ErrorCode::kUnavailable, "the mapping worker is not running");
   run_on_mapping_thread([&] {
     const std::string previous_name = live_.name();
+    const std::string previous_version = live_.saved_version();
     try {
       live_.set_localizing(mode == MapMode::kLocalize);  // before: the new map's snapshot says it
       live_.set_name(name);
+      live_.set_saved_version(loaded.version);
       live_.replace(std::move(loaded.map), LiveMap::Replacement::kLoaded);
       loaded_ = true;
     } catch (const std::exception& failure) {
       live_.set_localizing(mode_ == MapMode::kLocalize);
       live_.set_name(previous_name);
+      live_.set_saved_version(previous_version);
       result = CommandResult::failure(
           ErrorCode::kIoError,
           std::string("the map could not be taken up, the live map is unchanged: ") + failure.what());
@@ -375,7 +426,8 @@ CommandResult MappingWorker::load_map(const std::string& name, MapMode mode) {
     } else {
       result.message = "mapping on in the loaded map";
     }
-    spdlog::info("map loaded from {} ({}): {}", (store_.directory() / name).string(), to_string(mode),
+    spdlog::info("map loaded from {}{} ({}): {}", (store_.directory() / name).string(),
+                 loaded.version.empty() ? std::string() : ", version " + loaded.version, to_string(mode),
                  result.message);
     publish();
   });

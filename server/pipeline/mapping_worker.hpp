@@ -106,6 +106,13 @@ class MappingWorker final : public MapCommands {
   [[nodiscard]] std::vector<MapFileInfo> list_maps() const override;
   [[nodiscard]] MapDownload download(const std::string& format,
                                      std::optional<std::uint64_t> version) const override;
+  [[nodiscard]] std::vector<MapVersionInfo> list_map_versions() const override;
+  [[nodiscard]] MapVersionFile read_map_version(const std::string& name,
+                                                const std::string& version) const override;
+  CommandResult add_map_version(const std::string& name, const std::string& version, std::string_view bytes,
+                                std::string_view sha256) override;
+  CommandResult load_map_version(const std::string& name, const std::string& version, MapMode mode) override;
+  CommandResult delete_map_version(const std::string& name, const std::string& version) override;
 
   [[nodiscard]] const std::filesystem::path& maps_dir() const { return store_.directory(); }
 
@@ -118,6 +125,8 @@ class MappingWorker final : public MapCommands {
   using Item = std::variant<Scan, Task>;
 
   void run();
+  /// load_map's and load_map_version's common part: a map read and checked becomes the live map.
+  CommandResult take_up(MapStore::Loaded loaded, const std::string& name, MapMode mode);
   void map_scan(const Scan& scan);
   /// Steps 6-8 for one scan, without publishing. False when the scan could not be mapped.
   bool insert(const Scan& scan, MappingTimes& times);

@@ -48,6 +48,8 @@ struct MapSnapshot {
   bool localizing = false;
   /// The saved map this one was loaded from or last saved as (a map store name); empty: never saved.
   std::string name;
+  /// The map server's version of that name the map is (MapVersionInfo); empty: none (mapping changes it).
+  std::string saved_version;
 };
 
 /// The newest map snapshot, written by the mapping worker, read by the network side. A shared_ptr swap

@@ -126,6 +126,18 @@ test('every documented operation answers as documented', async () => {
     target: '/api/v1/maps/absent.strata/load', body: '{}', operator: true,
   });
   await call('/api/v1/imu-calibration', 'delete', { operator: true });
+
+  // The map server: the save above made version 1 of contract.strata.
+  const versions = JSON.parse((await ok('/api/v1/map-versions', 'get')).text).versions;
+  const saved = versions.find((v) => v.name === 'contract.strata');
+  assert.ok(saved, JSON.stringify(versions));
+  const file = '/api/v1/maps/{name}/versions/{version}';
+  const { response: whole } = await ok(file, 'get', { target: saved.url });
+  assert.equal(whole.headers.get('etag'), `"${saved.sha256}"`);
+  await ok(file, 'get', { target: saved.url, headers: { 'If-None-Match': whole.headers.get('etag') } });
+  await ok(file, 'get', { target: saved.url, headers: { Range: 'bytes=0-9' } });
+  await call(file, 'get', { target: saved.url, headers: { Range: `bytes=${saved.bytes}-` } });
+  await call(file, 'get', { target: '/api/v1/maps/contract.strata/versions/999' });
 });
 
 test('operator endpoints refuse a request without the token with 401', async () => {
@@ -152,7 +164,7 @@ test('a body that is not JSON is refused with 400 bad_json everywhere', async ()
 test('a method not documented gets 405 and an Allow header naming the documented ones', async () => {
   for (const [path, spec] of Object.entries(api.paths)) {
     if (path === '/ws') continue; // the upgrade is a GET; documented for its statuses
-    const target = path.replace('{x}', '0').replace('{y}', '0').replace('{name}', 'contract.strata');
+    const target = path.replace('{x}', '0').replace('{y}', '0').replace('{name}', 'contract.strata').replace('{version}', '1');
     const documented = methods.filter((method) => spec[method]);
     const other = methods.find((method) => !documented.includes(method));
     const response = await fetch(`${server.url}${target}`, {

@@ -3,7 +3,11 @@
 // a low fence and pillars. For benchmarking the clients on maps bigger than a simulator run makes in
 // reasonable time (tests/browser/bench_render.mjs): the real MlsMap and the real file writer, so the server
 // loads it like any saved map. Prints one JSON object.
-// Usage: strata_synthetic_map --patches 250000 --out campus.strata
+// With --localizable 1 the file also holds localization data (the keyframes' points and poses a save of the
+// pose graph writes: here the walls' tops and every third floor cell as points, a keyframe at each block's
+// door), so a robot can be told to localize in it (VDA 5050 enableMap, --mode localize): for the fleet's
+// map download-and-enable benchmark (tests/fleet/bench_map_download.mjs).
+// Usage: strata_synthetic_map --patches 250000 --out campus.strata [--localizable 1]
 #include <algorithm>
 #include <charconv>
 #include <cmath>
@@ -14,6 +18,7 @@
 #include <string>
 #include <string_view>
 
+#include "core/localization/localization_map.hpp"
 #include "core/mls/mls_file.hpp"
 #include "core/mls/mls_map.hpp"
 
@@ -119,8 +124,21 @@ long parse_long(std::string_view text, const char* what) {
   return value;
 }
 
+/// Points a keyframe would hold of cell `cell`: the tops of its walls, every third floor cell's ground.
+void add_localization_points(const MlsMap& map, CellIndex cell, LocalizationMap& localization) {
+  const Eigen::Vector2d centre = map.cell_center(cell);
+  const auto patches = map.patches(cell);
+  for (const MlsPatch& patch : patches) {
+    if (patch.vertical() || (cell.x % 3 == 0 && cell.y % 3 == 0)) {
+      localization.points.emplace_back(static_cast<float>(centre.x()), static_cast<float>(centre.y()),
+                                       patch.mean);
+    }
+  }
+}
+
 int run(int argc, char** argv) {
   long wanted = 250000;
+  bool localizable = false;
   std::filesystem::path out;
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string_view name = argv[i];
@@ -128,6 +146,8 @@ int run(int argc, char** argv) {
       wanted = parse_long(argv[i + 1], "--patches");
     else if (name == "--out")
       out = argv[i + 1];
+    else if (name == "--localizable")
+      localizable = std::string_view(argv[i + 1]) == "1";
   }
   if (out.empty()) {
     std::fprintf(stderr, "usage: strata_synthetic_map --patches N --out FILE\n");
@@ -138,6 +158,7 @@ int run(int argc, char** argv) {
   const int columns =
       std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(wanted) / 20400.0))));
   MlsMap map;
+  LocalizationMap localization;
   long patches = 0;
   int blocks = 0;
   for (; patches < wanted; ++blocks) {
@@ -148,13 +169,22 @@ int run(int argc, char** argv) {
       for (int cx = 0; cx < kBlockCells; ++cx) {
         const CellIndex cell{bx * kBlockCells + cx, by * kBlockCells + cy};
         patches += add_cell(map, cell, cx, cy, storeys);
+        if (localizable)
+          add_localization_points(map, cell, localization);
       }
     }
+    Eigen::Isometry3d door = Eigen::Isometry3d::Identity();  // in front of the building's door
+    door.translation() = Eigen::Vector3d((bx * kBlockCells + (kDoorX0 + kDoorX1) / 2) * map.resolution(),
+                                         (by * kBlockCells + kBuildingY0 - 5) * map.resolution(), 0.0);
+    localization.keyframe_poses.push_back(door);
   }
   for (const TileIndex tile : map.tile_indices())
     map.set_tile_version(tile, 1);
   map.set_version(1);
-  save_mls_map(map, out);
+  if (localizable)
+    save_map_file(map, &localization, out);
+  else
+    save_mls_map(map, out);
   // The campus covers [0, size_x] x [0, size_y] metres.
   const double block = kBlockCells * map.resolution();
   const int rows = (blocks + columns - 1) / columns;

@@ -21,7 +21,7 @@ export async function startServer(binary, args = [], { port = 0 } = {}) {
   });
   const url = new Promise((resolve) => {
     lines.on('line', (line) => {
-      const match = line.match(/^strata: serving on (http:\/\/\S+)$/);
+      const match = line.match(/^strata: serving on (https?:\/\/\S+)$/);
       if (match) resolve(match[1]);
     });
   });

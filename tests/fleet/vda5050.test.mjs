@@ -4,30 +4,23 @@
 // specification's own 2.1.0 JSON schemas (../shared/vda5050/2.1.0, found through STRATA_VDA5050_DIR).
 // Usage: node --test vda5050.test.mjs   (env STRATA_BINARY, MOSQUITTO, STRATA_VDA5050_DIR)
 import assert from 'node:assert/strict';
-import { existsSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 
-import Ajv2020 from 'ajv/dist/2020.js';
 import mqtt from 'mqtt';
 import { MasterController } from 'vda-5050-lib';
 
 import { startServer } from '../browser/server.mjs';
 import { startBroker } from './broker.mjs';
+import { fleetSetup, instantAction as runInstantAction, validators, vehicleTopics } from './master.mjs';
 
-const binary = process.env.STRATA_BINARY;
-const mosquitto = process.env.MOSQUITTO || '/usr/sbin/mosquitto';
-const schemaDir = path.join(process.env.STRATA_VDA5050_DIR || path.resolve('../../../shared/vda5050'), '2.1.0');
-const missing = !existsSync(schemaDir) ? `the VDA 5050 2.1.0 schemas are not at ${schemaDir} (STRATA_VDA5050_DIR)` : !existsSync(mosquitto) ? `no mosquitto at ${mosquitto} (deploy/install-deps.sh installs it)` : false;
-assert.ok(binary, 'STRATA_BINARY must name the strata executable');
-// ctest reports the test as skipped on this line (SKIP_REGULAR_EXPRESSION in tests/CMakeLists.txt).
-if (missing) console.log(`fleet test skipped: ${missing}`);
+const { binary, mosquitto, schemaDir, missing } = fleetSetup();
 
 const TOKEN = 'fleet-test-operator-token-0123456789';
 const agv = { manufacturer: 'StrataTest', serialNumber: 'robot-1' };
 const prefix = `uagv/v2/${agv.manufacturer}/${agv.serialNumber}`;
-const vehicleTopics = ['connection', 'state', 'visualization', 'factsheet'];
 
 let broker;
 let server;
@@ -37,14 +30,6 @@ let scratch;
 const received = []; // every message on the vehicle's topics: { kind, body, at }
 const invalid = []; // the vehicle's messages the 2.1.0 schemas refuse
 let waiters = [];
-
-function validators() {
-  const ajv = new Ajv2020({ strict: false, allErrors: true });
-  ajv.addFormat('date-time', /^\d{4}-\d{2}-\d{2}T\d{2}:\d{2}:\d{2}(\.\d+)?(Z|[+-]\d{2}:\d{2})$/);
-  return Object.fromEntries(
-    vehicleTopics.map((kind) => [kind, ajv.compile(JSON.parse(readFileSync(path.join(schemaDir, `${kind}.schema`), 'utf8')))]),
-  );
-}
 
 /** The first message of `kind` from index `from` on that `predicate` accepts; waits up to `timeout` ms. */
 function waitFor(kind, predicate = () => true, { from = 0, timeout = 30000 } = {}) {
@@ -65,26 +50,8 @@ function waitFor(kind, predicate = () => true, { from = 0, timeout = 30000 } = {
 const getJson = async (route) => (await fetch(`${server.url}${route}`)).json();
 const headers = { Authorization: `Bearer ${TOKEN}`, 'Content-Type': 'application/json' };
 
-/** Carries out instant actions through the MasterController; resolves with each action's final state. */
-function instantAction(actionType, actionParameters = []) {
-  return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error(`${actionType}: no final action state`)), 60000);
-    master
-      .initiateInstantActions(agv, { instantActions: [{ actionId: master.createUuid(), actionType, blockingType: 'NONE', actionParameters }] }, {
-        onActionStateChanged: (actionState) => {
-          if (actionState.actionStatus === 'FINISHED' || actionState.actionStatus === 'FAILED') {
-            clearTimeout(timer);
-            resolve(actionState);
-          }
-        },
-        onActionError: (error) => {
-          clearTimeout(timer);
-          reject(new Error(`${actionType} refused: ${JSON.stringify(error)}`));
-        },
-      })
-      .catch(reject);
-  });
-}
+/** Carries out an instant action on this test's vehicle through the MasterController. */
+const instantAction = (actionType, actionParameters = []) => runInstantAction(master, agv, actionType, actionParameters);
 
 /** Publishes `payload` raw on the vehicle's instantActions topic, as a faulty master would. */
 function publishRaw(payload) {
@@ -95,7 +62,7 @@ const header = (headerId) => ({ headerId, timestamp: new Date().toISOString(), v
 
 before(async () => {
   if (missing) return;
-  const validate = validators();
+  const validate = validators(schemaDir);
   broker = await startBroker(mosquitto);
   watcher = mqtt.connect(broker.url, { reconnectPeriod: 200 });
   watcher.on('message', (topic, payload) => {

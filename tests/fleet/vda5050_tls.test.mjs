@@ -5,7 +5,7 @@
 // Usage: node --test vda5050_tls.test.mjs   (env STRATA_BINARY, MOSQUITTO)
 import assert from 'node:assert/strict';
 import { execFileSync } from 'node:child_process';
-import { existsSync, writeFileSync } from 'node:fs';
+import { existsSync } from 'node:fs';
 import path from 'node:path';
 import { after, test } from 'node:test';
 
@@ -13,6 +13,7 @@ import mqtt from 'mqtt';
 
 import { startServer } from '../browser/server.mjs';
 import { freePort, startBroker } from './broker.mjs';
+import { makeCertificates } from './certificates.mjs';
 
 const binary = process.env.STRATA_BINARY;
 const mosquitto = process.env.MOSQUITTO || '/usr/sbin/mosquitto';
@@ -25,18 +26,6 @@ const stops = [];
 after(async () => {
   for (const stop of stops.reverse()) await stop();
 });
-
-/** A CA and a server certificate for 127.0.0.1 signed by it, in `dir`. */
-function makeCertificates(dir) {
-  const file = (name) => path.join(dir, name);
-  const openssl = (...args) => execFileSync('openssl', args, { stdio: 'ignore' });
-  const ec = ['-newkey', 'ec', '-pkeyopt', 'ec_paramgen_curve:prime256v1', '-nodes'];
-  openssl('req', '-x509', ...ec, '-keyout', file('ca.key'), '-out', file('ca.crt'), '-subj', '/CN=strata-test-ca', '-days', '1');
-  openssl('req', '-new', ...ec, '-keyout', file('server.key'), '-out', file('server.csr'), '-subj', '/CN=127.0.0.1');
-  writeFileSync(file('san.ext'), 'subjectAltName=IP:127.0.0.1\n');
-  openssl('x509', '-req', '-in', file('server.csr'), '-CA', file('ca.crt'), '-CAkey', file('ca.key'), '-CAcreateserial', '-out', file('server.crt'), '-days', '1', '-extfile', file('san.ext'));
-  return { ca: file('ca.crt'), cert: file('server.crt'), key: file('server.key') };
-}
 
 test('over mqtts:// with a user and password the vehicle comes ONLINE and reports its state', { skip: missing }, async () => {
   const tlsPort = await freePort();

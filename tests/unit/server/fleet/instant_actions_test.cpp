@@ -99,3 +99,54 @@ TEST(InstantActions, HugeDeepOrForeignMessagesAreRefused) {
 
 }  // namespace
 }  // namespace strata::fleet
+
+namespace strata::fleet {
+namespace {
+
+json map_action(const std::string& type, json parameters) {
+  return {{"actionId", type + "-1"},
+          {"actionType", type},
+          {"blockingType", "NONE"},
+          {"actionParameters", std::move(parameters)}};
+}
+
+TEST(InstantActions, MapActionsNameTheMapByItsIdOrName) {
+  const std::string hash(64, 'a');
+  const auto message = parse_instant_actions(
+      message_with({map_action("downloadMap", {{{"key", "mapId"}, {"value", "yard.smls@1"}},
+                                               {{"key", "mapVersion"}, {"value", "3"}},
+                                               {{"key", "mapDownloadLink"}, {"value", "http://a:8080/m"}},
+                                               {{"key", "mapHash"}, {"value", hash}}}),
+                    map_action("enableMap", {{{"key", "mapId"}, {"value", "yard.smls"}},
+                                             {{"key", "mapVersion"}, {"value", "3"}}})})
+          .dump(),
+      kVehicle);
+  ASSERT_TRUE(message.ok()) << message.error;
+  ASSERT_TRUE(message.actions[0].map);
+  EXPECT_EQ(message.actions[0].map->map_name, "yard.smls");  // all of a map's levels are one file
+  EXPECT_EQ(message.actions[0].map->map_version, "3");
+  EXPECT_EQ(message.actions[0].map->download_link, "http://a:8080/m");
+  EXPECT_EQ(message.actions[0].map->hash, hash);
+  EXPECT_EQ(message.actions[1].map->map_name, "yard.smls");
+}
+
+TEST(InstantActions, MapActionsWithBadParametersAreRefused) {
+  const auto refused = [](json parameters, const std::string& expected) {
+    const auto message = parse_instant_actions(
+        message_with({map_action("downloadMap", std::move(parameters))}).dump(), kVehicle);
+    EXPECT_FALSE(message.ok());
+    EXPECT_NE(message.error.find(expected), std::string::npos) << message.error;
+  };
+  const json id{{"key", "mapId"}, {"value", "yard@0"}};
+  const json version{{"key", "mapVersion"}, {"value", "1"}};
+  const json link{{"key", "mapDownloadLink"}, {"value", "http://host/m"}};
+  refused({id, version}, "mapDownloadLink");
+  refused({id, version, {{"key", "mapDownloadLink"}, {"value", "file:///etc/passwd"}}}, "http://");
+  refused({id, version, link, {{"key", "mapHash"}, {"value", "abc"}}}, "64 hex");
+  refused({{{"key", "mapId"}, {"value", "../../etc@0"}}, version, link}, "mapId");
+  refused({id, {{"key", "mapVersion"}, {"value", "../1"}}, link}, "mapVersion");
+  refused({id, {{"key", "mapVersion"}, {"value", 1}}, link}, "mapVersion");
+}
+
+}  // namespace
+}  // namespace strata::fleet

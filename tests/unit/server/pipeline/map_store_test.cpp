@@ -119,7 +119,9 @@ TEST_F(MapStoreTest, DownloadsAreTheBytesTheFilesWouldHold) {
   EXPECT_TRUE(MapStore::download("zip", map, nullptr, &drivable, 3).empty());
   EXPECT_TRUE(MapStore::download("pgm", map, nullptr, nullptr, 3).empty());
   EXPECT_TRUE(MapStore::download("strata", MlsMap(), nullptr, nullptr, 3).empty());
-  EXPECT_EQ(std::distance(fs::directory_iterator(directory_), fs::directory_iterator()), 1)
+  // The saved map and the saves' versions (.versions/site.smls/1.map, 1.meta; localizable.smls's 1.*).
+  EXPECT_EQ(std::distance(fs::recursive_directory_iterator(directory_), fs::recursive_directory_iterator()),
+            8)
       << "a download writes no file";
 }
 

@@ -210,6 +210,11 @@ TEST(MappingWorker, RefusesBadNamesAndCorruptFilesWithoutTouchingTheMap) {
   EXPECT_EQ(worker.load_map("missing.smls", MapMode::kMapping).code, ErrorCode::kNotFound);
 
   ASSERT_TRUE(worker.save_map("good.smls").ok);
+  // A save names the map (and its version) in a new snapshot; the map itself is the same.
+  EXPECT_EQ(state.snapshot()->version, before->version);
+  EXPECT_EQ(state.snapshot()->name, "good.smls");
+  EXPECT_EQ(state.snapshot()->saved_version, "1");
+  const auto saved = state.snapshot();
   std::string bytes;
   {
     std::ifstream in(dir.path() / "good.smls", std::ios::binary);
@@ -227,7 +232,7 @@ TEST(MappingWorker, RefusesBadNamesAndCorruptFilesWithoutTouchingTheMap) {
     EXPECT_FALSE(result.ok) << name;
     EXPECT_EQ(result.code, ErrorCode::kCorruptFile) << name;
     EXPECT_FALSE(result.message.empty());
-    EXPECT_EQ(state.snapshot(), before) << name << ": the map is untouched";
+    EXPECT_EQ(state.snapshot(), saved) << name << ": the map is untouched";
   }
   EXPECT_EQ(worker.list_maps().size(), 4U);
 }
