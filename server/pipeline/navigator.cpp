@@ -263,10 +263,12 @@ bool Navigator::plan_pending() {
                          .room_search_radius = room_search_radius_};
   const PatchPath planned = plan_on_patches(*graph_, pose.position, target);
   Failure failure;
+  std::optional<Eigen::Vector3d> nearest;
   if (!planned.found()) {
     failure = failure_for(planned.status, replanning);
     if (planned.status == PatchPlanStatus::goal_blocked) {
-      if (const auto nearest = nearest_reachable(*graph_, pose.position, target, kNearestSearchRadius)) {
+      nearest = nearest_reachable(*graph_, pose.position, target, kNearestSearchRadius);
+      if (nearest) {
         failure.message +=
             fmt::format("; the nearest place the robot can reach is ({:.2f}, {:.2f}, {:.2f}), {:.1f} m away",
                         nearest->x(), nearest->y(), nearest->z(),
@@ -280,7 +282,7 @@ bool Navigator::plan_pending() {
     return true;  // cancelled or replaced while planning
   if (!planned.found()) {
     spdlog::info("goal {} failed ({}): {}", id, failure.reason, failure.message);
-    tracker_.fail(id, failure.reason, failure.message, stamp_);
+    tracker_.fail(id, failure.reason, failure.message, stamp_, nearest);
     drop_path();
     return true;
   }

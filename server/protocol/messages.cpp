@@ -134,6 +134,10 @@ nlohmann::json goal_fields(const GoalStatus& goal) {
     fields["reason"] = goal.reason;
   if (!goal.message.empty())
     fields["message"] = goal.message;
+  if (goal.nearest_reachable)
+    fields["nearest"] = {{"x", goal.nearest_reachable->x()},
+                         {"y", goal.nearest_reachable->y()},
+                         {"z", goal.nearest_reachable->z()}};
   return fields;
 }
 

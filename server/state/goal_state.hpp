@@ -50,6 +50,9 @@ struct GoalStatus {
   /// The same in words for people, as the log says it (for goal_not_drivable with the nearest place the
   /// robot can reach); empty when `reason` is.
   std::string message;
+  /// For goal_not_drivable: the nearest place the robot can reach, which the UI offers as a goal one tap
+  /// away (the message says it in words).
+  std::optional<Eigen::Vector3d> nearest_reachable;
   double stamp = 0.0;  ///< simulated/robot seconds when the phase last changed
 };
 

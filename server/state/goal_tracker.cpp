@@ -39,11 +39,13 @@ bool GoalTracker::reached(std::uint64_t id, double stamp) {
   return move(id, GoalPhase::kDriving, GoalPhase::kReached, stamp);
 }
 
-bool GoalTracker::fail(std::uint64_t id, std::string reason, std::string message, double stamp) {
+bool GoalTracker::fail(std::uint64_t id, std::string reason, std::string message, double stamp,
+                       std::optional<Eigen::Vector3d> nearest_reachable) {
   if (!move(id, GoalPhase::kAccepted, GoalPhase::kFailed, stamp))
     return false;
   status_.reason = std::move(reason);
   status_.message = std::move(message);
+  status_.nearest_reachable = nearest_reachable;
   return true;
 }
 

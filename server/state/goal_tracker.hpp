@@ -19,7 +19,8 @@ class GoalTracker {
   /// `message`, when not empty, says what the driving goal is in words (where it was moved to).
   bool driving(std::uint64_t id, double stamp, std::string message = {});
   bool reached(std::uint64_t id, double stamp);
-  bool fail(std::uint64_t id, std::string reason, std::string message, double stamp);
+  bool fail(std::uint64_t id, std::string reason, std::string message, double stamp,
+            std::optional<Eigen::Vector3d> nearest_reachable = std::nullopt);
   /// Cancels the active goal, if there is one; `reason` says why when no command did (empty: one did),
   /// `message` the same in words.
   bool cancel(double stamp, std::string reason = {}, std::string message = {});

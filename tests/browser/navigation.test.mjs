@@ -181,3 +181,55 @@ test('a goal that is no place for the robot fails, and the panel says why in the
   assert.deepEqual(page.errors, []);
   await page.context().close();
 });
+
+test('a tap on a wall is refused with the server\'s reason, and the nearest place with room is one tap away', async () => {
+  // Issue 63: a wall tapped in 3D only said "Tap a floor...", and a refused goal offered nothing to tap.
+  const page = await openApp(browser, server.url, { token: TOKEN });
+  await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
+  await until(page, () => window.strata.robotVisible());
+  if (await page.evaluate(() => window.strata.follow())) await page.getByRole('button', { name: 'Follow robot' }).click();
+  // The lab shelf's face (x 11.75, seen in the first scan), from 6 m: a wall patch drawn on screen.
+  const wall = await until(
+    page,
+    () => {
+      window.strata.aimCamera([11.2, 11.6, 0.8], 6);
+      const centre = window.strata.screenPoint([11.5, 11.6, 0.8]);
+      for (let dy = -60; dy <= 60; dy += 6)
+        for (let dx = -60; dx <= 60; dx += 6) {
+          const [x, y] = [centre.x + dx, centre.y + dy];
+          const patch = window.strata.patchAt(x, y);
+          if (patch?.vertical && !window.strata.surfaceAt(x, y) && Math.abs(patch.x - 11.7) < 0.3) return { x, y };
+        }
+      return null;
+    },
+    null,
+    60000,
+  );
+  const earlier = (await (await fetch(`${server.url}/api/v1/goal`)).json()).id;
+  await page.getByRole('button', { name: 'Set goal' }).click();
+  await page.mouse.click(wall.x, wall.y);
+  const sent = await until(page, () => window.strata.goalSent());
+  assert.equal(sent.z, undefined, 'a wall is sent without a level: the robot\'s own');
+  await until(page, (id) => window.strata.goal().id > id && window.strata.goal().phase === 'failed', earlier, 30000);
+  const panel = page.locator('#goal-state');
+  await panel.filter({ hasText: 'not a drivable place' }).waitFor({ timeout: 15000 });
+  const refused = await (await fetch(`${server.url}/api/v1/goal`)).json();
+  assert.equal(refused.reason, 'goal_not_drivable', JSON.stringify(refused));
+  assert.ok((await panel.textContent()).includes(refused.message), 'the same words as REST');
+  assert.ok(refused.nearest, `REST names the nearest place with room: ${JSON.stringify(refused)}`);
+
+  // One tap on the offer sends the robot there, and that goal is taken.
+  const offer = page.locator('#goal-nearest');
+  await offer.waitFor({ state: 'visible' });
+  await offer.click();
+  const goal = await until(page, (id) => {
+    const g = window.strata.goal();
+    return g.id > id && ['driving', 'reached'].includes(g.phase) && g;
+  }, refused.id, 30000);
+  assert.ok(Math.hypot(goal.x - refused.nearest.x, goal.y - refused.nearest.y) < 0.01, JSON.stringify({ goal, refused }));
+  assert.equal(await offer.isHidden(), true, 'the offer goes with the refused goal');
+  await page.screenshot({ path: path.join(artifacts, 'goal_nearest_offer.png') });
+  await page.locator('#goal-cancel').click();
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
+});

@@ -22,10 +22,7 @@ export class GoalPanel {
     this.lastGoal = { phase: 'none', id: 0 };
     this.lastGoalSent = null;
     this.tool = new GoalTool(view, {
-      onPick: (point) => {
-        this.lastGoalSent = point;
-        command({ op: 'set_goal', x: round(point.x), y: round(point.y), z: round(point.z) });
-      },
+      onPick: (point) => this.send(point),
       onMiss: () => notices.show('Tap a floor or ground surface of the map to set the goal there', 'info', 4),
       onArmed: (armed) => {
         $('goal-arm').setAttribute('aria-pressed', String(armed));
@@ -33,11 +30,25 @@ export class GoalPanel {
         $('view').classList.toggle('picking', armed);
       },
     });
+    this.command = command;
+    this.nearest = null;
     $('goal-arm').addEventListener('click', () => this.tool.setArmed(!this.tool.armed));
+    // A refused goal's nearest place with room, one tap away.
+    $('goal-nearest').addEventListener('click', () => {
+      if (this.nearest) this.send(this.nearest);
+    });
     $('goal-cancel').addEventListener('click', () => {
       this.tool.setArmed(false);
       command({ op: 'cancel_goal' });
     });
+  }
+
+  /** Sends set_goal to `point` ({ x, y, z }; without z, the robot's level). */
+  send(point) {
+    this.lastGoalSent = point;
+    const message = { op: 'set_goal', x: round(point.x), y: round(point.y) };
+    if (point.z !== undefined) message.z = round(point.z);
+    this.command(message);
   }
 
   /** A goal message from the server. */
@@ -53,6 +64,13 @@ export class GoalPanel {
     // A goal moved to a place with room says where it went.
     if (goal.phase === 'driving' && goal.message) text += `: ${goal.message}`;
     element.textContent = text;
+    this.nearest = goal.phase === 'failed' && goal.nearest ? goal.nearest : null;
+    const offer = $('goal-nearest');
+    offer.hidden = !this.nearest;
+    if (this.nearest) {
+      const away = Math.hypot(this.nearest.x - goal.x, this.nearest.y - goal.y);
+      offer.textContent = `Go to the nearest place with room, ${away.toFixed(1)} m away`;
+    }
     this.view.paths.showGoal(goal);
     this.view.requestRender();
   }
