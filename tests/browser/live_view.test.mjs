@@ -6,6 +6,7 @@ import path from 'node:path';
 import { after, before, test } from 'node:test';
 
 import { launchBrowser } from './browser.mjs';
+import { until } from './page.mjs';
 import { startServer } from './server.mjs';
 
 const binary = process.env.STRATA_BINARY;
@@ -93,6 +94,45 @@ test('page shows the robot moving with a live connection', async () => {
 
   await page.screenshot({ path: path.join(artifacts, 'live_view.png') });
   assert.deepEqual(errors, [], 'no uncaught errors in the page');
+  await page.close();
+});
+
+// While the simulator drives its demo route (nobody has commanded the robot): out of the lab and down the hallway.
+test('a followed robot in the hallway stays in sight when the camera is put low beside it', async () => {
+  // Issue 63: following the robot down the campus hallway, a low camera beside it looked at the near wall.
+  const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+  const errors = [];
+  page.on('pageerror', (error) => errors.push(error.message));
+  await page.goto(server.url);
+  await until(page, () => window.strata?.robotVisible());
+  if (!(await page.evaluate(() => window.strata.follow()))) await page.getByRole('button', { name: 'Follow robot' }).click();
+  // The demo route leaves the lab into the hallway (y 4.0-6.5, walls 3 m high) and down it.
+  await until(page, () => {
+    const [x, y] = window.strata.robotPosition();
+    return x > 12 && Math.abs(y - 5.25) < 0.8;
+  }, null, 90000);
+  // From 8 m south of the robot, 8 degrees above the horizon: the hallway's south wall is in between.
+  const low = (8 * Math.PI) / 180;
+  await page.evaluate((elevation) => window.strata.placeCamera(-Math.PI / 2, elevation, 8), low);
+  // The robot in sight: no patch of the map drawn at the robot's body nearer the camera than the robot.
+  // The camera follows the next poses and rises over the wall; before issue 63 it stayed behind it.
+  const seen = await until(
+    page,
+    (elevation) => {
+      const [x, y, z] = window.strata.robotPosition();
+      const [cx, cy] = window.strata.cameraPosition();
+      const screen = window.strata.screenPoint([x, y, z + 0.6]);
+      const patch = window.strata.patchAt(screen.x, screen.y);
+      const hidden = Boolean(patch) && Math.hypot(patch.x - cx, patch.y - cy) < Math.hypot(x - cx, y - cy) - 0.5;
+      return !hidden && window.strata.cameraElevation() > elevation + 0.01 && { elevation: window.strata.cameraElevation() };
+    },
+    low,
+    20000,
+  );
+  assert.ok(seen.elevation < (86 * Math.PI) / 180, 'risen no further than needed: not past straight down');
+  assert.equal(await page.evaluate(() => window.strata.follow()), true, 'still following');
+  await page.screenshot({ path: path.join(artifacts, 'follow_hallway.png') });
+  assert.deepEqual(errors, []);
   await page.close();
 });
 

@@ -211,6 +211,7 @@ export class SceneView {
     } else if (this.follow) {
       // Keep the robot centred: move the camera with it, keeping the user's angle and zoom.
       this.centreOn(this.robot.position);
+      this.keepRobotInSight();
     }
     if (pose.truth) {
       applyPose(this.truth, pose.truth);
@@ -222,6 +223,41 @@ export class SceneView {
       this.level = pose.z;
       this.tiles.setFilter(this.tiles.filter, this.level);
     }
+  }
+
+  /**
+   * Whether the map hides the robot from the camera at `eye`: a shown patch on the line of sight, nearer
+   * than the robot by more than half a metre (the floor it stands on is not in the way).
+   */
+  robotHiddenFrom(eye) {
+    const body = this.robot.position.clone().add(ROBOT_BODY);
+    const hit = this.tiles.pick(new THREE.Ray(eye, body.clone().sub(eye).normalize()));
+    return Boolean(hit) && Math.hypot(hit.x - eye.x, hit.y - eye.y) < Math.hypot(body.x - eye.x, body.y - eye.y) - 0.5;
+  }
+
+  /**
+   * A followed robot stays in sight (issue 63: in the campus hallway a low camera beside it looked at the
+   * near wall): when the map stands between the camera and the robot, the camera rises over it in steps,
+   * keeping its distance and the direction it looks from, as far as looking straight down. Not while the
+   * user moves the camera; at most five times a second (a pick walks the patches along the line).
+   */
+  keepRobotInSight() {
+    const now = performance.now();
+    if (VIEW_IS_TOP_DOWN(this.view) || now < this.interactingUntil || now - (this.sightCheckedAt ?? -Infinity) < 200) return;
+    this.sightCheckedAt = now;
+    if (!this.robotHiddenFrom(this.camera.position)) return;
+    const offset = this.camera.position.clone().sub(this.controls.target);
+    const distance = offset.length();
+    const across = Math.hypot(offset.x, offset.y);
+    const [dx, dy] = across > 1e-6 ? [offset.x / across, offset.y / across] : [0, -1];
+    const eye = new THREE.Vector3();
+    for (let elevation = Math.atan2(offset.z, across) + STEP_UP; elevation < MAX_ELEVATION + 1e-9; elevation += STEP_UP) {
+      const e = Math.min(elevation, MAX_ELEVATION);
+      eye.set(dx * distance * Math.cos(e), dy * distance * Math.cos(e), distance * Math.sin(e)).add(this.controls.target);
+      if (!this.robotHiddenFrom(eye)) break;
+    }
+    this.camera.position.copy(eye);
+    this.controls.update();
   }
 
   render() {
@@ -239,3 +275,6 @@ export class SceneView {
 }
 
 const VIEW_IS_TOP_DOWN = (name) => name === 'top' || name === 'occupancy';
+const ROBOT_BODY = new THREE.Vector3(0, 0, 0.6); // m above the robot's origin: what must stay in sight
+const STEP_UP = (10 * Math.PI) / 180;
+const MAX_ELEVATION = (85 * Math.PI) / 180; // OrbitControls keeps the camera off the vertical itself

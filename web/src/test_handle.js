@@ -84,6 +84,20 @@ export function installTestHandle({ view, goals, poses, joystick, notices, perf,
     // For bench_render.mjs: draw again now (to measure frame rates), aim the camera, what a frame cost.
     redraw: () => view.requestRender({ now: true }),
     aimCamera: (target, distance) => aimCamera(view, target, distance),
+    /** Puts the camera `distance` m from what it looks at, seen from the compass `bearing` (radians, 0: east)
+     * at `elevation` (radians above the horizon). */
+    placeCamera: (bearing, elevation, distance) => {
+      const { camera, controls } = view;
+      camera.position.set(Math.cos(bearing) * Math.cos(elevation), Math.sin(bearing) * Math.cos(elevation), Math.sin(elevation));
+      camera.position.multiplyScalar(distance).add(controls.target);
+      controls.update();
+      view.requestRender({ now: true });
+    },
+    cameraElevation: () => {
+      const offset = view.camera.position.clone().sub(view.controls.target);
+      return Math.atan2(offset.z, Math.hypot(offset.x, offset.y));
+    },
+    cameraPosition: () => view.camera.position.toArray(),
     lodLevels: () => [...view.tiles.tilesPerLevel], // tiles drawn in the last frame, by level of detail
     renderInfo: () => ({ calls: view.renderer.info.render.calls, triangles: view.renderer.info.render.triangles }),
   };
