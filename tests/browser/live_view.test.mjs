@@ -6,7 +6,8 @@ import path from 'node:path';
 import { after, before, test } from 'node:test';
 
 import { launchBrowser } from './browser.mjs';
-import { until } from './page.mjs';
+import { openApp, TOKEN, until } from './page.mjs';
+import { touchSession } from './touch.mjs';
 import { startServer } from './server.mjs';
 
 const binary = process.env.STRATA_BINARY;
@@ -18,7 +19,7 @@ let server;
 let browser;
 
 before(async () => {
-  server = await startServer(binary, ['--time-scale', '4']);
+  server = await startServer(binary, ['--time-scale', '4', '--operator-token', TOKEN]);
   browser = await launchBrowser();
 });
 
@@ -134,6 +135,40 @@ test('a followed robot in the hallway stays in sight when the camera is put low 
   await page.screenshot({ path: path.join(artifacts, 'follow_hallway.png') });
   assert.deepEqual(errors, []);
   await page.close();
+});
+
+// Then, still in the hallway (it runs 35 m on east), the operator takes over with the joystick.
+test('held forward, the joystick drives on without a stop to scan; the scan comes when it is let go', async () => {
+  // Issue 63: under a held joystick the stop-and-go robot stood about 1 s in every 2 m to scan.
+  const page = await openApp(browser, server.url, { touch: true, token: TOKEN });
+  await page.locator('#role', { hasText: 'operator' }).waitFor({ timeout: 15000 });
+  await until(page, () => window.strata.robotVisible());
+  const box = await page.locator('#joystick').boundingBox();
+  const centre = [box.x + box.width / 2, box.y + box.height / 2];
+  const touch = await touchSession(page);
+  await touch.hold(centre, [centre[0], centre[1] - box.height * 0.45]); // push forward
+  // Once it rolls, every motion state the panel shows is kept until the joystick is let go.
+  const start = await until(page, () => window.strata.joystick().held && window.strata.robotPosition());
+  await until(page, (p0) => {
+    const [x, y] = window.strata.robotPosition();
+    return Math.hypot(x - p0[0], y - p0[1]) > 0.3;
+  }, start, 30000);
+  await page.evaluate(() => {
+    const mode = document.getElementById('pose-mode');
+    window.modesSeen = new Set([mode.textContent]);
+    new MutationObserver(() => window.modesSeen.add(mode.textContent)).observe(mode, { childList: true, characterData: true, subtree: true });
+  });
+  await until(page, (p0) => {
+    const [x, y] = window.strata.robotPosition();
+    return Math.hypot(x - p0[0], y - p0[1]) > 3.0; // past a scan's spacing (2 m) and then some
+  }, start, 60000);
+  const held = await page.evaluate(() => [...window.modesSeen]);
+  await touch.release();
+  assert.ok(!held.includes('scanning'), `no stop to scan while held: ${held}`);
+  // Let go, the robot stops and takes the scan it owes.
+  await page.locator('#pose-mode', { hasText: 'scanning' }).waitFor({ timeout: 30000 });
+  assert.deepEqual(page.errors, []);
+  await page.context().close();
 });
 
 test('the page shows a lost server and reconnects when it is back', async () => {
