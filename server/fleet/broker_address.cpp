@@ -5,13 +5,9 @@
 namespace strata::fleet {
 namespace {
 
-std::optional<BrokerAddress> refuse(std::string* error, std::string why) {
-  if (error != nullptr)
-    *error = std::move(why);
-  return std::nullopt;
-}
-
-std::optional<HostPort> refuse_host(std::string* error, std::string why) {
+/// No `T`, and why in `error` (when asked for).
+template <typename T>
+std::optional<T> refuse(std::string* error, std::string why) {
   if (error != nullptr)
     *error = std::move(why);
   return std::nullopt;
@@ -28,7 +24,7 @@ std::optional<BrokerAddress> parse_broker_url(std::string_view url, std::string*
     address.tls = true;
     address.port = 8883;
   } else {
-    return refuse(error, "the broker must be mqtt://HOST[:PORT] or mqtts://HOST[:PORT]");
+    return refuse<BrokerAddress>(error, "the broker must be mqtt://HOST[:PORT] or mqtts://HOST[:PORT]");
   }
   if (!url.empty() && url.back() == '/')
     url.remove_suffix(1);
@@ -49,11 +45,11 @@ std::optional<HostPort> parse_host_port(std::string_view url, int default_port, 
   if (url.starts_with('[')) {
     const auto close = url.find(']');
     if (close == std::string_view::npos)
-      return refuse_host(error, the + "'s IPv6 address has no closing ']'");
+      return refuse<HostPort>(error, the + "'s IPv6 address has no closing ']'");
     host = url.substr(1, close - 1);
     url.remove_prefix(close + 1);
     if (!url.empty() && url.front() != ':')
-      return refuse_host(error, "after " + the + "'s IPv6 address only :PORT may follow");
+      return refuse<HostPort>(error, "after " + the + "'s IPv6 address only :PORT may follow");
   } else {
     const auto colon = url.rfind(':');
     host = url.substr(0, colon);
@@ -64,11 +60,11 @@ std::optional<HostPort> parse_host_port(std::string_view url, int default_port, 
     int port = 0;
     const auto [end, failure] = std::from_chars(url.data(), url.data() + url.size(), port);
     if (failure != std::errc() || end != url.data() + url.size() || port < 1 || port > 65535)
-      return refuse_host(error, the + "'s port must be a number from 1 to 65535");
+      return refuse<HostPort>(error, the + "'s port must be a number from 1 to 65535");
     address.port = port;
   }
   if (host.empty() || host.find_first_of("/?#@ ") != std::string_view::npos)
-    return refuse_host(error, the + " needs a host name or address (no path, no user@)");
+    return refuse<HostPort>(error, the + " needs a host name or address (no path, no user@)");
   address.host = std::string(host);
   return address;
 }

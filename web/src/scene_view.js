@@ -67,6 +67,7 @@ export class SceneView {
     this.frameCostMs = 16;
     this.renderedAt = -Infinity;
     this.interactingUntil = -Infinity; // while the user moves the camera, and its damped glide after
+    this.sightCheckedAt = -Infinity; // when keepRobotInSight last looked along the line to the robot
     this.controls.addEventListener('start', () => {
       this.interactingUntil = Infinity;
     });
@@ -243,7 +244,7 @@ export class SceneView {
    */
   keepRobotInSight() {
     const now = performance.now();
-    if (VIEW_IS_TOP_DOWN(this.view) || now < this.interactingUntil || now - (this.sightCheckedAt ?? -Infinity) < 200) return;
+    if (VIEW_IS_TOP_DOWN(this.view) || now < this.interactingUntil || now - this.sightCheckedAt < 200) return;
     this.sightCheckedAt = now;
     if (!this.robotHiddenFrom(this.camera.position)) return;
     const offset = this.camera.position.clone().sub(this.controls.target);
