@@ -89,13 +89,12 @@ class ClosestK {
     float squared;
     std::uint32_t index;
   };
-  explicit ClosestK(std::size_t k) : k_(k) {
+  explicit ClosestK(std::size_t k, float bound = std::numeric_limits<float>::infinity())
+      : k_(k), bound_(bound) {
     if (k_ > kInline)
       spill_.resize(k_);
   }
-  [[nodiscard]] float worst() const {
-    return found_ < k_ ? std::numeric_limits<float>::infinity() : entries()[k_ - 1].squared;
-  }
+  [[nodiscard]] float worst() const { return found_ < k_ ? bound_ : entries()[k_ - 1].squared; }
   void add(float squared, std::uint32_t index) {
     Entry* e = entries();
     std::size_t slot = found_ < k_ ? found_++ : k_ - 1;
@@ -110,6 +109,7 @@ class ClosestK {
   [[nodiscard]] Entry* entries() { return k_ > kInline ? spill_.data() : inline_.data(); }
   [[nodiscard]] const Entry* entries() const { return k_ > kInline ? spill_.data() : inline_.data(); }
   std::size_t k_;
+  float bound_;  ///< squared: nothing farther counts
   std::size_t found_ = 0;
   std::array<Entry, kInline> inline_;
   std::vector<Entry> spill_;
@@ -419,16 +419,26 @@ std::vector<Neighbor> KdTree::k_nearest(const Eigen::Vector3d& query, std::size_
 }
 
 void KdTree::k_nearest(const Eigen::Vector3d& query, std::size_t k, std::vector<Neighbor>& out) const {
+  k_nearest(query, k, std::numeric_limits<double>::infinity(), out);
+}
+
+void KdTree::k_nearest(const Eigen::Vector3d& query, std::size_t k, double max_distance,
+                       std::vector<Neighbor>& out) const {
   out.clear();
   k = std::min(k, points_.size());
   if (k == 0)
     return;
   float q[3];
   relative(query, q);
-  ClosestK result(k);
+  ClosestK result(k,
+                  std::isinf(max_distance) ? std::numeric_limits<float>::infinity() : widened(max_distance));
   search(q, result);
-  for (const ClosestK::Entry& entry : result.sorted())
-    out.push_back({entry.index, (points_[entry.index] - query).squaredNorm()});
+  const double max_squared = max_distance * max_distance;
+  for (const ClosestK::Entry& entry : result.sorted()) {
+    const double squared = (points_[entry.index] - query).squaredNorm();
+    if (squared <= max_squared)
+      out.push_back({entry.index, squared});
+  }
 }
 
 }  // namespace strata

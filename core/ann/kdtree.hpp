@@ -33,6 +33,9 @@ class KdTree {
   [[nodiscard]] std::vector<Neighbor> k_nearest(const Eigen::Vector3d& query, std::size_t k) const;
   /// The same into `out`, whose memory is reused from call to call.
   void k_nearest(const Eigen::Vector3d& query, std::size_t k, std::vector<Neighbor>& out) const;
+  /// The `k` closest within `max_distance` (fewer if fewer lie within it), nearest first, into `out`.
+  void k_nearest(const Eigen::Vector3d& query, std::size_t k, double max_distance,
+                 std::vector<Neighbor>& out) const;
 
   [[nodiscard]] const PointCloud& points() const { return points_; }
   [[nodiscard]] std::size_t size() const { return points_.size(); }

@@ -5,6 +5,14 @@
 #include "core/points/voxel_key.hpp"
 
 namespace strata {
+namespace {
+
+/// Expired points are dropped once they make up this share of the map (1 / 4): compacting moves every
+/// point, hashes the map again and makes the registration index it anew, which every scan did before
+/// (docs/benchmarks.md, "The local map's index").
+constexpr std::size_t kCompactionShareDivisor = 4;
+
+}  // namespace
 
 LocalMap::LocalMap(double voxel_size, std::size_t scans, double metres)
     : inverse_voxel_size_(1.0 / voxel_size), scans_(scans), metres_(metres) {}
@@ -42,6 +50,7 @@ void LocalMap::add(const PointCloud& points, const Eigen::Vector3d& sensor) {
 }
 
 void LocalMap::transform(const Eigen::Isometry3d& transform) {
+  ++layout_;
   const PointCloud moved = transformed(points_, transform);
   const std::vector<std::uint32_t> seen = seen_;
   const std::vector<double> seen_at = seen_at_;
@@ -72,10 +81,19 @@ void LocalMap::expire() {
   if (scan_ <= scans_)
     return;
   const std::uint32_t oldest_kept = scan_ - static_cast<std::uint32_t>(scans_) + 1;
+  const auto live = [&](std::size_t i) {
+    return seen_[i] >= oldest_kept || (metres_ > 0.0 && travelled_ - seen_at_[i] <= metres_);
+  };
+  std::size_t expired = 0;
+  for (std::size_t i = 0; i < points_.size(); ++i)
+    expired += live(i) ? 0 : 1;
+  if (expired == 0 || expired * kCompactionShareDivisor < points_.size())
+    return;  // not worth moving every point and hashing the map again for
+  ++layout_;
   std::size_t kept = 0;
   const bool normals = !normals_.states.empty();
   for (std::size_t i = 0; i < points_.size(); ++i) {
-    if (seen_[i] >= oldest_kept || (metres_ > 0.0 && travelled_ - seen_at_[i] <= metres_)) {
+    if (live(i)) {
       points_[kept] = points_[i];
       viewpoints_[kept] = viewpoints_[i];
       seen_[kept] = seen_[i];
@@ -87,8 +105,6 @@ void LocalMap::expire() {
       ++kept;
     }
   }
-  if (kept == points_.size())
-    return;
   points_.resize(kept);
   viewpoints_.resize(kept);
   seen_.resize(kept);

@@ -18,6 +18,11 @@ namespace strata {
 /// (KISS-ICP's local map is aged by distance alone). By scans alone a 10 Hz lidar forgot in one second the
 /// ground rings it had passed, and its height walked 0.35 m in 60 s on flat ground; by distance it keeps
 /// the ground it drove over, whatever the scan rate. Each scan is hashed once, when it comes.
+///
+/// New voxels go at the end and the points keep their places until expired ones make up a quarter of the
+/// map: only then are they dropped and the rest moved together (layout() changes). Until then the expired
+/// points stay in points(), old surfaces as real as the rest, and a registration that follows the map
+/// (ScanRegistration::follow_target) indexes only what each scan added.
 class LocalMap {
  public:
   LocalMap(double voxel_size, std::size_t scans, double metres = 0.0);
@@ -28,12 +33,15 @@ class LocalMap {
   /// points in one voxel keep the older, and the normals are estimated afresh.
   void transform(const Eigen::Isometry3d& transform);
 
-  /// One point per live voxel, oldest voxels first.
+  /// One point per voxel, oldest voxels first (expired ones until they are dropped, above).
   [[nodiscard]] const PointCloud& points() const { return points_; }
   /// Per point: where the sensor was that first saw it.
   [[nodiscard]] const std::vector<Eigen::Vector3d>& viewpoints() const { return viewpoints_; }
   [[nodiscard]] bool empty() const { return points_.empty(); }
   [[nodiscard]] std::size_t size() const { return points_.size(); }
+  /// Changes whenever points move or go (expired ones dropped, transform()); between two changes the
+  /// points only grow at the end.
+  [[nodiscard]] std::uint64_t layout() const { return layout_; }
 
   /// Normals estimated for the points so far, moved out (for a registration against points()), and back
   /// in once the registration estimated more: a point's normal is estimated once while it lives, not
@@ -50,6 +58,7 @@ class LocalMap {
   std::uint32_t scan_ = 0;  ///< scans added so far
   double travelled_ = 0.0;  ///< metres the sensor moved between the scans added so far
   std::optional<Eigen::Vector3d> last_sensor_;
+  std::uint64_t layout_ = 0;
   PointCloud points_;                        ///< per live voxel
   std::vector<std::uint32_t> seen_;          ///< per live voxel: the last scan that reached it
   std::vector<double> seen_at_;              ///< per live voxel: travelled_ at that scan

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "core/ann/kdtree.hpp"
+#include "core/ann/growing_kdtree.hpp"
 #include "core/localization/localization_map.hpp"
 #include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
@@ -183,7 +183,7 @@ class Relocalizer {
   std::shared_ptr<const LocalizationMap> map_;
   RelocalizationOptions options_;
   VoxelKeyMap hits_;     // the map's voxels of hit_voxel
-  KdTree tree_;          // the map's points, for structure_fit
+  GrowingKdTree tree_;   // the map's points, for structure_fit
   LazyNormals normals_;  // their surfaces, estimated as structure_fit asks
   ScanRegistration registration_;
 };

@@ -150,7 +150,8 @@ RegistrationResult ScanToMapLocalizer::register_from(const PointCloud& points, E
   const bool mapping = saved_registration_ == nullptr;
   ScanRegistration& registration = mapping ? registration_ : *saved_registration_;
   if (mapping) {
-    registration_.set_thinned_target(local_map_.points(), local_map_.take_normals(), local_map_.viewpoints());
+    registration_.follow_target(local_map_.points(), local_map_.layout(), local_map_.take_normals(),
+                                local_map_.viewpoints());
     registration_.set_source_viewpoint(sensor_origin_);
   }
   RegistrationResult result = registration.register_scan(points, guess, limits);

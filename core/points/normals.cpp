@@ -14,7 +14,7 @@ constexpr std::size_t kMinPerThread = 64;
 
 }  // namespace
 
-LazyNormals::LazyNormals(const KdTree& tree, std::size_t k, Estimates earlier)
+LazyNormals::LazyNormals(const GrowingKdTree& tree, std::size_t k, Estimates earlier)
     : tree_(&tree), k_(k), estimates_(std::move(earlier)) {
   estimates_.normals.resize(tree.size());
   estimates_.states.resize(tree.size(), State::kUnknown);

@@ -4,7 +4,7 @@
 #include <span>
 #include <vector>
 
-#include "core/ann/kdtree.hpp"
+#include "core/ann/growing_kdtree.hpp"
 
 namespace strata {
 
@@ -23,7 +23,7 @@ class LazyNormals {
 
   /// `earlier`: estimates for the tree's first points, from an earlier tree over them (the rest are
   /// estimated on first use).
-  explicit LazyNormals(const KdTree& tree, std::size_t k = 20, Estimates earlier = {});
+  explicit LazyNormals(const GrowingKdTree& tree, std::size_t k = 20, Estimates earlier = {});
 
   /// The unit normal at point `index`, or nullptr where the neighbourhood is no surface (too few
   /// neighbours, or as spread in its flattest direction as in the others: a corner or scatter).
@@ -40,7 +40,7 @@ class LazyNormals {
   /// Estimates the normal at `index` into estimates_, with `neighbors` as scratch.
   void estimate_one(std::size_t index, std::vector<Neighbor>& neighbors);
 
-  const KdTree* tree_;
+  const GrowingKdTree* tree_;
   std::size_t k_;
   Estimates estimates_;
   std::vector<Neighbor> neighbors_;  // scratch, reused

@@ -156,7 +156,7 @@ double mean_squared_error(const PointCloud& moved, const PointCloud& target, Laz
 
 }  // namespace
 
-IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* normals,
+IcpResult align(const PointCloud& source, const GrowingKdTree& target, LazyNormals* normals,
                 const Eigen::Isometry3d& guess, const IcpOptions& options, const SurfaceSides* sides) {
   IcpResult result;
   result.transform = guess;

@@ -4,7 +4,7 @@
 #include <cstddef>
 #include <vector>
 
-#include "core/ann/kdtree.hpp"
+#include "core/ann/growing_kdtree.hpp"
 #include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/registration/partner_search.hpp"
@@ -64,7 +64,7 @@ struct IcpResult {
 /// settle.
 /// `normals` serves the point-to-plane metric and may be null for point-to-point. `sides`, with normals,
 /// tells the pairs across a thin wall (IcpOptions::surface_sides); the result's pairs are the others.
-[[nodiscard]] IcpResult align(const PointCloud& source, const KdTree& target, LazyNormals* normals,
+[[nodiscard]] IcpResult align(const PointCloud& source, const GrowingKdTree& target, LazyNormals* normals,
                               const Eigen::Isometry3d& guess, const IcpOptions& options,
                               const SurfaceSides* sides = nullptr);
 

@@ -17,7 +17,7 @@ constexpr std::size_t kMinSearchesPerThread = 256;
 
 }  // namespace
 
-PartnerSearch::PartnerSearch(const KdTree& target, std::size_t source_size, double max_distance,
+PartnerSearch::PartnerSearch(const GrowingKdTree& target, std::size_t source_size, double max_distance,
                              unsigned threads)
     : target_(&target),
       max_squared_(max_distance * max_distance),

@@ -4,7 +4,7 @@
 #include <limits>
 #include <vector>
 
-#include "core/ann/kdtree.hpp"
+#include "core/ann/growing_kdtree.hpp"
 #include "core/points/point_cloud.hpp"
 
 namespace strata {
@@ -25,7 +25,8 @@ class PartnerSearch {
  public:
   /// Pairs within `max_distance` of each other with sources of `source_size` points; the kd-tree searches
   /// on up to `threads` threads (the caller's among them), which gives the same pairs.
-  PartnerSearch(const KdTree& target, std::size_t source_size, double max_distance, unsigned threads = 1);
+  PartnerSearch(const GrowingKdTree& target, std::size_t source_size, double max_distance,
+                unsigned threads = 1);
 
   /// Replaces `pairs` with each moved source point's closest target point within the bound, in source
   /// order. `moved` keeps its size between calls.
@@ -47,7 +48,7 @@ class PartnerSearch {
   /// Searches the tree for the partners of `q`, the moved point of `partner`.
   void search(const Eigen::Vector3d& q, Partner& partner) const;
 
-  const KdTree* target_;
+  const GrowingKdTree* target_;
   double max_squared_;
   double reach_;  ///< search bound: a little beyond max_distance, so points without a partner can skip too
   unsigned threads_;

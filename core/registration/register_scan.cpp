@@ -92,7 +92,28 @@ void ScanRegistration::set_thinned_target(PointCloud target, LazyNormals::Estima
                                           std::vector<Eigen::Vector3d> viewpoints) {
   normals_.reset();
   viewpoints_ = std::move(viewpoints);
-  target_ = std::make_unique<KdTree>(std::move(target));
+  target_ = std::make_unique<GrowingKdTree>(std::move(target));
+  target_layout_.reset();
+  normals_ = std::make_unique<LazyNormals>(*target_, kNormalNeighbours, std::move(normals));
+}
+
+void ScanRegistration::follow_target(const PointCloud& target, std::uint64_t layout,
+                                     LazyNormals::Estimates normals,
+                                     const std::vector<Eigen::Vector3d>& viewpoints) {
+  normals_.reset();
+  if (target_ && target_layout_ == layout && target.size() >= target_->size()) {
+    const std::size_t known = target_->size();
+    target_->append(std::span(target).subspan(known));
+    if (viewpoints.size() == target.size() && viewpoints_.size() == known)
+      viewpoints_.insert(viewpoints_.end(), viewpoints.begin() + static_cast<std::ptrdiff_t>(known),
+                         viewpoints.end());
+    else
+      viewpoints_ = viewpoints;
+  } else {
+    target_ = std::make_unique<GrowingKdTree>(target);
+    target_layout_ = layout;
+    viewpoints_ = viewpoints;
+  }
   normals_ = std::make_unique<LazyNormals>(*target_, kNormalNeighbours, std::move(normals));
 }
 
@@ -101,7 +122,6 @@ LazyNormals::Estimates ScanRegistration::take_normals() {
     return {};
   LazyNormals::Estimates estimates = normals_->take();
   normals_.reset();
-  target_.reset();
   return estimates;
 }
 
@@ -111,8 +131,8 @@ RegistrationResult ScanRegistration::register_scan(const PointCloud& source, con
 
 RegistrationResult ScanRegistration::register_scan(const PointCloud& source, const Eigen::Isometry3d& guess,
                                                    const FaultLimits& limits) {
-  if (!target_)
-    throw std::logic_error("ScanRegistration::register_scan called before set_target");
+  if (!target_ || !normals_)
+    throw std::logic_error("ScanRegistration::register_scan called before set_target or after take_normals");
   if (options_.stages.empty())
     throw std::invalid_argument("RegistrationOptions::stages is empty");
   const auto start = std::chrono::steady_clock::now();

@@ -1,10 +1,12 @@
 #pragma once
 
 #include <Eigen/Geometry>
+#include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
-#include "core/ann/kdtree.hpp"
+#include "core/ann/growing_kdtree.hpp"
 #include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/registration/fault_check.hpp"
@@ -88,10 +90,15 @@ class ScanRegistration {
   /// (set_source_viewpoint), pairs across a thin wall are told (IcpOptions::surface_sides).
   void set_thinned_target(PointCloud target, LazyNormals::Estimates normals = {},
                           std::vector<Eigen::Vector3d> viewpoints = {});
+  /// The same for a target that grows at its end between changes of `layout` (LocalMap::layout(): its
+  /// points keep their places until some go or all move): only the points beyond the last call's are
+  /// indexed anew (GrowingKdTree), and the viewpoints beyond them copied.
+  void follow_target(const PointCloud& target, std::uint64_t layout, LazyNormals::Estimates normals,
+                     const std::vector<Eigen::Vector3d>& viewpoints);
   /// Where the next sources' sensor is, in their own frame.
   void set_source_viewpoint(const Eigen::Vector3d& viewpoint) { source_viewpoint_ = viewpoint; }
-  /// The target's normals estimated so far, moved out (the target then has none until the next
-  /// set_target).
+  /// The target's normals estimated so far, moved out (no registration until the next set_target or
+  /// follow_target).
   [[nodiscard]] LazyNormals::Estimates take_normals();
   /// Registers `source` onto the target, starting from `guess` (source -> target). Needs set_target.
   [[nodiscard]] RegistrationResult register_scan(const PointCloud& source, const Eigen::Isometry3d& guess);
@@ -103,7 +110,8 @@ class ScanRegistration {
 
  private:
   RegistrationOptions options_;
-  std::unique_ptr<KdTree> target_;  // stable address: normals_ points into it
+  std::unique_ptr<GrowingKdTree> target_;       // stable address: normals_ points into it
+  std::optional<std::uint64_t> target_layout_;  // follow_target's, while the target is the one it follows
   std::unique_ptr<LazyNormals> normals_;
   std::vector<Eigen::Vector3d> viewpoints_;  // per target point, or none
   Eigen::Vector3d source_viewpoint_ = Eigen::Vector3d::Zero();

@@ -2,6 +2,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numbers>
 #include <set>
 
@@ -25,22 +26,38 @@ PointCloud shifted(PointCloud points, double dx) {
   return points;
 }
 
-// The map holds what thinning the concatenation of the last N scans holds: the same voxels, one point each.
+// The map holds what thinning the concatenation of the last N scans holds (the same voxels, one point each),
+// and voxels no recent scan reached only while they are under a quarter of it: they are dropped together.
 TEST(LocalMap, HoldsTheVoxelsOfTheLastScans) {
   const double voxel = 0.1;
   const std::size_t keep = 3;
   LocalMap map(voxel, keep);
   std::vector<PointCloud> scans;
-  for (int i = 0; i < 6; ++i) {
-    scans.push_back(shifted(test::room_scene(0.05, 0.0, static_cast<unsigned>(i)), 0.7 * i));
+  std::uint64_t layout = map.layout();
+  std::size_t compactions = 0;
+  for (int i = 0; i < 12; ++i) {
+    scans.push_back(shifted(test::room_scene(0.05, 0.0, static_cast<unsigned>(i)), 0.2 * i));
+    const std::size_t before = map.size();
+    const PointCloud old(map.points());
     map.add(scans.back(), Eigen::Vector3d::Zero());
     PointCloud recent;
     for (std::size_t k = scans.size() > keep ? scans.size() - keep : 0; k < scans.size(); ++k)
       recent.insert(recent.end(), scans[k].begin(), scans[k].end());
-    EXPECT_EQ(voxels_of(map.points(), voxel), voxels_of(voxel_downsample(recent, voxel), voxel))
-        << "scan " << i;
-    EXPECT_EQ(map.size(), voxels_of(map.points(), voxel).size()) << "one point per voxel";
+    const std::set<VoxelKey> held = voxels_of(map.points(), voxel);
+    const std::set<VoxelKey> live = voxels_of(voxel_downsample(recent, voxel), voxel);
+    EXPECT_TRUE(std::includes(held.begin(), held.end(), live.begin(), live.end())) << "scan " << i;
+    EXPECT_LT(4 * (held.size() - live.size()), map.size()) << "scan " << i;
+    EXPECT_EQ(map.size(), held.size()) << "one point per voxel";
+    if (map.layout() == layout) {  // grown at the end only: the points before kept their places
+      ASSERT_GE(map.size(), before);
+      EXPECT_TRUE(std::equal(old.begin(), old.end(), map.points().begin())) << "scan " << i;
+    } else {
+      ++compactions;
+      layout = map.layout();
+    }
   }
+  EXPECT_GT(compactions, 0U);
+  EXPECT_LT(compactions, 11U);
 }
 
 // A voxel a newer scan reached again stays, with its first point; one no recent scan reached expires.

@@ -36,7 +36,7 @@ TEST(ParallelFor, CoversEachItemOnceInAtMostTheThreadsAsked) {
 // Normals estimated ahead on two threads, duplicates among the indices, are the ones at() estimates one
 // by one, bit for bit.
 TEST(LazyNormals, EstimatedOnThreadsAsOneByOne) {
-  const KdTree tree(test::room_scene(0.1, 0.01, 1));
+  const GrowingKdTree tree(test::room_scene(0.1, 0.01, 1));
   std::vector<std::uint32_t> indices;
   for (std::uint32_t i = 0; i < tree.size(); i += 3)
     indices.push_back(i);
@@ -60,7 +60,7 @@ TEST(LazyNormals, EstimatedOnThreadsAsOneByOne) {
 
 // Pairing on two threads gives the pairs of one, and searches as often.
 TEST(PartnerSearch, PairsOnTwoThreadsAsOnOne) {
-  const KdTree tree(test::room_scene(0.1, 0.01, 1));
+  const GrowingKdTree tree(test::room_scene(0.1, 0.01, 1));
   const PointCloud source = test::room_scene(0.15, 0.02, 2);
   ASSERT_GT(source.size(), 1000U) << "enough for two threads";
   PartnerSearch one(tree, source.size(), 0.25, 1);
@@ -84,7 +84,7 @@ TEST(PartnerSearch, PairsOnTwoThreadsAsOnOne) {
 
 // A point-to-plane registration on two threads lands where it does on one, to the last bit.
 TEST(Icp, RegistersOnTwoThreadsAsOnOne) {
-  const KdTree tree(test::room_scene(0.1, 0.01, 1));
+  const GrowingKdTree tree(test::room_scene(0.1, 0.01, 1));
   const PointCloud source = test::room_scene(0.15, 0.02, 2);
   IcpOptions options;
   options.metric = IcpMetric::kPointToPlane;

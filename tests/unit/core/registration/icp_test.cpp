@@ -33,7 +33,7 @@ class IcpRecovers : public testing::TestWithParam<std::tuple<IcpMetric, Rotation
 TEST_P(IcpRecovers, KnownTransformFromANearbyGuess) {
   const auto [metric, solver, kernel] = GetParam();
   const Scene scene = moved_room(make_transform(0.4, -0.3, 0.05, 0.03, -0.02, 0.15));
-  const KdTree target(scene.target);
+  const GrowingKdTree target(scene.target);
   LazyNormals normals(target);
   IcpOptions options;
   options.metric = metric;
@@ -64,7 +64,7 @@ INSTANTIATE_TEST_SUITE_P(Variants, IcpRecovers,
 TEST(Icp, ExactCopyIsRecoveredExactly) {
   const PointCloud target = test::room_scene(0.2, 0.0, 3);
   const Eigen::Isometry3d truth = make_transform(0.1, 0.05, 0.0, 0.0, 0.0, 0.05);
-  const KdTree tree(target);
+  const GrowingKdTree tree(target);
   IcpOptions options;
   options.metric = IcpMetric::kPointToPoint;
   options.kernel_scale = 0.0;
@@ -77,7 +77,7 @@ TEST(Icp, ExactCopyIsRecoveredExactly) {
 }
 
 TEST(Icp, NoTargetWithinTheBoundLeavesTheGuess) {
-  const KdTree target(PointCloud{{100, 0, 0}, {100, 1, 0}, {100, 0, 1}});
+  const GrowingKdTree target(PointCloud{{100, 0, 0}, {100, 1, 0}, {100, 0, 1}});
   const Eigen::Isometry3d guess = make_transform(1, 2, 3, 0, 0, 0.5);
   const IcpResult result = align(test::room_scene(0.5), target, nullptr, guess, IcpOptions{});
   EXPECT_TRUE(result.transform.isApprox(guess));
@@ -87,7 +87,7 @@ TEST(Icp, NoTargetWithinTheBoundLeavesTheGuess) {
 
 TEST(Icp, StopsWhenTheStepsAreSmall) {
   const Scene scene = moved_room(make_transform(0.1, -0.05, 0.02, 0.0, 0.01, 0.04), 0.25);
-  const KdTree tree(scene.target);
+  const GrowingKdTree tree(scene.target);
   IcpOptions options;
   options.mse_change_threshold = 0.0;  // the MSE never stops it: only the step limits or the cap can
   options.max_iterations = 40;

@@ -17,7 +17,7 @@ namespace {
 TEST(PartnerSearch, PairsAsAFullSearchWouldWhileSkippingSearches) {
   const PointCloud target = test::room_scene(0.1, 0.01, 1);
   const PointCloud source = test::room_scene(0.4, 0.02, 2);
-  const KdTree tree(target);
+  const GrowingKdTree tree(target);
   const double bound = 0.25;
   PartnerSearch partners(tree, source.size(), bound);
   std::mt19937 rng(3);

@@ -61,7 +61,7 @@ double yaw_of(const Eigen::Isometry3d& transform) {
 // thickness through it; with them those pairs tell the wall's turn, not where it is.
 TEST(SurfaceSides, PairsAcrossAThinWallDoNotPullTheScanThroughIt) {
   const ThinWall scene = thin_wall();
-  const KdTree target(scene.target);
+  const GrowingKdTree target(scene.target);
   const SurfaceSides sides{.target_viewpoints = &scene.target_viewpoints,
                            .source_viewpoint = scene.source_viewpoint};
   const IcpOptions options = fine_point_to_plane();
@@ -83,7 +83,7 @@ TEST(SurfaceSides, PairsAcrossAThinWallDoNotPullTheScanThroughIt) {
 // do not pull it through the wall; the floor alone could not turn it.
 TEST(SurfaceSides, AThinWallsOtherFaceStillTellsTheTurn) {
   const ThinWall scene = thin_wall();
-  const KdTree target(scene.target);
+  const GrowingKdTree target(scene.target);
   const SurfaceSides sides{.target_viewpoints = &scene.target_viewpoints,
                            .source_viewpoint = scene.source_viewpoint};
   Eigen::Isometry3d guess = Eigen::Isometry3d::Identity();
@@ -108,7 +108,7 @@ TEST(SurfaceSides, AViewpointNearThePlaneIsNoSide) {
   for (double x = -0.2; x <= 0.2; x += 0.05)
     for (double z = -0.2; z <= 0.2; z += 0.05)
       grid.emplace_back(x, 0.0, z);
-  const KdTree tree(grid);
+  const GrowingKdTree tree(grid);
   LazyNormals normals(tree);
   std::vector<Eigen::Vector3d> viewpoints(grid.size(), Eigen::Vector3d(0.0, -2.0, 0.0));
   const SurfaceSides sides{.target_viewpoints = &viewpoints, .source_viewpoint = {0.0, 0.04, 0.0}};
