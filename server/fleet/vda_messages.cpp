@@ -71,6 +71,16 @@ json action_json(const ActionState& action) {
   return out;
 }
 
+json node_state_json(const NodeState& node) {
+  json position{{"x", node.x}, {"y", node.y}, {"mapId", node.map_id}};
+  if (node.theta)
+    position["theta"] = *node.theta;
+  return {{"nodeId", node.node_id},
+          {"sequenceId", node.sequence_id},
+          {"released", node.released},
+          {"nodePosition", std::move(position)}};
+}
+
 }  // namespace
 
 json state_body(const VehicleReport& report) {
@@ -86,13 +96,19 @@ json state_body(const VehicleReport& report) {
   json actions = json::array();
   for (const auto& action : report.actions)
     actions.push_back(action_json(action));
-  // No order yet (orders come in a later slice): empty ids and states, as a vehicle without one reports.
-  json body{{"orderId", ""},
-            {"orderUpdateId", 0},
-            {"lastNodeId", ""},
-            {"lastNodeSequenceId", 0},
-            {"nodeStates", json::array()},
-            {"edgeStates", json::array()},
+  json nodes = json::array();
+  for (const auto& node : report.node_states)
+    nodes.push_back(node_state_json(node));
+  json edges = json::array();
+  for (const auto& edge : report.edge_states)
+    edges.push_back(
+        {{"edgeId", edge.edge_id}, {"sequenceId", edge.sequence_id}, {"released", edge.released}});
+  json body{{"orderId", report.order_id},
+            {"orderUpdateId", report.order_update_id},
+            {"lastNodeId", report.last_node_id},
+            {"lastNodeSequenceId", report.last_node_sequence_id},
+            {"nodeStates", std::move(nodes)},
+            {"edgeStates", std::move(edges)},
             {"maps", std::move(maps)},
             {"driving", report.driving},
             {"paused", report.paused},

@@ -180,12 +180,13 @@ test('malformed, unknown and huge instantActions are refused with an error in st
   // Not JSON, and a huge message (1 MB).
   await refused('{"headerId": 1, "actions": [', /not JSON/);
   await refused(JSON.stringify({ ...header(902), actions: [valid('ok-3')], padding: 'x'.repeat(1 << 20) }), /bytes/);
-  // An order: not carried out yet, and said so as VDA 5050 says a vehicle refuses one it cannot do.
+  // An order without nodes: refused as malformed (VDA 5050 2.1, 6.6.4.1), nothing taken.
   const mark = received.length;
   await new Promise((resolve, reject) =>
     watcher.publish(`${prefix}/order`, JSON.stringify({ ...header(903), orderId: 'o-1', orderUpdateId: 0, nodes: [], edges: [] }), (e) => (e ? reject(e) : resolve())),
   );
-  await waitFor('state', (s) => s.errors.some((e) => e.errorType === 'orderError'), { from: mark });
+  const refusedOrder = await waitFor('state', (s) => s.errors.some((e) => e.errorType === 'validationError' && /at least one node/.test(e.errorDescription)), { from: mark });
+  assert.deepEqual([refusedOrder.orderId, refusedOrder.nodeStates], ['', []]);
   // Still at work afterwards: a good message is carried out, and the refusal's error goes.
   const answered = await instantAction('stateRequest');
   assert.equal(answered.actionStatus, 'FINISHED');
