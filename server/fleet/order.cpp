@@ -119,33 +119,40 @@ NodePosition position_of(const json& node, const Place& place) {
   return position;
 }
 
-OrderNode node_of(const json& item) {
+/// What nodes and edges share: the id (`key`), sequenceId, released, the actions' array; `place` names it.
+struct Element {
   Place place;
+  std::string id;
+  std::uint32_t sequence_id = 0;
+  bool released = false;
+};
+
+Element element_of(const json& item, const char* key, const char* kind) {
   if (!item.is_object())
-    place.refuse("a node must be an object");
-  OrderNode node;
-  node.node_id = place.id_string(item, "nodeId");
-  place = {"nodeId", node.node_id};
-  node.sequence_id =
-      static_cast<std::uint32_t>(place.whole(item, "sequenceId", std::numeric_limits<std::uint32_t>::max()));
-  node.released = place.boolean(item, "released");
+    Place{}.refuse(std::string("a ") + kind + " must be an object");
+  Element element;
+  element.id = element.place.id_string(item, key);
+  element.place = {key, element.id};
+  element.sequence_id = static_cast<std::uint32_t>(
+      element.place.whole(item, "sequenceId", std::numeric_limits<std::uint32_t>::max()));
+  element.released = element.place.boolean(item, "released");
+  element.place.field(item, "actions", &json::is_array, "an array");
+  return element;
+}
+
+OrderNode node_of(const json& item) {
+  const Element element = element_of(item, "nodeId", "node");
+  const Place& place = element.place;
   place.optional(item, "nodeDescription", &json::is_string, "a string");
-  place.field(item, "actions", &json::is_array, "an array");
-  node.position = position_of(item, place);
+  OrderNode node{element.id, element.sequence_id, element.released, position_of(item, place)};
   place.no_actions(item);
   return node;
 }
 
 OrderEdge edge_of(const json& item) {
-  Place place;
-  if (!item.is_object())
-    place.refuse("an edge must be an object");
-  OrderEdge edge;
-  edge.edge_id = place.id_string(item, "edgeId");
-  place = {"edgeId", edge.edge_id};
-  edge.sequence_id =
-      static_cast<std::uint32_t>(place.whole(item, "sequenceId", std::numeric_limits<std::uint32_t>::max()));
-  edge.released = place.boolean(item, "released");
+  const Element element = element_of(item, "edgeId", "edge");
+  const Place& place = element.place;
+  OrderEdge edge{element.id, element.sequence_id, element.released, {}, {}};
   edge.start_node_id = place.id_string(item, "startNodeId");
   edge.end_node_id = place.id_string(item, "endNodeId");
   for (const char* text : {"edgeDescription", "orientationType", "direction"})
@@ -160,7 +167,6 @@ OrderEdge edge_of(const json& item) {
       place.refuse(std::string("has a ") + path + ": this vehicle plans its own way between nodes",
                    "orderError");
   }
-  place.field(item, "actions", &json::is_array, "an array");
   place.no_actions(item);
   return edge;
 }
