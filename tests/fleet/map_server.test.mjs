@@ -16,13 +16,12 @@ import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 
-import mqtt from 'mqtt';
 import { MasterController } from 'vda-5050-lib';
 
 import { startServer } from '../browser/server.mjs';
 import { startBroker } from './broker.mjs';
 import { makeCertificates } from './certificates.mjs';
-import { fleetSetup, instantAction as runInstantAction, validators, vehicleTopics } from './master.mjs';
+import { fleetSetup, instantAction as runInstantAction, VehicleWatcher } from './master.mjs';
 
 const { binary, mosquitto, schemaDir, missing } = fleetSetup();
 
@@ -36,29 +35,15 @@ let serverB;
 let corruptServer; // a plain HTTP server handing out a damaged copy of the map
 let trusted; // certificates signed by the CA the servers trust (SSL_CERT_FILE)
 const fileServers = []; // node's HTTPS servers of the map's file
-let watcher;
 let master;
 let scratch;
 let version; // A's saved map version: { name, version, bytes, sha256, url }
-const received = []; // { serial, kind, body }
-const invalid = [];
-let waiters = [];
+const watch = new VehicleWatcher(); // every message of both vehicles, checked against 2.1.0
+const { received, invalid } = watch;
 
 /** The first `kind` message of vehicle `serial` from index `from` on that `predicate` accepts. */
-function waitFor(serial, kind, predicate = () => true, { from = 0, timeout = 30000 } = {}) {
-  const match = (m) => m.serial === serial && m.kind === kind && predicate(m.body);
-  const found = received.slice(from).find(match);
-  if (found) return Promise.resolve(found.body);
-  return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error(`no ${kind} message of ${serial} as expected within ${timeout} ms`)), timeout);
-    waiters.push((m) => {
-      if (!match(m)) return false;
-      clearTimeout(timer);
-      resolve(m.body);
-      return true;
-    });
-  });
-}
+const waitFor = (serial, kind, predicate = () => true, options = {}) =>
+  watch.waitFor((m) => m.serial === serial && m.kind === kind && predicate(m.body), `${kind} message of ${serial}`, options);
 
 const headers = { Authorization: `Bearer ${TOKEN}`, 'Content-Type': 'application/json' };
 const getJson = async (server, route) => (await fetch(`${server.url}${route}`)).json();
@@ -77,20 +62,8 @@ async function serve(agv, extra = []) {
 
 before(async () => {
   if (missing) return;
-  const validate = validators(schemaDir);
   broker = await startBroker(mosquitto);
-  watcher = mqtt.connect(broker.url, { reconnectPeriod: 200 });
-  watcher.on('message', (topic, payload) => {
-    const [, , , serial, kind] = topic.split('/');
-    if (!vehicleTopics.includes(kind)) return;
-    const body = JSON.parse(payload.toString());
-    if (!validate[kind](body)) invalid.push({ serial, kind, body, errors: validate[kind].errors });
-    const message = { serial, kind, body };
-    received.push(message);
-    waiters = waiters.filter((waiter) => !waiter(message));
-  });
-  await new Promise((resolve) => watcher.once('connect', resolve));
-  await new Promise((resolve, reject) => watcher.subscribe('uagv/v2/StrataTest/+/+', { qos: 1 }, (e) => (e ? reject(e) : resolve())));
+  await watch.connect(broker.url, schemaDir, 'uagv/v2/StrataTest/+/+');
 
   scratch = mkdtempSync(path.join(tmpdir(), 'strata-fleet-maps-'));
   // The CA the servers' https client trusts: OpenSSL's default verify paths read SSL_CERT_FILE.
@@ -112,7 +85,7 @@ before(async () => {
 after(async () => {
   await Promise.all([serverA?.stop(), serverB?.stop()]);
   await master?.stop();
-  watcher?.end(true);
+  watch.end();
   await broker?.stop();
   corruptServer?.close();
   for (const server of fileServers) server.close();
@@ -268,9 +241,7 @@ function assignOrder(agv, order) {
 
 /** Publishes `order` raw on `agv`'s order topic with a header, as a master that resends or is behind would. */
 const publishOrder = (agv, order, headerId) =>
-  new Promise((resolve, reject) =>
-    watcher.publish(`uagv/v2/${agv.manufacturer}/${agv.serialNumber}/order`, JSON.stringify({ headerId, timestamp: new Date().toISOString(), version: '2.1.0', ...agv, ...order }), { qos: 0 }, (e) => (e ? reject(e) : resolve())),
-  );
+  watch.publish(`uagv/v2/${agv.manufacturer}/${agv.serialNumber}/order`, JSON.stringify({ headerId, timestamp: new Date().toISOString(), version: '2.1.0', ...agv, ...order }));
 
 const near = (position, node, within = 0.6) => Math.hypot(position.x - node.x, position.y - node.y) < within;
 
