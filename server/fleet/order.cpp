@@ -208,6 +208,11 @@ void check_graph(const Order& order) {
 
 }  // namespace
 
+GoalRequest goal_of(const NodePosition& position) {
+  const auto level = parse_map_id(position.map_id);
+  return {position.x, position.y, level_height(level ? level->level : 0)};
+}
+
 OrderMessage parse_order(std::string_view payload, const VehicleId& vehicle) {
   OrderMessage message;
   const Place at_message;

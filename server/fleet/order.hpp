@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "server/fleet/vda_messages.hpp"
+#include "server/state/goal_state.hpp"
 
 namespace strata::fleet {
 
@@ -67,5 +68,10 @@ struct OrderMessage {
 /// the sizes above; and what Strata can carry out: every node with a nodePosition on a mapId of the
 /// map@level rule, no actions, no trajectory or corridor.
 [[nodiscard]] OrderMessage parse_order(std::string_view payload, const VehicleId& vehicle);
+
+/// The navigator's goal for a node: its x, y, and as the height its mapId's level's (the goal is planned on
+/// the surface nearest that height: a node on "campus.smls@1" on the deck, not on the road below). The
+/// mapId must be one of the rule's (parse_order took only those).
+[[nodiscard]] GoalRequest goal_of(const NodePosition& position);
 
 }  // namespace strata::fleet

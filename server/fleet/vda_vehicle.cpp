@@ -241,9 +241,7 @@ void VdaVehicle::drive_order() {
   }
   if (next == nullptr)
     return;  // finished, or the base ends and the horizon waits for an update
-  const int level = parse_map_id(next->position.map_id)->level;
-  const CommandResult result =
-      services_.motion->set_goal({next->position.x, next->position.y, level_height(level)});
+  const CommandResult result = services_.motion->set_goal(goal_of(next->position));
   if (!result.ok)
     return stop_order("NODE_UNREACHABLE", "node \"" + next->node_id.substr(0, 64) + "\": " + result.message,
                       next->node_id);

@@ -126,6 +126,16 @@ TEST(Order, WhatStrataCannotCarryOutIsAnOrderError) {
   EXPECT_EQ(refused(foreign_map_id).error_type, "orderError");
 }
 
+TEST(Order, ANodeIsDrivenToOnItsMapIdsLevel) {
+  NodePosition deck{12.0, -3.0, std::nullopt, 0.0, "campus.smls@1"};
+  const GoalRequest goal = goal_of(deck);
+  EXPECT_DOUBLE_EQ(goal.x, 12.0);
+  EXPECT_DOUBLE_EQ(goal.y, -3.0);
+  EXPECT_DOUBLE_EQ(goal.z.value(), 2.5) << "level 1: the surface nearest 2.5 m";
+  deck.map_id = "plant.smls@-1";
+  EXPECT_DOUBLE_EQ(goal_of(deck).z.value(), -2.5);
+}
+
 TEST(OrderProgress, NodesAndEdgesLeaveTheStatesAsTheyArePassed) {
   OrderProgress progress;
   const Order order = parsed(order_json({"a", "b", "c"}, 3));
