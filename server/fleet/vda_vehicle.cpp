@@ -173,6 +173,8 @@ void VdaVehicle::on_order(std::string_view payload) {
 }
 
 std::string VdaVehicle::undrivable(const Order& order, bool first_node_here, std::string* node_id) const {
+  if (services_.motion == nullptr)
+    return "this vehicle takes no goals";
   const auto map = services_.map != nullptr ? services_.map->snapshot() : nullptr;
   const std::string in_use = map != nullptr && !map->name.empty() ? map->name : std::string(kUnsavedMapName);
   for (const auto& node : order.nodes) {
@@ -226,10 +228,11 @@ void VdaVehicle::drive_order() {
                               " (" + goal.reason + ")",
                           next->node_id);
       case GoalPhase::kCancelled:
-        return stop_order("orderError",
-                          "the order's goal was stopped on the vehicle" +
-                              (goal.message.empty() ? std::string(" (Stop)") : ": " + goal.message),
-                          next->node_id);
+        return stop_order(
+            "orderError",
+            "the order's goal was stopped on the vehicle" +
+                (goal.message.empty() ? std::string(" (Stop or teleoperation)") : ": " + goal.message),
+            next->node_id);
       case GoalPhase::kReached:
         spdlog::info("VDA 5050: order {}: node {} reached", order_.order_id().substr(0, 64),
                      next->node_id.substr(0, 64));
