@@ -3,6 +3,9 @@
 #include <cstdio>
 #include <ctime>
 
+#include "server/fleet/instant_actions.hpp"
+#include "server/fleet/order.hpp"
+
 namespace strata::fleet {
 
 using nlohmann::json;
@@ -194,8 +197,15 @@ json factsheet_body(const VehicleFacts& facts) {
         {"width", diameter},
         {"length", diameter}}},
       {"protocolLimits",
-       {{"maxStringLens", json::object()},
-        {"maxArrayLens", json::object()},
+       {{"maxStringLens", {{"idLen", 256}}},
+        // What the order and instant actions' checks take (order.hpp, instant_actions.hpp): no node or
+        // edge actions.
+        {"maxArrayLens",
+         {{"order.nodes", kMaxOrderNodes},
+          {"order.edges", kMaxOrderNodes - 1},
+          {"node.actions", 0},
+          {"edge.actions", 0},
+          {"instantActions", kMaxInstantActions}}},
         {"timing", {{"minOrderInterval", 1.0}, {"minStateInterval", 0.1}, {"defaultStateInterval", 30.0}}}}},
       {"protocolFeatures", {{"optionalParameters", json::array()}, {"agvActions", std::move(actions)}}},
       {"agvGeometry", json::object()},
