@@ -1,5 +1,7 @@
 #include "server/fleet/order.hpp"
 
+#include <fmt/format.h>
+
 #include <cmath>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -69,8 +71,7 @@ struct Place {
   double number(const json& object, const char* name, double low, double high) const {
     const double value = field(object, name, &json::is_number, "a number").get<double>();
     if (!std::isfinite(value) || value < low || value > high)
-      refuse(std::string("\"") + name + "\" must be from " + std::to_string(low) + " to " +
-             std::to_string(high));
+      refuse(fmt::format("\"{}\" must be a number from {:g} to {:g}", name, low, high));
     return value;
   }
 
