@@ -3,6 +3,9 @@
 #include <cstdio>
 #include <ctime>
 
+#include "server/fleet/instant_actions.hpp"
+#include "server/fleet/order.hpp"
+
 namespace strata::fleet {
 
 using nlohmann::json;
@@ -71,6 +74,16 @@ json action_json(const ActionState& action) {
   return out;
 }
 
+json node_state_json(const NodeState& node) {
+  json position{{"x", node.x}, {"y", node.y}, {"mapId", node.map_id}};
+  if (node.theta)
+    position["theta"] = *node.theta;
+  return {{"nodeId", node.node_id},
+          {"sequenceId", node.sequence_id},
+          {"released", node.released},
+          {"nodePosition", std::move(position)}};
+}
+
 }  // namespace
 
 json state_body(const VehicleReport& report) {
@@ -86,13 +99,19 @@ json state_body(const VehicleReport& report) {
   json actions = json::array();
   for (const auto& action : report.actions)
     actions.push_back(action_json(action));
-  // No order yet (orders come in a later slice): empty ids and states, as a vehicle without one reports.
-  json body{{"orderId", ""},
-            {"orderUpdateId", 0},
-            {"lastNodeId", ""},
-            {"lastNodeSequenceId", 0},
-            {"nodeStates", json::array()},
-            {"edgeStates", json::array()},
+  json nodes = json::array();
+  for (const auto& node : report.node_states)
+    nodes.push_back(node_state_json(node));
+  json edges = json::array();
+  for (const auto& edge : report.edge_states)
+    edges.push_back(
+        {{"edgeId", edge.edge_id}, {"sequenceId", edge.sequence_id}, {"released", edge.released}});
+  json body{{"orderId", report.order_id},
+            {"orderUpdateId", report.order_update_id},
+            {"lastNodeId", report.last_node_id},
+            {"lastNodeSequenceId", report.last_node_sequence_id},
+            {"nodeStates", std::move(nodes)},
+            {"edgeStates", std::move(edges)},
             {"maps", std::move(maps)},
             {"driving", report.driving},
             {"paused", report.paused},
@@ -178,8 +197,15 @@ json factsheet_body(const VehicleFacts& facts) {
         {"width", diameter},
         {"length", diameter}}},
       {"protocolLimits",
-       {{"maxStringLens", json::object()},
-        {"maxArrayLens", json::object()},
+       {{"maxStringLens", {{"idLen", 256}}},
+        // What the order and instant actions' checks take (order.hpp, instant_actions.hpp): no node or
+        // edge actions.
+        {"maxArrayLens",
+         {{"order.nodes", kMaxOrderNodes},
+          {"order.edges", kMaxOrderNodes - 1},
+          {"node.actions", 0},
+          {"edge.actions", 0},
+          {"instantActions", kMaxInstantActions}}},
         {"timing", {{"minOrderInterval", 1.0}, {"minStateInterval", 0.1}, {"defaultStateInterval", 30.0}}}}},
       {"protocolFeatures", {{"optionalParameters", json::array()}, {"agvActions", std::move(actions)}}},
       {"agvGeometry", json::object()},

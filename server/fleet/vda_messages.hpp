@@ -72,6 +72,24 @@ struct ActionState {
   std::string result;  ///< resultDescription; empty: none
 };
 
+/// A node still to pass (state.nodeStates), with the position the order gave it.
+struct NodeState {
+  std::string node_id;
+  std::uint32_t sequence_id = 0;
+  bool released = false;
+  double x = 0.0;
+  double y = 0.0;
+  std::optional<double> theta;
+  std::string map_id;
+};
+
+/// An edge still to pass (state.edgeStates).
+struct EdgeState {
+  std::string edge_id;
+  std::uint32_t sequence_id = 0;
+  bool released = false;
+};
+
 /// What `state` says, before its header.
 struct VehicleReport {
   std::optional<AgvPosition> position;  ///< none before the robot's first sample
@@ -81,6 +99,12 @@ struct VehicleReport {
   std::vector<ActionState> actions;
   bool driving = false;
   bool paused = false;
+  std::string order_id;  ///< empty: never an order
+  std::uint64_t order_update_id = 0;
+  std::string last_node_id;
+  std::uint32_t last_node_sequence_id = 0;
+  std::vector<NodeState> node_states;
+  std::vector<EdgeState> edge_states;
 };
 
 [[nodiscard]] nlohmann::json state_body(const VehicleReport& report);

@@ -1,5 +1,6 @@
 #include "server/fleet/vda_vehicle.hpp"
 
+#include <fmt/format.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
@@ -12,6 +13,7 @@
 #include "core/registration/fault_check.hpp"
 #include "server/fleet/map_fetch.hpp"
 #include "server/fleet/map_id.hpp"
+#include "server/fleet/order.hpp"
 
 namespace strata::fleet {
 namespace {
@@ -21,6 +23,9 @@ using Clock = std::chrono::steady_clock;
 
 constexpr auto kStateHeartbeat = std::chrono::seconds(30);  // VDA 5050 2.1, 6.10: at least every 30 s
 constexpr std::size_t kActionStatesKept = 32;
+/// How near a new order's first node the vehicle must stand when the node gives no allowedDeviationXY
+/// (VDA 5050 2.1, 6.6.1: the first node is trivially reachable), m.
+constexpr double kFirstNodeReach = 0.5;
 
 std::string host_name() {
   char name[256] = {};
@@ -122,12 +127,141 @@ void VdaVehicle::on_message(std::string_view topic, std::string_view payload) {
   if (topic == id_.topic("instantActions")) {
     on_instant_actions(payload);
   } else if (topic == id_.topic("order")) {
-    // Orders come in a later slice: refused as a vehicle refuses an order it cannot carry out.
-    message_errors_ = {{"orderError",
-                        "WARNING",
-                        "orders are not carried out yet by this vehicle (Strata)",
-                        {{"topic", "order"}}}};
+    on_order(payload);
   }
+}
+
+void VdaVehicle::on_order(std::string_view payload) {
+  const OrderMessage message = parse_order(payload, id_);
+  const Order& order = message.order;
+  message_errors_.clear();
+  const auto refuse = [&](const std::string& type, const std::string& why,
+                          const std::vector<std::pair<std::string, std::string>>& references) {
+    spdlog::warn("VDA 5050: order {} refused: {}", order.order_id.substr(0, 64), why);
+    VehicleError error{type, "WARNING", "order refused, nothing changed: " + why, {{"topic", "order"}}};
+    if (message.header_id)
+      error.references.emplace_back("headerId", std::to_string(*message.header_id));
+    if (!order.order_id.empty()) {
+      error.references.emplace_back("orderId", order.order_id);
+      error.references.emplace_back("orderUpdateId", std::to_string(order.update_id));
+    }
+    error.references.insert(error.references.end(), references.begin(), references.end());
+    message_errors_.push_back(std::move(error));
+  };
+  if (!message.ok())
+    return refuse(message.error_type, message.error, message.references);
+  const OrderDecision decision = order_.judge(order);
+  if (decision.verdict == OrderVerdict::kResent)
+    return;  // VDA 5050 2.1, 6.6.4.3: the same order again is ignored
+  if (decision.verdict == OrderVerdict::kRefused)
+    return refuse(decision.error_type, decision.reason, {});
+  std::string node_id;
+  if (const std::string why = undrivable(order, decision.verdict == OrderVerdict::kNew, &node_id);
+      !why.empty())
+    return refuse("orderError", why, {{"nodeId", node_id}});
+  order_errors_.clear();
+  order_stopped_ = false;
+  if (decision.verdict == OrderVerdict::kNew) {
+    order_goal_.reset();
+    order_.start(order);
+  } else {
+    order_.extend(order);
+  }
+  spdlog::info("VDA 5050: order {} update {}: {} nodes to pass", order.order_id.substr(0, 64),
+               order.update_id, order_.nodes().size());
+  drive_order();
+}
+
+std::string VdaVehicle::undrivable(const Order& order, bool first_node_here, std::string* node_id) const {
+  if (services_.motion == nullptr)
+    return "this vehicle takes no goals";
+  const auto map = services_.map != nullptr ? services_.map->snapshot() : nullptr;
+  const std::string in_use = map != nullptr && !map->name.empty() ? map->name : std::string(kUnsavedMapName);
+  for (const auto& node : order.nodes) {
+    *node_id = node.node_id;
+    const auto level = parse_map_id(node.position.map_id);  // the parser took only mapIds of the rule
+    if (level && level->map_name != in_use)
+      return "node \"" + node.node_id.substr(0, 64) + "\" is on the map \"" + level->map_name +
+             "\"; the vehicle uses \"" + in_use + "\"";
+  }
+  if (!first_node_here)
+    return {};
+  const OrderNode& first = order.nodes.front();
+  *node_id = first.node_id;
+  const auto robot = services_.robot != nullptr ? services_.robot->snapshot() : std::nullopt;
+  if (!robot || !robot->localized ||
+      services_.robot->registration().localization.state == LocalizationState::kLost)
+    return "the vehicle does not know where it is, so not whether it stands on the first node";
+  const double reach =
+      first.position.allowed_deviation_xy > 0.0 ? first.position.allowed_deviation_xy : kFirstNodeReach;
+  const double distance = std::hypot(first.position.x - robot->estimate.position.x(),
+                                     first.position.y - robot->estimate.position.y());
+  const int level = parse_map_id(first.position.map_id)->level;
+  if (distance > reach || level != level_of(robot->estimate.position.z())) {
+    return fmt::format(
+        "the first node is {:.2f} m from the vehicle (level {}, the vehicle on {}); it must be where the "
+        "vehicle stands, within {:.2f} m (VDA 5050 2.1, 6.6.1)",
+        distance, level, level_of(robot->estimate.position.z()), reach);
+  }
+  return {};
+}
+
+void VdaVehicle::drive_order() {
+  if (!order_.running() || order_stopped_ || paused_ || services_.motion == nullptr)
+    return;
+  const OrderNode* next = order_.next_base_node();
+  if (order_goal_ && next != nullptr) {
+    const GoalStatus goal = services_.motion->goal_status();
+    if (goal.id != *order_goal_) {
+      return stop_order("orderError",
+                        "the order's goal was replaced on the vehicle (a goal from the web app or REST)",
+                        next->node_id);
+    }
+    switch (goal.phase) {
+      case GoalPhase::kAccepted:
+      case GoalPhase::kPlanning:
+      case GoalPhase::kDriving:
+        return;
+      case GoalPhase::kFailed:
+        return stop_order("NODE_UNREACHABLE",
+                          "node \"" + next->node_id.substr(0, 64) + "\" cannot be reached: " + goal.message +
+                              " (" + goal.reason + ")",
+                          next->node_id);
+      case GoalPhase::kCancelled:
+        return stop_order(
+            "orderError",
+            "the order's goal was stopped on the vehicle" +
+                (goal.message.empty() ? std::string(" (Stop or teleoperation)") : ": " + goal.message),
+            next->node_id);
+      case GoalPhase::kReached:
+        spdlog::info("VDA 5050: order {}: node {} reached", order_.order_id().substr(0, 64),
+                     next->node_id.substr(0, 64));
+        order_.pass_next_node();
+        order_goal_.reset();
+        next = order_.next_base_node();
+        break;
+    }
+  }
+  if (next == nullptr)
+    return;  // finished, or the base ends and the horizon waits for an update
+  const CommandResult result = services_.motion->set_goal(goal_of(next->position));
+  if (!result.ok)
+    return stop_order("NODE_UNREACHABLE", "node \"" + next->node_id.substr(0, 64) + "\": " + result.message,
+                      next->node_id);
+  order_goal_ = result.goal_id;
+}
+
+void VdaVehicle::stop_order(std::string type, std::string why, const std::string& node_id) {
+  spdlog::warn("VDA 5050: order {} stopped: {}", order_.order_id().substr(0, 64), why);
+  order_stopped_ = true;
+  order_goal_.reset();
+  order_errors_ = {{std::move(type),
+                    "WARNING",
+                    std::move(why),
+                    {{"topic", "order"},
+                     {"orderId", order_.order_id()},
+                     {"orderUpdateId", std::to_string(order_.update_id())},
+                     {"nodeId", node_id}}}};
 }
 
 void VdaVehicle::on_instant_actions(std::string_view payload) {
@@ -200,6 +334,16 @@ ActionState VdaVehicle::carry_out(const InstantAction& action) {
       paused_ = true;
       return state;
     }
+    if (order_.running()) {
+      // The order's nodes and edges go; its ids stay (VDA 5050 2.1, 6.6.3).
+      order_.cancel();
+      order_goal_.reset();
+      order_stopped_ = false;
+      paused_goal_.reset();
+      if (goal_active(goal))
+        services_.motion->cancel_goal();
+      return state;
+    }
     if (!goal_active(goal) && !paused_goal_) {
       message_errors_.push_back({"noOrderToCancel",
                                  "WARNING",
@@ -220,6 +364,8 @@ ActionState VdaVehicle::carry_out(const InstantAction& action) {
       const CommandResult result = services_.motion->set_goal(goal);
       if (!result.ok)
         return fail("the paused goal could not be taken up again: " + result.message);
+      if (order_goal_)
+        order_goal_ = result.goal_id;  // the order's goal goes on under its new id
     }
     return state;
   }
@@ -356,6 +502,17 @@ VehicleReport VdaVehicle::report() {
     for (const int level : levels_)
       report.maps.push_back({map_id(name, level), version, true});
   }
+  report.order_id = order_.order_id();
+  report.order_update_id = order_.update_id();
+  report.last_node_id = order_.last_node_id();
+  report.last_node_sequence_id = order_.last_node_sequence_id();
+  for (const auto& node : order_.nodes()) {
+    report.node_states.push_back({node.node_id, node.sequence_id, node.released, node.position.x,
+                                  node.position.y, node.position.theta, node.position.map_id});
+  }
+  for (const auto& edge : order_.edges())
+    report.edge_states.push_back({edge.edge_id, edge.sequence_id, edge.released});
+  report.errors.insert(report.errors.end(), order_errors_.begin(), order_errors_.end());
   report.errors.insert(report.errors.end(), message_errors_.begin(), message_errors_.end());
   report.actions.assign(actions_.begin(), actions_.end());
   report.paused = paused_;
@@ -363,6 +520,7 @@ VehicleReport VdaVehicle::report() {
 }
 
 void VdaVehicle::poll() {
+  drive_order();
   const VehicleReport now = report();
   const auto robot = services_.robot != nullptr ? services_.robot->snapshot() : std::nullopt;
   if (robot && robot->version != last_pose_version_) {

@@ -16,13 +16,12 @@ import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 
-import mqtt from 'mqtt';
 import { MasterController } from 'vda-5050-lib';
 
 import { startServer } from '../browser/server.mjs';
 import { startBroker } from './broker.mjs';
 import { makeCertificates } from './certificates.mjs';
-import { fleetSetup, instantAction as runInstantAction, validators, vehicleTopics } from './master.mjs';
+import { fleetSetup, instantAction as runInstantAction, VehicleWatcher } from './master.mjs';
 
 const { binary, mosquitto, schemaDir, missing } = fleetSetup();
 
@@ -36,29 +35,15 @@ let serverB;
 let corruptServer; // a plain HTTP server handing out a damaged copy of the map
 let trusted; // certificates signed by the CA the servers trust (SSL_CERT_FILE)
 const fileServers = []; // node's HTTPS servers of the map's file
-let watcher;
 let master;
 let scratch;
 let version; // A's saved map version: { name, version, bytes, sha256, url }
-const received = []; // { serial, kind, body }
-const invalid = [];
-let waiters = [];
+const watch = new VehicleWatcher(); // every message of both vehicles, checked against 2.1.0
+const { received, invalid } = watch;
 
 /** The first `kind` message of vehicle `serial` from index `from` on that `predicate` accepts. */
-function waitFor(serial, kind, predicate = () => true, { from = 0, timeout = 30000 } = {}) {
-  const match = (m) => m.serial === serial && m.kind === kind && predicate(m.body);
-  const found = received.slice(from).find(match);
-  if (found) return Promise.resolve(found.body);
-  return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error(`no ${kind} message of ${serial} as expected within ${timeout} ms`)), timeout);
-    waiters.push((m) => {
-      if (!match(m)) return false;
-      clearTimeout(timer);
-      resolve(m.body);
-      return true;
-    });
-  });
-}
+const waitFor = (serial, kind, predicate = () => true, options = {}) =>
+  watch.waitFor((m) => m.serial === serial && m.kind === kind && predicate(m.body), `${kind} message of ${serial}`, options);
 
 const headers = { Authorization: `Bearer ${TOKEN}`, 'Content-Type': 'application/json' };
 const getJson = async (server, route) => (await fetch(`${server.url}${route}`)).json();
@@ -77,20 +62,8 @@ async function serve(agv, extra = []) {
 
 before(async () => {
   if (missing) return;
-  const validate = validators(schemaDir);
   broker = await startBroker(mosquitto);
-  watcher = mqtt.connect(broker.url, { reconnectPeriod: 200 });
-  watcher.on('message', (topic, payload) => {
-    const [, , , serial, kind] = topic.split('/');
-    if (!vehicleTopics.includes(kind)) return;
-    const body = JSON.parse(payload.toString());
-    if (!validate[kind](body)) invalid.push({ serial, kind, body, errors: validate[kind].errors });
-    const message = { serial, kind, body };
-    received.push(message);
-    waiters = waiters.filter((waiter) => !waiter(message));
-  });
-  await new Promise((resolve) => watcher.once('connect', resolve));
-  await new Promise((resolve, reject) => watcher.subscribe('uagv/v2/StrataTest/+/+', { qos: 1 }, (e) => (e ? reject(e) : resolve())));
+  await watch.connect(broker.url, schemaDir, 'uagv/v2/StrataTest/+/+');
 
   scratch = mkdtempSync(path.join(tmpdir(), 'strata-fleet-maps-'));
   // The CA the servers' https client trusts: OpenSSL's default verify paths read SSL_CERT_FILE.
@@ -98,6 +71,10 @@ before(async () => {
   trusted = makeCertificates(path.join(scratch, 'trusted'));
   process.env.SSL_CERT_FILE = trusted.ca;
   [serverA, serverB] = await Promise.all([serve(robotA), serve(robotB)]);
+  // B stands where it starts (a command ends the simulator's demo route): it localizes there in A's map and
+  // drives only the master's orders.
+  const stopped = await fetch(`${serverB.url}/api/v1/goal`, { method: 'DELETE', headers });
+  assert.equal(stopped.status, 200, await stopped.text());
   master = new MasterController(
     { interfaceName: 'uagv', transport: { brokerUrl: broker.url }, vdaVersion: '2.0.0', topicObjectValidation: { inbound: false } },
     { targetAgvs: {} },
@@ -108,7 +85,7 @@ before(async () => {
 after(async () => {
   await Promise.all([serverA?.stop(), serverB?.stop()]);
   await master?.stop();
-  watcher?.end(true);
+  watch.end();
   await broker?.stop();
   corruptServer?.close();
   for (const server of fileServers) server.close();
@@ -234,6 +211,105 @@ test('robot B downloads A\'s map through the master, enables it, is placed and l
   const position = (await waitFor(robotB.serialNumber, 'visualization', (v) => v.agvPosition?.mapId === 'yard.smls@0', { from: received.length - 1 })).agvPosition;
   assert.ok(Math.hypot(position.x - pose.x, position.y - pose.y) < 0.5, `B is where A's map has it: ${JSON.stringify(position)} vs ${JSON.stringify(pose)}`);
   assert.equal(localized.maps.find((m) => m.mapStatus === 'ENABLED' && m.mapId === 'yard.smls@0').mapVersion, '1');
+  assert.deepEqual(invalid, []);
+});
+
+/** A VDA 5050 order of `nodes` ({ id, x, y }) on the yard's level 0, sequenceIds from `first`, the first `released` in the base. */
+function yardOrder(orderId, orderUpdateId, nodes, released, first = 0) {
+  const node = (n, i) => ({ nodeId: n.id, sequenceId: first + 2 * i, released: i < released, nodePosition: { x: n.x, y: n.y, mapId: 'yard.smls@0' }, actions: [] });
+  const edge = (n, i) => ({ edgeId: `${nodes[i].id}-${n.id}`, sequenceId: first + 2 * i + 1, released: i + 1 < released, startNodeId: nodes[i].id, endNodeId: n.id, actions: [] });
+  return { orderId, orderUpdateId, nodes: nodes.map(node), edges: nodes.slice(1).map(edge) };
+}
+
+/** Assigns `order` to `agv` through the master: the nodes it reports traversed, and when it is processed. */
+function assignOrder(agv, order) {
+  const traversed = [];
+  const processed = new Promise((resolve, reject) => {
+    const timer = setTimeout(() => reject(new Error(`order ${order.orderId}/${order.orderUpdateId}: not processed`)), 60000);
+    master
+      .assignOrder(agv, order, {
+        onNodeTraversed: (node) => traversed.push(node.nodeId),
+        onOrderProcessed: (error, byCancelation, active, { state }) => {
+          clearTimeout(timer);
+          resolve({ error, byCancelation, active, state });
+        },
+      })
+      .catch(reject);
+  });
+  return { traversed, processed };
+}
+
+/** Publishes `order` raw on `agv`'s order topic with a header, as a master that resends or is behind would. */
+const publishOrder = (agv, order, headerId) =>
+  watch.publish(`uagv/v2/${agv.manufacturer}/${agv.serialNumber}/order`, JSON.stringify({ headerId, timestamp: new Date().toISOString(), version: '2.1.0', ...agv, ...order }));
+
+const near = (position, node, within = 0.6) => Math.hypot(position.x - node.x, position.y - node.y) < within;
+
+test('robot B drives an order of three nodes on the yard\'s mapId: node by node, the horizon after an update, through a broker restart', { skip: missing }, async () => {
+  const at = (await waitFor(robotB.serialNumber, 'visualization', (v) => v.agvPosition?.mapId === 'yard.smls@0', { from: received.length - 1 })).agvPosition;
+  // Along the campus's first street, which A drove while it mapped: B starts where A started.
+  const nodes = [{ id: 'start', x: at.x, y: at.y }, { id: 'east', x: 6.5, y: 10 }, { id: 'corner', x: 8.7, y: 9 }];
+  // The base: start and east; corner is the horizon until the update releases it.
+  const mark = received.length;
+  const first = assignOrder(robotB, yardOrder('yard-round', 0, nodes, 2));
+  const waiting = await first.processed;
+  assert.equal(waiting.error, undefined, JSON.stringify(waiting.error));
+  assert.equal(waiting.active, true, 'the base is done, the horizon waits');
+  assert.deepEqual(first.traversed, ['start', 'east']);
+  assert.deepEqual([waiting.state.lastNodeId, waiting.state.lastNodeSequenceId], ['east', 2]);
+  assert.deepEqual(waiting.state.nodeStates.map((n) => [n.nodeId, n.released]), [['corner', false]]);
+  assert.deepEqual(waiting.state.edgeStates.map((e) => [e.edgeId, e.released]), [['east-corner', false]]);
+  assert.ok(near((await getJson(serverB, '/api/v1/pose')).truth, nodes[1]), 'B stands at east');
+  // The states on the way: the node states shrink as nodes are passed, and B drove.
+  const states = received.slice(mark).filter((m) => m.serial === robotB.serialNumber && m.kind === 'state' && m.body.orderId === 'yard-round');
+  const counts = states.map((m) => m.body.nodeStates.length).filter((count, i, all) => i === 0 || count !== all[i - 1]);
+  assert.deepEqual(counts, [2, 1], 'east and corner left, then corner');
+  assert.ok(states.some((m) => m.body.driving), 'driving on the way to east');
+
+  // The broker restarted mid-order: B comes back ONLINE with its state, the order still there.
+  const beforeRestart = received.length;
+  const masterOnline = new Promise((resolve) => master.registerConnectionStateChange((now, before) => now === 'online' && before !== 'online' && resolve()));
+  await broker.restart();
+  await waitFor(robotB.serialNumber, 'connection', (c) => c.connectionState === 'ONLINE', { from: beforeRestart });
+  const resent = await waitFor(robotB.serialNumber, 'state', () => true, { from: beforeRestart });
+  assert.deepEqual([resent.orderId, resent.lastNodeId, resent.nodeStates.length], ['yard-round', 'east', 1]);
+  await masterOnline;
+
+  // The update stitches on at east and releases corner: B drives there and the order is done.
+  const update = assignOrder(robotB, yardOrder('yard-round', 1, nodes.slice(1), 2, 2));
+  const done = await update.processed;
+  assert.equal(done.error, undefined, JSON.stringify(done.error));
+  assert.equal(done.active, false, 'finished');
+  assert.deepEqual([done.state.lastNodeId, done.state.lastNodeSequenceId, done.state.orderUpdateId], ['corner', 4, 1]);
+  assert.deepEqual([done.state.nodeStates, done.state.edgeStates], [[], []]);
+  assert.ok(near((await getJson(serverB, '/api/v1/pose')).truth, nodes[2]), 'B stands at corner');
+
+  // A stale update (orderUpdateId 0 after 1) is refused and changes nothing.
+  const beforeStale = received.length;
+  await publishOrder(robotB, yardOrder('yard-round', 0, nodes.slice(1), 2, 2), 9001);
+  const stale = await waitFor(robotB.serialNumber, 'state', (s) => s.errors.some((e) => e.errorType === 'orderUpdateError'), { from: beforeStale });
+  assert.match(stale.errors.find((e) => e.errorType === 'orderUpdateError').errorDescription, /older than the current 1/);
+  assert.deepEqual([stale.orderUpdateId, stale.lastNodeId, stale.nodeStates.length], [1, 'corner', 0]);
+  assert.deepEqual(invalid, []);
+});
+
+test('an order to a node B cannot reach stops with NODE_UNREACHABLE and the planner\'s reason; cancelOrder clears it', { skip: missing }, async () => {
+  const at = (await waitFor(robotB.serialNumber, 'visualization', (v) => v.agvPosition?.mapId === 'yard.smls@0', { from: received.length - 1 })).agvPosition;
+  // Far beyond anything A's map has seen: no way there.
+  const order = assignOrder(robotB, yardOrder('beyond-the-map', 0, [{ id: 'here', x: at.x, y: at.y }, { id: 'outside', x: -60, y: 9.5 }], 2));
+  const stopped = await order.processed;
+  assert.equal(stopped.error?.errorType, 'NODE_UNREACHABLE', JSON.stringify(stopped.error));
+  assert.match(stopped.error.errorDescription, /"outside" cannot be reached: .+ \((off_map|no_connection|goal_not_drivable)\)/);
+  assert.ok(stopped.error.errorReferences.some((r) => r.referenceKey === 'nodeId' && r.referenceValue === 'outside'));
+  assert.deepEqual(stopped.state.nodeStates.map((n) => n.nodeId), ['outside'], 'the node not reached is still to do');
+  // A new order is refused while this one is not finished; cancelOrder ends it.
+  const beforeBusy = received.length;
+  await publishOrder(robotB, yardOrder('another', 0, [{ id: 'here', x: at.x, y: at.y }], 1), 9002);
+  await waitFor(robotB.serialNumber, 'state', (s) => s.errors.some((e) => e.errorType === 'orderError' && /not finished/.test(e.errorDescription)), { from: beforeBusy });
+  const cancelled = await instantAction(robotB, 'cancelOrder');
+  assert.equal(cancelled.actionStatus, 'FINISHED', cancelled.resultDescription);
+  const after = await waitFor(robotB.serialNumber, 'state', (s) => s.actionStates.some((a) => a.actionId === cancelled.actionId));
+  assert.deepEqual([after.orderId, after.nodeStates, after.edgeStates], ['beyond-the-map', [], []]);
   assert.deepEqual(invalid, []);
 });
 

@@ -5,6 +5,7 @@ import { existsSync, readFileSync } from 'node:fs';
 import path from 'node:path';
 
 import Ajv2020 from 'ajv/dist/2020.js';
+import mqtt from 'mqtt';
 
 /**
  * The strata binary, mosquitto and the 2.1.0 schemas' directory from the environment (STRATA_BINARY,
@@ -30,6 +31,58 @@ export function validators(schemaDir) {
   return Object.fromEntries(
     vehicleTopics.map((kind) => [kind, ajv.compile(JSON.parse(readFileSync(path.join(schemaDir, `${kind}.schema`), 'utf8')))]),
   );
+}
+
+/**
+ * The test's own MQTT client on the broker: every vehicle message under a topic filter is checked against
+ * the 2.1.0 schemas (the failures in `invalid`) and kept in `received` as { serial, kind, body }.
+ */
+export class VehicleWatcher {
+  received = [];
+  invalid = [];
+  client = null;
+  #waiters = [];
+
+  /** Connects (reconnecting every 200 ms after a broker outage) and subscribes to `filter`. */
+  async connect(brokerUrl, schemaDir, filter) {
+    const validate = validators(schemaDir);
+    this.client = mqtt.connect(brokerUrl, { reconnectPeriod: 200 });
+    this.client.on('message', (topic, payload) => {
+      const [, , , serial, kind] = topic.split('/');
+      if (!vehicleTopics.includes(kind)) return;
+      const body = JSON.parse(payload.toString());
+      if (!validate[kind](body)) this.invalid.push({ serial, kind, body, errors: validate[kind].errors });
+      const message = { serial, kind, body };
+      this.received.push(message);
+      this.#waiters = this.#waiters.filter((waiter) => !waiter(message));
+    });
+    await new Promise((resolve) => this.client.once('connect', resolve));
+    await new Promise((resolve, reject) => this.client.subscribe(filter, { qos: 1 }, (e) => (e ? reject(e) : resolve())));
+  }
+
+  /** The body of the first message from index `from` on that `match` accepts; `what` names it in the timeout's error. */
+  waitFor(match, what, { from = 0, timeout = 30000 } = {}) {
+    const found = this.received.slice(from).find(match);
+    if (found) return Promise.resolve(found.body);
+    return new Promise((resolve, reject) => {
+      const timer = setTimeout(() => reject(new Error(`no ${what} as expected within ${timeout} ms`)), timeout);
+      this.#waiters.push((m) => {
+        if (!match(m)) return false;
+        clearTimeout(timer);
+        resolve(m.body);
+        return true;
+      });
+    });
+  }
+
+  /** Publishes `payload` (a string) raw on `topic`, as a faulty master would. */
+  publish(topic, payload) {
+    return new Promise((resolve, reject) => this.client.publish(topic, payload, { qos: 0 }, (e) => (e ? reject(e) : resolve())));
+  }
+
+  end() {
+    this.client?.end(true);
+  }
 }
 
 /** Carries out one instant action on `agv` through `master`; resolves with its final (FINISHED or FAILED) state. */

@@ -9,12 +9,11 @@ import { tmpdir } from 'node:os';
 import path from 'node:path';
 import { after, before, test } from 'node:test';
 
-import mqtt from 'mqtt';
 import { MasterController } from 'vda-5050-lib';
 
 import { startServer } from '../browser/server.mjs';
 import { startBroker } from './broker.mjs';
-import { fleetSetup, instantAction as runInstantAction, validators, vehicleTopics } from './master.mjs';
+import { fleetSetup, instantAction as runInstantAction, VehicleWatcher } from './master.mjs';
 
 const { binary, mosquitto, schemaDir, missing } = fleetSetup();
 
@@ -24,28 +23,13 @@ const prefix = `uagv/v2/${agv.manufacturer}/${agv.serialNumber}`;
 
 let broker;
 let server;
-let watcher;
 let master;
 let scratch;
-const received = []; // every message on the vehicle's topics: { kind, body, at }
-const invalid = []; // the vehicle's messages the 2.1.0 schemas refuse
-let waiters = [];
+const watch = new VehicleWatcher(); // every message on the vehicle's topics, checked against 2.1.0
+const { received, invalid } = watch;
 
 /** The first message of `kind` from index `from` on that `predicate` accepts; waits up to `timeout` ms. */
-function waitFor(kind, predicate = () => true, { from = 0, timeout = 30000 } = {}) {
-  const match = (m) => m.kind === kind && predicate(m.body);
-  const found = received.slice(from).find(match);
-  if (found) return Promise.resolve(found.body);
-  return new Promise((resolve, reject) => {
-    const timer = setTimeout(() => reject(new Error(`no ${kind} message as expected within ${timeout} ms`)), timeout);
-    waiters.push((m) => {
-      if (!match(m)) return false;
-      clearTimeout(timer);
-      resolve(m.body);
-      return true;
-    });
-  });
-}
+const waitFor = (kind, predicate = () => true, options = {}) => watch.waitFor((m) => m.kind === kind && predicate(m.body), `${kind} message`, options);
 
 const getJson = async (route) => (await fetch(`${server.url}${route}`)).json();
 const headers = { Authorization: `Bearer ${TOKEN}`, 'Content-Type': 'application/json' };
@@ -54,28 +38,14 @@ const headers = { Authorization: `Bearer ${TOKEN}`, 'Content-Type': 'application
 const instantAction = (actionType, actionParameters = []) => runInstantAction(master, agv, actionType, actionParameters);
 
 /** Publishes `payload` raw on the vehicle's instantActions topic, as a faulty master would. */
-function publishRaw(payload) {
-  return new Promise((resolve, reject) => watcher.publish(`${prefix}/instantActions`, payload, { qos: 0 }, (e) => (e ? reject(e) : resolve())));
-}
+const publishRaw = (payload) => watch.publish(`${prefix}/instantActions`, payload);
 
 const header = (headerId) => ({ headerId, timestamp: new Date().toISOString(), version: '2.1.0', ...agv });
 
 before(async () => {
   if (missing) return;
-  const validate = validators(schemaDir);
   broker = await startBroker(mosquitto);
-  watcher = mqtt.connect(broker.url, { reconnectPeriod: 200 });
-  watcher.on('message', (topic, payload) => {
-    const kind = topic.slice(prefix.length + 1);
-    if (!vehicleTopics.includes(kind)) return;
-    const body = JSON.parse(payload.toString());
-    if (!validate[kind](body)) invalid.push({ kind, body, errors: validate[kind].errors });
-    const message = { kind, body };
-    received.push(message);
-    waiters = waiters.filter((waiter) => !waiter(message));
-  });
-  await new Promise((resolve) => watcher.once('connect', resolve));
-  await new Promise((resolve, reject) => watcher.subscribe(`${prefix}/+`, { qos: 1 }, (e) => (e ? reject(e) : resolve())));
+  await watch.connect(broker.url, schemaDir, `${prefix}/+`);
 
   scratch = mkdtempSync(path.join(tmpdir(), 'strata-fleet-'));
   const config = path.join(scratch, 'strata.ini');
@@ -94,7 +64,7 @@ before(async () => {
 after(async () => {
   await server?.stop();
   await master?.stop();
-  watcher?.end(true);
+  watch.end();
   await broker?.stop();
   if (scratch) rmSync(scratch, { recursive: true, force: true });
 });
@@ -180,12 +150,11 @@ test('malformed, unknown and huge instantActions are refused with an error in st
   // Not JSON, and a huge message (1 MB).
   await refused('{"headerId": 1, "actions": [', /not JSON/);
   await refused(JSON.stringify({ ...header(902), actions: [valid('ok-3')], padding: 'x'.repeat(1 << 20) }), /bytes/);
-  // An order: not carried out yet, and said so as VDA 5050 says a vehicle refuses one it cannot do.
+  // An order without nodes: refused as malformed (VDA 5050 2.1, 6.6.4.1), nothing taken.
   const mark = received.length;
-  await new Promise((resolve, reject) =>
-    watcher.publish(`${prefix}/order`, JSON.stringify({ ...header(903), orderId: 'o-1', orderUpdateId: 0, nodes: [], edges: [] }), (e) => (e ? reject(e) : resolve())),
-  );
-  await waitFor('state', (s) => s.errors.some((e) => e.errorType === 'orderError'), { from: mark });
+  await watch.publish(`${prefix}/order`, JSON.stringify({ ...header(903), orderId: 'o-1', orderUpdateId: 0, nodes: [], edges: [] }));
+  const refusedOrder = await waitFor('state', (s) => s.errors.some((e) => e.errorType === 'validationError' && /at least one node/.test(e.errorDescription)), { from: mark });
+  assert.deepEqual([refusedOrder.orderId, refusedOrder.nodeStates], ['', []]);
   // Still at work afterwards: a good message is carried out, and the refusal's error goes.
   const answered = await instantAction('stateRequest');
   assert.equal(answered.actionStatus, 'FINISHED');

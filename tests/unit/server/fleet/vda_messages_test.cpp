@@ -46,6 +46,32 @@ TEST(VdaMessages, TheStateSaysWhatItKnowsAndLeavesOutWhatItDoesNot) {
   EXPECT_EQ(body["actionStates"][0]["actionStatus"], "FINISHED");
   EXPECT_FALSE(body["actionStates"][0].contains("resultDescription"));
   EXPECT_EQ(body["safetyState"]["eStop"], "NONE");
+  EXPECT_EQ(body["orderId"], "") << "no order yet";
+  EXPECT_TRUE(body["nodeStates"].empty());
+}
+
+TEST(VdaMessages, TheStateCarriesTheOrdersIdsAndWhatIsLeftOfIt) {
+  VehicleReport report;
+  report.order_id = "order-1";
+  report.order_update_id = 2;
+  report.last_node_id = "b";
+  report.last_node_sequence_id = 2;
+  report.node_states.push_back({"c", 4, true, 1.5, -2.0, std::nullopt, "yard.smls@1"});
+  report.node_states.push_back({"d", 6, false, 3.0, -2.0, 0.25, "yard.smls@1"});
+  report.edge_states.push_back({"b-c", 3, true});
+  report.edge_states.push_back({"c-d", 5, false});
+  const auto body = state_body(report);
+  EXPECT_EQ(body["orderId"], "order-1");
+  EXPECT_EQ(body["orderUpdateId"], 2);
+  EXPECT_EQ(body["lastNodeId"], "b");
+  EXPECT_EQ(body["lastNodeSequenceId"], 2);
+  ASSERT_EQ(body["nodeStates"].size(), 2u);
+  EXPECT_EQ(body["nodeStates"][0]["nodePosition"]["mapId"], "yard.smls@1");
+  EXPECT_FALSE(body["nodeStates"][0]["nodePosition"].contains("theta"));
+  EXPECT_EQ(body["nodeStates"][1]["nodePosition"]["theta"], 0.25);
+  EXPECT_EQ(body["nodeStates"][1]["released"], false);
+  EXPECT_EQ(body["edgeStates"][1]["edgeId"], "c-d");
+  EXPECT_EQ(body["edgeStates"][1]["sequenceId"], 5);
 }
 
 }  // namespace
