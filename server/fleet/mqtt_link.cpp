@@ -46,6 +46,8 @@ MqttLink::MqttLink(Strand strand, BrokerAddress broker, const MqttSession& sessi
   mosquitto_connect_callback_set(client_, &MqttLink::on_connect);
   mosquitto_message_callback_set(client_, &MqttLink::on_message);
   mosquitto_publish_callback_set(client_, &MqttLink::on_publish);
+  // No Nagle: a state sent right after a visualization would wait for the broker's delayed ACK (40 ms).
+  require(mosquitto_int_option(client_, MOSQ_OPT_TCP_NODELAY, 1), "TCP_NODELAY");
   if (!session.will_topic.empty()) {
     require(
         mosquitto_will_set(client_, session.will_topic.c_str(), static_cast<int>(session.will_payload.size()),

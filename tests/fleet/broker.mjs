@@ -20,15 +20,16 @@ export async function freePort() {
 
 /**
  * Starts mosquitto with an anonymous listener on a free loopback port; `listeners(dir)` may return the
- * config lines of more (each with its own settings), files in `dir`. `restart()` stops it and starts it
- * again on the same ports (a broker outage).
+ * config lines of more (each with its own settings), files in `dir`. `restart(downMs)` stops it and starts
+ * it again on the same ports after `downMs` (a broker outage); it resolves once the broker runs again.
+ * `tcpNoDelay`: mosquitto's set_tcp_nodelay (no Nagle on what it sends to clients; its default is off).
  */
-export async function startBroker(binary, { listeners = async () => [] } = {}) {
+export async function startBroker(binary, { listeners = async () => [], tcpNoDelay = false } = {}) {
   const dir = mkdtempSync(join(tmpdir(), 'strata-mosquitto-'));
   const port = await freePort();
   const config = join(dir, 'mosquitto.conf');
   // `user`: started by root, mosquitto would become the user "mosquitto", who cannot read the test's files.
-  const lines = [`user ${userInfo().username}`, 'per_listener_settings true', 'persistence false', 'log_dest stderr', `listener ${port} 127.0.0.1`, 'allow_anonymous true'];
+  const lines = [`user ${userInfo().username}`, 'per_listener_settings true', 'persistence false', 'log_dest stderr', `listener ${port} 127.0.0.1`, 'allow_anonymous true', ...(tcpNoDelay ? ['set_tcp_nodelay true'] : [])];
   writeFileSync(config, [...lines, ...(await listeners(dir)), ''].join('\n'));
   let child = null;
   const launch = async () => {
@@ -53,8 +54,9 @@ export async function startBroker(binary, { listeners = async () => [] } = {}) {
   await launch();
   return {
     url: `mqtt://127.0.0.1:${port}`,
-    async restart() {
+    async restart(downMs = 0) {
       await stop();
+      if (downMs > 0) await new Promise((resolve) => setTimeout(resolve, downMs));
       await launch();
     },
     async stop() {

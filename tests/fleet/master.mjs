@@ -35,7 +35,8 @@ export function validators(schemaDir) {
 
 /**
  * The test's own MQTT client on the broker: every vehicle message under a topic filter is checked against
- * the 2.1.0 schemas (the failures in `invalid`) and kept in `received` as { serial, kind, body }.
+ * the 2.1.0 schemas (the failures in `invalid`) and kept in `received` as { serial, kind, body, at, retained }
+ * (`at`: performance.now() on arrival; `retained`: from the broker's store when subscribing).
  */
 export class VehicleWatcher {
   received = [];
@@ -43,16 +44,17 @@ export class VehicleWatcher {
   client = null;
   #waiters = [];
 
-  /** Connects (reconnecting every 200 ms after a broker outage) and subscribes to `filter`. */
-  async connect(brokerUrl, schemaDir, filter) {
+  /** Connects (reconnecting every `reconnectPeriod` ms after a broker outage) and subscribes to `filter`. */
+  async connect(brokerUrl, schemaDir, filter, { reconnectPeriod = 200 } = {}) {
     const validate = validators(schemaDir);
-    this.client = mqtt.connect(brokerUrl, { reconnectPeriod: 200 });
-    this.client.on('message', (topic, payload) => {
+    this.client = mqtt.connect(brokerUrl, { reconnectPeriod });
+    this.client.on('message', (topic, payload, packet) => {
+      const at = performance.now();
       const [, , , serial, kind] = topic.split('/');
       if (!vehicleTopics.includes(kind)) return;
       const body = JSON.parse(payload.toString());
       if (!validate[kind](body)) this.invalid.push({ serial, kind, body, errors: validate[kind].errors });
-      const message = { serial, kind, body };
+      const message = { serial, kind, body, at, retained: packet.retain };
       this.received.push(message);
       this.#waiters = this.#waiters.filter((waiter) => !waiter(message));
     });
