@@ -188,6 +188,12 @@ std::optional<DriveCommand> Navigator::drive(const Pose3& estimate, double stamp
       return teleop_;
     teleop_until_.reset();  // expired: the operator stopped renewing it
   }
+  if (blocked_ && tracker_.status().phase == GoalPhase::kDriving &&
+      stamp - blocked_->since > config_.blocked_grace) {
+    spdlog::info("goal {} failed ({}): {}", tracker_.status().id, blocked_->reason, blocked_->message);
+    tracker_.fail(tracker_.status().id, blocked_->reason, blocked_->message, stamp, blocked_->nearest);
+    drop_path();
+  }
   if (tracker_.status().phase == GoalPhase::kDriving && pursuit_.has_path()) {
     if ((estimate.position - progress_position_).norm() > kProgress) {
       progress_position_ = estimate.position;
@@ -218,6 +224,7 @@ bool Navigator::planning_wanted() const {
 void Navigator::drop_path() {
   pursuit_.clear();
   path_.reset();
+  blocked_.reset();
 }
 
 bool Navigator::plan_pending() {
@@ -280,12 +287,29 @@ bool Navigator::plan_pending() {
   std::lock_guard lock(mutex_);
   if (!tracker_.is_active(id))
     return true;  // cancelled or replaced while planning
+  if (!planned.found() && replanning) {
+    // The way was open when the goal was accepted: stand still and give the map time to open it again.
+    const double since = blocked_ ? blocked_->since : stamp_;
+    if (!blocked_)
+      spdlog::info("goal {}: {}; stopped, waiting up to {:.0f} s for the map to open a way", id,
+                   failure.message, config_.blocked_grace);
+    drop_path();
+    blocked_ =
+        Blocked{.since = since, .reason = failure.reason, .message = failure.message, .nearest = nearest};
+    tracker_.driving(id, stamp_,
+                     fmt::format("{}: stopped, waiting for a scan that opens a way", failure.message));
+    return true;
+  }
   if (!planned.found()) {
     spdlog::info("goal {} failed ({}): {}", id, failure.reason, failure.message);
     tracker_.fail(id, failure.reason, failure.message, stamp_, nearest);
     drop_path();
     return true;
   }
+  const bool reopened = blocked_.has_value();
+  if (reopened)
+    spdlog::info("goal {}: the way is open again", id);
+  blocked_.reset();
   auto path = std::make_shared<PlannedPath>();
   path->goal_id = id;
   path->version = ++path_version_;
@@ -293,11 +317,11 @@ bool Navigator::plan_pending() {
   path->length = planned.length;
   path_ = std::move(path);
   pursuit_.set_path(planned.points);
-  if (!replanning) {
+  if (!replanning || reopened) {  // standing while blocked is no lack of progress
     progress_position_ = pose_.position;
     progress_stamp_ = stamp_;
   }
-  std::string moved;
+  std::string moved = reopened ? "the way is open again" : "";
   if (planned.moved_goal) {
     moved = fmt::format(
         "the spot asked for is too near an edge for the robot: driving to the nearest place "

@@ -28,11 +28,16 @@ struct NavigatorConfig {
   /// A goal fails as "stuck" when the robot, driving to it, has not moved 0.25 m in this many robot seconds
   /// (a bumper stop the map does not explain). Longer than a stop-and-go scan plus a turn on the spot.
   double stuck_after = 20.0;
+  /// A replan that finds the way closed (a new scan blocks it, or a loop closure moved the pose before the
+  /// rebuilt map arrived) stops the robot and waits this many robot seconds for a map that opens it again
+  /// before the goal fails: a rebuild after a loop closure takes seconds, a person in a doorway longer.
+  double blocked_grace = 20.0;
 };
 
 /// Drives the robot to operators' goals (docs/architecture.md 4.4): plans across levels on the patch graph of
 /// the latest map, follows the path with pure pursuit on the localized pose, replans on every new map (a
-/// path a new scan blocks is left, a shorter one that a scan reveals is taken), and passes teleoperation
+/// path a new scan blocks is left, a shorter one that a scan reveals is taken; when none is left the robot
+/// stops and waits NavigatorConfig::blocked_grace for a map that opens one), and passes teleoperation
 /// through. Thread-safe: operators call MotionCommands from the network threads, the mapping worker calls
 /// on_map_update, the driver thread calls drive(), and planning runs on the navigator's own thread
 /// (start()) or, in tests, wherever plan_pending() is called.
@@ -98,6 +103,15 @@ class Navigator : public MotionCommands {
   bool commanded_ = false;  // an operator has taken over from the demo route
   Eigen::Vector3d progress_position_ = Eigen::Vector3d::Zero();  // where the robot last made progress
   double progress_stamp_ = 0.0;                                  // and when
+  /// Set while the robot stands because a replan found no way: since when, and why the goal fails if no
+  /// map opens the way within blocked_grace.
+  struct Blocked {
+    double since = 0.0;
+    std::string reason;
+    std::string message;
+    std::optional<Eigen::Vector3d> nearest;
+  };
+  std::optional<Blocked> blocked_;
   DriveCommand teleop_;
   std::optional<std::chrono::steady_clock::time_point> teleop_until_;
   bool stopping_ = false;

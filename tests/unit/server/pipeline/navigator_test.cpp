@@ -253,14 +253,54 @@ TEST(Navigator, ReplansWhenANewMapArrives) {
   EXPECT_GT(after->version, before->version);
   EXPECT_GT(after->length, before->length + 1.0);
   EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
-  // And when the gap closes too, the goal fails as blocked.
+  // And when the gap closes too, the robot stops and, when no map opens a way in the grace time, the goal
+  // fails as blocked.
   PointCloud closing;
   test::add_vertical_face(closing, 0.0, 0.0, 2.0, 0.0, 0.0, 2.0);
   map.insert_scan(closing, {0, 0, 3});
   publish(navigator, map, 3);
   EXPECT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
+  EXPECT_EQ(navigator.path(), nullptr);
+  EXPECT_NE(navigator.goal_status().message.find("waiting"), std::string::npos);
+  EXPECT_EQ(navigator.drive(at(-2.0, -4.0, 0.0), 1.0)->v, 0.0);
+  EXPECT_EQ(navigator.drive(at(-2.0, -4.0, 0.0), 19.0)->v, 0.0);
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
+  EXPECT_EQ(navigator.drive(at(-2.0, -4.0, 0.0), 22.0)->v, 0.0);
   EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kFailed);
   EXPECT_EQ(navigator.goal_status().reason, "blocked");
+}
+
+TEST(Navigator, AWayClosedForAMomentIsDrivenOnWhenTheMapOpensItAgain) {
+  // As after a loop closure: the pose moves before the rebuilt map arrives, and for a few seconds the map
+  // the planner has shows no way from where the robot now is.
+  const MlsMap open = test::wall_and_stairs_scene();
+  Navigator navigator;
+  publish(navigator, open);
+  (void)navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 0.0);
+  ASSERT_TRUE(navigator.set_goal({-2.0, 4.0, {}}).ok);
+  ASSERT_TRUE(navigator.plan_pending());
+  ASSERT_NE(navigator.path(), nullptr);
+
+  MlsMap closed = test::wall_and_stairs_scene();
+  PointCloud wall;
+  test::add_vertical_face(wall, -3.0, 0.0, 2.0, 0.0, 0.0, 2.0);
+  closed.insert_scan(wall, {0, 0, 3});
+  publish(navigator, closed, 2);
+  ASSERT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.path(), nullptr);
+  for (double t = 1.0; t < 18.0; t += 1.0)  // stopped, and not taken for stuck
+    EXPECT_EQ(navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), t)->v, 0.0);
+
+  publish(navigator, open, 3);
+  ASSERT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
+  EXPECT_EQ(navigator.goal_status().message, "the way is open again");
+  ASSERT_NE(navigator.path(), nullptr);
+  EXPECT_GT(navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 18.5)->v, 0.0);
+  // The grace was for that closure: a later one waits its own full grace time.
+  EXPECT_GT(navigator.drive(at(-2.0, -3.5, 0.0, M_PI / 2), 30.0)->v, 0.0);
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
 }
 
 TEST(Navigator, TeleopLastsHalfASecondUnlessRenewed) {
