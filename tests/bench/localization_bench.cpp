@@ -331,6 +331,8 @@ int main(int argc, char** argv) {
     options.gravity.tilt_change_per_metre = std::atof(change);
   if (const char* rate = std::getenv("STRATA_BENCH_BIAS_RATE"))
     options.gravity.bias_rate_per_radian = std::atof(rate);
+  if (const char* points = std::getenv("STRATA_BENCH_SOURCE_POINTS"))  // the registration's source budget
+    options.registration.max_source_points = std::strtoul(points, nullptr, 10);
   if (const char* guard = std::getenv("STRATA_BENCH_ROTATION_GUARD"))
     options.weak_rotation_guard = std::atof(guard);
   if (const char* guard = std::getenv("STRATA_BENCH_DIRECTION_GUARD"))

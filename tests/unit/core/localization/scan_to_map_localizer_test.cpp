@@ -113,12 +113,13 @@ TEST(ScanToMapLocalizer, AScanTooFarFromSlippingOdometryIsTakenFromTheSecondGues
 // whole rather than pinning a moving robot where it stood.
 TEST(ScanToMapLocalizer, BeforeTheMotionIsKnownNoDirectionIsTakenFromThePrediction) {
   // A corridor with a doorway's frame across it: the axis weakly constrained, above the fault check's
-  // hard limit and below the localizer's guard.
+  // hard limit and below the localizer's guard (the weakest eigenvalue 0.015-0.016 whether 1,000 or 2,000
+  // source points; a 1 m wide doorway gave 0.010-0.011, on the limit).
   PointCloud corridor = corridor_scene(0.1, 3);
   for (const double x : {-4.0, 2.0}) {
     for (double z = 0.0; z <= 2.5; z += 0.05) {
       for (double y = -1.0; y <= 1.0; y += 0.05) {
-        if (std::abs(y) > 0.5 || z > 2.1)
+        if (std::abs(y) > 0.3 || z > 1.9)
           corridor.emplace_back(x, y, z);
       }
     }
