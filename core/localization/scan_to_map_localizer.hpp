@@ -111,8 +111,9 @@ struct LocalizerOptions {
     options.max_constraint_pairs = 0;
     // A 32-beam lidar's revolution in real time on one core (<= 50 ms with mapping): 2,000 of its 10,000
     // points at 0.3 m, or of more at the fine stage's 0.2 m, register as closely (docs/benchmarks.md,
-    // "Real captures"). 1,000 rather than 2,000: a 16-beam lidar's scan costs a quarter less, and the
-    // campus lidar and the real sequences land as closely (docs/benchmarks.md, "The source budget").
+    // "Real captures"). 1,000 rather than 2,000: a 16-beam lidar's scan costs a fifth less, and the
+    // campus lidar and the real sequences land as closely (docs/benchmarks.md, "The source budget and the
+    // coarse stage").
     options.max_source_points = 1000;
     // The pairing's searches and the new target points' normals on two threads: the same registration,
     // median 12.7 -> 9.4-10.7 ms on the campus (docs/benchmarks.md, "The scan path on two threads"). More

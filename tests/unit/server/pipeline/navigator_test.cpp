@@ -298,7 +298,7 @@ TEST(Navigator, AWayClosedForAMomentIsDrivenOnWhenTheMapOpensItAgain) {
   EXPECT_EQ(navigator.goal_status().message, "the way is open again");
   ASSERT_NE(navigator.path(), nullptr);
   EXPECT_GT(navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 18.5)->v, 0.0);
-  // The grace was for that closure: a later one waits its own full grace time.
+  // Once the way opened, the wait no longer counts: past the grace time the goal still drives.
   EXPECT_GT(navigator.drive(at(-2.0, -3.5, 0.0, M_PI / 2), 30.0)->v, 0.0);
   EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
 }
