@@ -39,7 +39,8 @@ TEST(Deskew, PointsMeasuredAlongTheWayLandWhereTheEndPoseSeesThem) {
   std::vector<float> times;
   for (int i = 0; i < 100; ++i) {
     const float time = -0.1f + 0.001f * static_cast<float>(i);
-    const Eigen::Isometry3d then_in_world = end_in_world * planar(pose_after(velocity, time));
+    const Eigen::Isometry3d then_in_world =
+        end_in_world * planar(pose_after(velocity, static_cast<double>(time)));
     const Eigen::Vector3d world_point(10.0 * std::cos(0.06 * i), 10.0 * std::sin(0.06 * i), 0.1 * i - 2.0);
     measured.push_back(then_in_world.inverse() * world_point);
     expected.push_back(end_in_world.inverse() * world_point);

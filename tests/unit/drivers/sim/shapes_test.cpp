@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 #include "core/geometry/angles.hpp"
 
@@ -81,7 +82,8 @@ TEST(HeightField, FlatAndSlopedTerrain) {
 TEST(HeightField, RejectsBadInput) {
   EXPECT_THROW(HeightField({0, 0}, 1.0, 2, 2, {0, 0, 0}), std::invalid_argument);
   EXPECT_THROW(HeightField({0, 0}, 0.0, 2, 2, {0, 0, 0, 0}), std::invalid_argument);
-  EXPECT_THROW(HeightField({0, 0}, 1.0, 2, 2, {0, 0, NAN, 0}), std::invalid_argument);
+  EXPECT_THROW(HeightField({0, 0}, 1.0, 2, 2, {0, 0, std::numeric_limits<double>::quiet_NaN(), 0}),
+               std::invalid_argument);
 }
 
 }  // namespace

@@ -25,7 +25,8 @@ void expect_round_trip(const MlsMap& map, TileIndex index, const std::vector<Dec
     tile.for_each_patch(local, [&](const MlsPatch&) { ++originals; });
   ASSERT_EQ(decoded.size(), originals);
   for (const DecodedPatch& patch : decoded) {
-    const CellIndex cell = map.cell_of(patch.position.x(), patch.position.y());
+    const CellIndex cell =
+        map.cell_of(static_cast<double>(patch.position.x()), static_cast<double>(patch.position.y()));
     ASSERT_EQ(MlsMap::tile_of(cell), index) << "a patch outside its tile";
     const Eigen::Vector2d centre = map.cell_center(cell);
     EXPECT_NEAR(patch.position.x(), centre.x(), bound);
