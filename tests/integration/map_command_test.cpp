@@ -13,11 +13,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 class MapCommand : public ::testing::Test {
  protected:
   void SetUp() override {
@@ -58,9 +53,9 @@ TEST_F(MapCommand, BuildsAMapThenExportsPlyAndRosMap) {
   // it connected to the robot.
   EXPECT_EQ(out["free_cells"].get<int>(), 59 * 40);
   EXPECT_EQ(out["connected_cells"].get<int>(), 55 * 40);
-  EXPECT_EQ(read_bytes(directory_ / "site.ply").rfind("ply\n", 0), 0U);
-  EXPECT_EQ(read_bytes(directory_ / "site.pgm").rfind("P5\n", 0), 0U);
-  EXPECT_NE(read_bytes(directory_ / "site.yaml").find("image: site.pgm"), std::string::npos);
+  EXPECT_EQ(file_bytes(directory_ / "site.ply").rfind("ply\n", 0), 0U);
+  EXPECT_EQ(file_bytes(directory_ / "site.pgm").rfind("P5\n", 0), 0U);
+  EXPECT_NE(file_bytes(directory_ / "site.yaml").find("image: site.pgm"), std::string::npos);
 }
 
 TEST_F(MapCommand, TheRobotPointInTheOldFormWorksWithAWarning) {
@@ -79,7 +74,7 @@ TEST_F(MapCommand, TheRobotPointInTheOldFormWorksWithAWarning) {
   const CommandResult old = export_with("0 0 -0.5", "old");
   ASSERT_EQ(old.exit_code, 0) << old.output;
   EXPECT_NE(old.output.find("write --robot 0,0,-0.5"), std::string::npos) << old.output;
-  EXPECT_EQ(read_bytes(directory_ / "old.pgm"), read_bytes(directory_ / "current.pgm"));
+  EXPECT_EQ(file_bytes(directory_ / "old.pgm"), file_bytes(directory_ / "current.pgm"));
 
   const CommandResult wrong = export_with("0,0", "wrong");
   EXPECT_NE(wrong.exit_code, 0);
@@ -93,7 +88,7 @@ TEST_F(MapCommand, CorruptedMapFileFailsWithAClearMessage) {
                        std::chrono::seconds(60))
                 .exit_code,
             0);
-  std::string bytes = read_bytes(map);
+  std::string bytes = file_bytes(map);
   bytes[bytes.size() / 2] = static_cast<char>(bytes[bytes.size() / 2] ^ 0x01);
   std::ofstream(map, std::ios::binary) << bytes;
   const CommandResult run = run_strata(

@@ -26,17 +26,12 @@ fs::path temporary(const std::string& name) {
   return path;
 }
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 /// Saves the server's map as `name` through an operator's connection; returns the file's bytes.
 std::string save_map(WsClient& op, const fs::path& maps_dir, const std::string& name) {
   op.send_text(R"({"op":"save_map","name":")" + name + R"(","id":"save"})");
   const auto ack = op.read_op("ack", 100000);
   EXPECT_EQ(ack["id"], "save");
-  return read_bytes(maps_dir / name);
+  return file_bytes(maps_dir / name);
 }
 
 double distance(const nlohmann::json& a, const nlohmann::json& b) {
@@ -139,7 +134,7 @@ TEST(Replay, AnMcapRecordingReplaysToTheOwnLayoutsMapAndACutOneIsRefused) {
   EXPECT_TRUE(mcap_map == own_map) << "the MCAP replay's map differs from the own layout's";
 
   // Cut at the end of the magic, in the first chunk, in the middle, just before the end.
-  const std::string bytes = read_bytes(mcap);
+  const std::string bytes = file_bytes(mcap);
   for (const std::size_t cut : {std::size_t{8}, std::size_t{300}, bytes.size() / 2, bytes.size() - 3}) {
     const fs::path cut_file = temporary("cut") += ".mcap";
     std::ofstream(cut_file, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(cut));

@@ -36,11 +36,6 @@ using namespace std::chrono_literals;
 
 constexpr const char* kMapName = "site.strata";
 
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 std::vector<std::string> server_args(const fs::path& maps_dir, int seed) {
   return {"--world", "yard",   "--scanner",          "tilting",    "--time-scale",
           "4",       "--seed", std::to_string(seed), "--maps-dir", maps_dir.string()};
@@ -209,7 +204,7 @@ TEST_F(SaveFaults, KilledDuringSavesTheMapFileIsThePreviousOrTheNewMap) {
   int before_rename = 0;   // left it written, not renamed
   int after_rename = 0;    // came after the rename, before the save returned (the directory's fsync)
   for (int round = 0; round < kills; ++round) {
-    const std::string before = read_bytes(file);
+    const std::string before = file_bytes(file);
     ServerProcess server(server_args(maps_dir_, 2 + round), ProcessLimits{.log_file = log});  // another map
     // What the last kill left, this server removed as it started (AServerRemovesWhatKilledSavesLeft).
     EXPECT_TRUE(other_files(maps_dir_).empty()) << "round " << round;
@@ -252,7 +247,7 @@ TEST_F(SaveFaults, KilledDuringSavesTheMapFileIsThePreviousOrTheNewMap) {
     // The two markers agree: every save that renamed logged its end, but one killed between the two.
     EXPECT_EQ(watch.replaced(), saves_ended(log) + (inside && !temporary_left ? 1 : 0)) << "round " << round;
     const std::string problem = load_problem(file);
-    const std::string after = read_bytes(file);
+    const std::string after = file_bytes(file);
     if (!problem.empty()) {
       ++corrupt;
       ADD_FAILURE() << "round " << round << ": " << problem;
@@ -346,7 +341,7 @@ TEST_F(SaveFaults, AServerRemovesWhatKilledSavesLeftAndNothingElse) {
 TEST_F(SaveFaults, DiskFullTheSaveFailsWithIoErrorAndThePreviousMapStays) {
   save_a_first_map();
   const fs::path file = maps_dir_ / kMapName;
-  const std::string before = read_bytes(file);
+  const std::string before = file_bytes(file);
   ServerProcess server(server_args(maps_dir_, 2), /*file_size_limit=*/4096);
   wait_for_map(server.port(), 8);  // a tile takes over 1 KiB in the file
   const auto answer = save(server.port());
@@ -359,7 +354,7 @@ TEST_F(SaveFaults, DiskFullTheSaveFailsWithIoErrorAndThePreviousMapStays) {
   EXPECT_EQ(message.find(maps_dir_.string()), std::string::npos) << message;
   EXPECT_EQ(message.find(".tmp." + std::to_string(server.pid())), std::string::npos) << message;
   EXPECT_NE(message.find(kMapName), std::string::npos) << "the file is named: " << message;
-  EXPECT_EQ(read_bytes(file), before);          // the previous map, byte for byte
+  EXPECT_EQ(file_bytes(file), before);          // the previous map, byte for byte
   EXPECT_TRUE(other_files(maps_dir_).empty());  // the failed save removed its temporary
   // The server is still up and serving.
   EXPECT_EQ(http_get(server.port(), "/healthz").result(), http::status::ok);
@@ -399,7 +394,7 @@ TEST_F(SaveFaults, NoSpaceLeftTheSaveFailsWithIoErrorThePreviousMapStaysAndALate
   const fs::path file = maps / kMapName;
   wait_for_map(server.port());
   ASSERT_EQ(save(server.port()).result(), http::status::created);
-  const std::string before = read_bytes(file);
+  const std::string before = file_bytes(file);
   ASSERT_EQ(load_problem(file), "");
   EXPECT_TRUE(fs::is_empty(maps_dir_)) << "the small disk is the server's alone, not in the test's view";
   ASSERT_EQ(fill_up(maps / "filler", kDiskBytes), ENOSPC) << "the small disk did not fill up";
@@ -413,7 +408,7 @@ TEST_F(SaveFaults, NoSpaceLeftTheSaveFailsWithIoErrorThePreviousMapStaysAndALate
   EXPECT_NE(message.find(kMapName), std::string::npos) << "the file is named: " << message;
   EXPECT_EQ(message.find(maps_dir_.string()), std::string::npos) << message;
   EXPECT_EQ(message.find(".tmp." + std::to_string(server.pid())), std::string::npos) << message;
-  EXPECT_EQ(read_bytes(file), before);                               // the previous map, byte for byte
+  EXPECT_EQ(file_bytes(file), before);                               // the previous map, byte for byte
   EXPECT_EQ(load_problem(file), "");                                 // and it loads
   EXPECT_EQ(other_files(maps), std::vector<std::string>{"filler"});  // the failed save removed its temporary
   EXPECT_EQ(http_get(server.port(), "/healthz").result(), http::status::ok);

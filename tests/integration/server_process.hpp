@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
@@ -107,6 +109,12 @@ inline std::filesystem::path data_dir() {
 /// parallel processes, and a fixed name shared by two of them is removed under the other's feet.
 inline std::filesystem::path private_temp_path(const std::string& stem, const std::string& extension) {
   return std::filesystem::temp_directory_path() / (stem + "-" + std::to_string(::getpid()) + extension);
+}
+
+/// A file's bytes; empty when it cannot be read.
+inline std::string file_bytes(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
 }  // namespace strata::testing
