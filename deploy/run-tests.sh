@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Sets up, builds and runs every test suite: C++ unit tests, integration tests against the real server,
 # and browser tests in Debian's chromium; first in the release build, then again under AddressSanitizer
-# and UndefinedBehaviorSanitizer. Then two lean presets that build only what they run: `fuzz` (clang's
-# libFuzzer: every parser of outside input (network messages, lidar packets and captures, map, point-cloud
+# and UndefinedBehaviorSanitizer (all but a few of the slowest, whose code faster tests run there: the
+# asan test preset's filter, docs/testing.md). Then two lean presets that build only what they run: `fuzz`
+# (clang's libFuzzer: every parser of outside input (network messages, lidar packets and captures, map, point-cloud
 # and dataset files, calibrations, the config file), a fixed number of executions each on its seed corpus,
 # tests/fuzz/) and `tsan` (ThreadSanitizer over the concurrency tests: send queue, client hub, mapping
 # worker, localizer sink, navigator, the registration's parallel_for; and the real server, built with
