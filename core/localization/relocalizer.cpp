@@ -46,8 +46,12 @@ RegistrationOptions refinement(const RelocalizationOptions& relocalization) {
   RegistrationOptions options = LocalizerOptions::default_registration();
   options.limits.max_translation_jump = std::numeric_limits<double>::infinity();
   options.limits.max_rotation_jump = std::numeric_limits<double>::infinity();
-  for (RegistrationStage& stage : options.stages)
+  // Every stage at the full budget: a candidate's coarse stage has farther to go than a tracked scan's,
+  // for which the scan path's budget was measured (docs/benchmarks.md, "The coarse stage's budget").
+  for (RegistrationStage& stage : options.stages) {
     stage.source_voxel_size = relocalization.refinement_source_voxel;
+    stage.max_source_points = 0;
+  }
   // The scan path's stages stop when a step improves the fit by little, which along a hallway or a deck's
   // railings is every step: candidates a metre apart stayed apart and fitted as well. A last stage run
   // until the steps are a tenth of a millimetre brings them to where the few walls and ends that tell

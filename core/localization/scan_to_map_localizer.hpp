@@ -97,10 +97,14 @@ struct LocalizerOptions {
     // eigenvalues decide which directions odometry supplies, and the local map's normals are mostly
     // estimated already. The fine stage's source at 0.2 m rather than 0.3 m: the 3DTK scans land 7.8
     // instead of 11.4 cm from the reference, and the campus map's doubled walls (rebuilt, p95) shrink from
-    // 0.54 to 0.43 m (docs/benchmarks.md, "The source of the fine stage").
+    // 0.54 to 0.43 m (docs/benchmarks.md, "The source of the fine stage"). The coarse stage with 300 of
+    // the points: it only has to bring the guess within the fine stage's bound, which a third of them do
+    // as well, and its wide searches were most of the pairing's cost (docs/benchmarks.md, "The coarse
+    // stage's budget").
     options.stages = {
         {.max_correspondence_distance = 1.0,
          .source_voxel_size = 0.3,
+         .max_source_points = 300,
          .mse_change_threshold = 1e-5,
          .max_iterations = 30},
         {.max_correspondence_distance = 0.25,

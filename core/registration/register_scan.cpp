@@ -36,8 +36,8 @@ PointCloud spread_sample(PointCloud points, std::size_t budget) {
   return points;
 }
 
-/// The source thinned once per voxel size the stages ask for: the scan pass (cropping included) at the
-/// finest size, the coarser sizes from that, which is a tenth of the points; each within the point budget.
+/// The source thinned once per stage: the scan pass (cropping included) at the finest size, the coarser
+/// sizes from that, which is a tenth of the points; each within its stage's point budget.
 class SourceLevels {
  public:
   SourceLevels(const PointCloud& scan, const RegistrationOptions& options) {
@@ -46,27 +46,39 @@ class SourceLevels {
       finest = std::min(finest, stage.source_voxel_size);
     const PointCloud thinned = preprocess(scan, options.min_range, finest);
     for (const RegistrationStage& stage : options.stages) {
-      if (find(stage.source_voxel_size) != nullptr)
+      const Level level{stage.source_voxel_size, budget(stage, options)};
+      if (find(level) != nullptr)
         continue;
-      PointCloud level =
-          stage.source_voxel_size == finest ? thinned : voxel_downsample(thinned, stage.source_voxel_size);
-      levels_.emplace_back(stage.source_voxel_size,
-                           spread_sample(std::move(level), options.max_source_points));
+      PointCloud points = level.voxel_size == finest ? thinned : voxel_downsample(thinned, level.voxel_size);
+      levels_.emplace_back(level, spread_sample(std::move(points), level.budget));
     }
   }
 
-  [[nodiscard]] const PointCloud& at(double voxel_size) const { return *find(voxel_size); }
+  [[nodiscard]] const PointCloud& at(const RegistrationStage& stage,
+                                     const RegistrationOptions& options) const {
+    return *find({stage.source_voxel_size, budget(stage, options)});
+  }
 
  private:
-  [[nodiscard]] const PointCloud* find(double voxel_size) const {
-    for (const auto& [size, points] : levels_) {
-      if (size == voxel_size)
+  struct Level {
+    double voxel_size = 0.0;
+    std::size_t budget = 0;
+    bool operator==(const Level&) const = default;
+  };
+
+  static std::size_t budget(const RegistrationStage& stage, const RegistrationOptions& options) {
+    return stage.max_source_points > 0 ? stage.max_source_points : options.max_source_points;
+  }
+
+  [[nodiscard]] const PointCloud* find(const Level& level) const {
+    for (const auto& [known, points] : levels_) {
+      if (known == level)
         return &points;
     }
     return nullptr;
   }
 
-  std::vector<std::pair<double, PointCloud>> levels_;
+  std::vector<std::pair<Level, PointCloud>> levels_;
 };
 
 /// At most `count` of the pairs, spread evenly over them (all of them if `count` is 0 or enough).
@@ -150,7 +162,7 @@ RegistrationResult ScanRegistration::register_scan(const PointCloud& source, con
     icp_options.min_step_translation = stage.min_step_translation;
     icp_options.min_step_rotation = stage.min_step_rotation;
     icp_options.max_iterations = stage.max_iterations;
-    points = &source_levels.at(stage.source_voxel_size);
+    points = &source_levels.at(stage, options_);
     const int iterations_so_far = icp.iterations;
     icp = align(*points, *target_, normals_.get(), icp.transform, icp_options, seen_from ? &sides : nullptr);
     icp.iterations += iterations_so_far;

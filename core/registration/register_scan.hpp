@@ -21,6 +21,8 @@ struct RegistrationStage {
   /// metres; the source is thinned to one point per voxel for this stage: the coarse stage only has to
   /// bring the guess within the fine bound, which fewer points do as well (docs/benchmarks.md, ICP).
   double source_voxel_size = 0.3;
+  /// At most this many source points at this stage; 0: RegistrationOptions::max_source_points.
+  std::size_t max_source_points = 0;
   double mse_change_threshold = 0.0;  ///< m^2; 0: not on the MSE (IcpOptions)
   double min_step_translation = 0.0;  ///< metres; with min_step_rotation, 0: not on the step (IcpOptions)
   double min_step_rotation = 0.0;     ///< radians

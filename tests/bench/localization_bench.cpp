@@ -301,7 +301,7 @@ int main(int argc, char** argv) {
   LocalizerOptions& options = graph_options.scan_matching;
   // Variants, for measuring: STRATA_BENCH_METRIC=point|plane, STRATA_BENCH_LOCAL_MAP=<scans>,
   // STRATA_BENCH_LOCAL_METRES=<metres>, STRATA_BENCH_LOCAL_VOXEL=<metres>, STRATA_BENCH_SOURCE_POINTS=<n>,
-  // STRATA_BENCH_FINE_VOXEL=<m>, STRATA_BENCH_ROTATION_GUARD=<eigenvalue>,
+  // STRATA_BENCH_FINE_VOXEL=<m>, STRATA_BENCH_COARSE_POINTS=<n>, STRATA_BENCH_ROTATION_GUARD=<eigenvalue>,
   // STRATA_BENCH_DIRECTION_GUARD=<eigenvalue>, STRATA_BENCH_SEED=<n>, STRATA_BENCH_SURFACE_SIDES=0,
   // STRATA_BENCH_TILT_DRIFT=<rad per scan>, STRATA_BENCH_BIAS_RATE=<per scan>, STRATA_BENCH_TILT_CHANGE=<rad
   // per metre>, STRATA_BENCH_SLIDING_YAW_DISTANCE=<metres>, STRATA_BENCH_ICP_STEP_STOP=<rad> (the scan path's
@@ -333,6 +333,8 @@ int main(int argc, char** argv) {
     options.gravity.bias_rate_per_radian = std::atof(rate);
   if (const char* points = std::getenv("STRATA_BENCH_SOURCE_POINTS"))  // the registration's source budget
     options.registration.max_source_points = std::strtoul(points, nullptr, 10);
+  if (const char* points = std::getenv("STRATA_BENCH_COARSE_POINTS"))  // the coarse stage's own budget
+    options.registration.stages.front().max_source_points = std::strtoul(points, nullptr, 10);
   if (const char* guard = std::getenv("STRATA_BENCH_ROTATION_GUARD"))
     options.weak_rotation_guard = std::atof(guard);
   if (const char* guard = std::getenv("STRATA_BENCH_DIRECTION_GUARD"))

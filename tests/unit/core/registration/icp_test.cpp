@@ -165,6 +165,25 @@ TEST(RegisterScan, ASourceOverThePointBudgetIsSampledDownAndStillRecovered) {
   EXPECT_NEAR(share, static_cast<double>(all.pairs) / static_cast<double>(all.source_points), 0.1);
 }
 
+// The coarse stage only has to bring the guess within the fine stage's bound: a budget of its own, below
+// the fine stage's, recovers the offset as closely (the localizer's 300 and 1,000).
+TEST(RegisterScan, AStageWithABudgetOfItsOwnRegistersAsClosely) {
+  const Scene scene = moved_room(make_transform(0.5, 0.3, 0.1, 0.02, 0.03, 0.14), 0.1);
+  RegistrationOptions options;
+  options.max_source_points = 400;
+  options.stages.front().max_source_points = 100;
+  const RegistrationResult result =
+      register_scan(scene.source, scene.target, Eigen::Isometry3d::Identity(), options);
+  EXPECT_EQ(result.source_points, 400U);  // the last stage's
+  EXPECT_TRUE(result.accepted()) << result.assessment.message;
+  EXPECT_LT(translation_error(result.transform, scene.truth), 0.03);
+  EXPECT_LT(rotation_error(result.transform, scene.truth), 0.005);
+  // A stage's own budget is the one it registers with.
+  options.stages.pop_back();
+  EXPECT_EQ(register_scan(scene.source, scene.target, Eigen::Isometry3d::Identity(), options).source_points,
+            100U);
+}
+
 TEST(RegisterScan, RecoversALargerOffsetCoarseToFine) {
   // 0.6 m and 8 degrees off: farther than the final 0.25 m bound reaches on its own.
   const Scene scene = moved_room(make_transform(0.5, 0.3, 0.1, 0.02, 0.03, 0.14));
