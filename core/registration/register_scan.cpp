@@ -36,8 +36,8 @@ PointCloud spread_sample(PointCloud points, std::size_t budget) {
   return points;
 }
 
-/// The source thinned once per stage: the scan pass (cropping included) at the finest size, the coarser
-/// sizes from that, which is a tenth of the points; each within its stage's point budget.
+/// The source thinned once per voxel size and point budget the stages ask for: the scan pass (cropping
+/// included) at the finest size, the coarser sizes from that, which is a tenth of the points.
 class SourceLevels {
  public:
   SourceLevels(const PointCloud& scan, const RegistrationOptions& options) {

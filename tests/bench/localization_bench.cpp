@@ -331,8 +331,6 @@ int main(int argc, char** argv) {
     options.gravity.tilt_change_per_metre = std::atof(change);
   if (const char* rate = std::getenv("STRATA_BENCH_BIAS_RATE"))
     options.gravity.bias_rate_per_radian = std::atof(rate);
-  if (const char* points = std::getenv("STRATA_BENCH_SOURCE_POINTS"))  // the registration's source budget
-    options.registration.max_source_points = std::strtoul(points, nullptr, 10);
   if (const char* points = std::getenv("STRATA_BENCH_COARSE_POINTS"))  // the coarse stage's own budget
     options.registration.stages.front().max_source_points = std::strtoul(points, nullptr, 10);
   if (const char* guard = std::getenv("STRATA_BENCH_ROTATION_GUARD"))
