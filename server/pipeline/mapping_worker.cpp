@@ -269,9 +269,15 @@ bool MappingWorker::rebuild_from(const std::vector<KeyframePose>& keyframes) {
 }
 
 void MappingWorker::publish() {
+  // The listeners first (the navigator's planning surfaces among them): once the status shows a map
+  // version, a goal set against it must find that map, not race its planning copy.
+  notify_listeners();
   state_.publish(live_.snapshot());
   if (on_published_)
     on_published_();
+}
+
+void MappingWorker::notify_listeners() {
   const DrivableMap* drivable = live_.drivable();
   if (drivable == nullptr || !live_.robot_ground())
     return;

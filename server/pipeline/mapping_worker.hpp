@@ -135,7 +135,10 @@ class MappingWorker final : public MapCommands {
   /// Mapping thread: refreshes and publishes what scans inserted since the last refresh, if anything; false
   /// when nothing was pending or the refresh failed. `times` gets the refresh's times.
   bool refresh_pending(MappingTimes& times);
+  /// Mapping thread: the map listeners, then the status and tiles (so a client never sees a version the
+  /// listeners have not).
   void publish();
+  void notify_listeners();
   /// Mapping thread: where the robot that made the map drove (keyframe poses, oldest first).
   [[nodiscard]] std::vector<Eigen::Isometry3d> trajectory() const;
   /// Runs `task` on the mapping thread and waits for it; false when the worker is not running.
