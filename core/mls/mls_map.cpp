@@ -136,9 +136,28 @@ MlsInsertStats MlsMap::insert_scan(const PointCloud& points, const Eigen::Vector
     if (!add_point(tile, local_index(cell), static_cast<float>(p.z()), static_cast<float>(sigma * sigma)))
       ++stats.points_dropped;
   }
-  if (robot_ground && stats.points_dropped < stats.points)  // a scan of nothing usable changes nothing
-    stats.driven_cells = mark_ground(*robot_ground, version_, static_cast<float>(sensor_origin.z()));
+  if (robot_ground && stats.points_dropped < stats.points) {  // a scan of nothing usable changes nothing
+    stats.driven_cells = mark_way(*robot_ground, version_) +
+                         mark_ground(*robot_ground, version_, static_cast<float>(sensor_origin.z()));
+    if (usable(*robot_ground))
+      last_driven_ = *robot_ground;
+  }
   return stats;
+}
+
+std::size_t MlsMap::mark_way(const Eigen::Vector3d& ground, std::uint64_t version) {
+  if (!last_driven_ || !usable(ground))
+    return 0;
+  const Eigen::Vector3d way = ground - *last_driven_;
+  const double length = way.norm();
+  if (!(length <= config_.driven_stride))
+    return 0;
+  // Footprints a cell apart, short of both ends (their own footprints mark those): a band as wide as one.
+  const int steps = static_cast<int>(std::ceil(length * inverse_resolution_));
+  std::size_t changed = 0;
+  for (int i = 1; i < steps; ++i)
+    changed += mark_ground(*last_driven_ + way * (static_cast<double>(i) / steps), version);
+  return changed;
 }
 
 bool MlsMap::insert_after_patch(MlsTile& tile, MlsTile::Handle& head, MlsTile::Handle after,
@@ -409,6 +428,20 @@ std::size_t MlsMap::mark_ground(const Eigen::Vector3d& ground, std::uint64_t ver
       MlsPatch& patch = tile.at(standing);
       cell_changed = cell_changed || !patch.driven();
       patch.flags |= MlsPatch::kDriven;
+    } else if (!in_the_way && insert_after != 0 && fill - tile.at(insert_after).top() < gamma &&
+               !seen.empty()) {
+      // A surface less than gamma below the ground the footprint shows elsewhere, seen from beneath: a
+      // bridge deck's underside, its seam's face with the plateau, seen from the road under it (issue
+      // 58: a line of such cells across the deck closed the way back). What the robot stands on hid
+      // their top. A point at the ground would make the patch reach up to it (add_point), and so does
+      // the robot.
+      MlsPatch& patch = tile.at(insert_after);
+      const float bottom = patch.bottom();
+      patch.mean = fill;
+      patch.depth = fill - bottom;
+      patch.variance = tolerance * tolerance;
+      patch.flags |= MlsPatch::kDriven;
+      cell_changed = true;
     } else if (!in_the_way && (insert_after == 0 || fill - tile.at(insert_after).top() >= gamma)) {
       // A gap the robot's ground can sit in (elsewhere the measurements are left be): a new patch.
       MlsPatch fresh;

@@ -56,7 +56,8 @@ class MlsMap {
   /// the new version.
   /// `robot_ground`, if given: where the robot stood when it took the scan; the ground under it is marked
   /// driven (mark_driven) under the scan's version, unless the scan had no usable point, and what the scan
-  /// put between that ground and the sensor within the robot's footprint (its own body) is removed.
+  /// put between that ground and the sensor within the robot's footprint (its own body) is removed. The
+  /// ground between it and the previous scan's, if within MlsConfig::driven_stride, is marked too.
   MlsInsertStats insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
                              const std::optional<Eigen::Vector3d>& robot_ground = std::nullopt);
 
@@ -120,12 +121,16 @@ class MlsMap {
   /// wholly between the ground and that height are removed first: the robot's own body.
   std::size_t mark_ground(const Eigen::Vector3d& ground, std::uint64_t version,
                           std::optional<float> body_top = std::nullopt);
+  /// The ground between last_driven_ and `ground`, footprints a cell apart, if within driven_stride.
+  std::size_t mark_way(const Eigen::Vector3d& ground, std::uint64_t version);
   void trace_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end, MlsInsertStats& stats);
   void merge_into(MlsTile& tile, MlsTile::Handle lower, MlsTile::Handle upper);
 
   MlsConfig config_;
   double inverse_resolution_;
   std::uint64_t version_ = 0;
+  /// The ground point insert_scan last marked driven: the next one marks the way between (driven_stride).
+  std::optional<Eigen::Vector3d> last_driven_;
   std::unordered_map<std::uint64_t, std::unique_ptr<MlsTile>, TileKeyHash> tiles_;
   // The last tile looked up: consecutive points of a scan almost always fall into the same tile.
   std::uint64_t cached_key_ = ~0ULL;

@@ -5,6 +5,19 @@
 #include <limits>
 
 namespace strata {
+namespace {
+
+/// A height's weight in the slope's plane is kSureVariance / (kSureVariance + its variance), its inverse
+/// variance scaled to at most 1: 1/2 for sigma 1 cm (a near lidar cell), 1/160 for 0.125 m (a far one).
+/// The floor stands for what no patch's variance holds (a cell's own roughness).
+constexpr double kSureVariance = 0.01 * 0.01;
+/// Beyond a step and a slope, a neighbour still joins the plane as far as the two heights' uncertainty
+/// reaches past this much each (8.5 cm together): a far ring's 0.12-0.22 m does. At 3 cm, the landing
+/// beside the campus stairs (a survey from above) took the stairs' first step into its plane and lost the
+/// room the robot stops in (CampusNavigation.GoalsInAWallOrOnTheStairs...); 4-8 cm keep both.
+constexpr double kSureReach = 0.06 * 0.06;
+
+}  // namespace
 
 CellRegion CellRegion::bounding(const CellRegion& a, const CellRegion& b) {
   if (a.width <= 0 || a.height <= 0)
@@ -69,29 +82,24 @@ SurfaceGrid::SurfaceGrid(const MlsMap& map, const CellRegion& region, const Trav
   drive_over_seams();
 }
 
-bool SurfaceGrid::neighbour_height(int col, int row, float height, float& out, bool slabs) const {
+const SurfaceGrid::Surface* SurfaceGrid::neighbour(int col, int row, float height, bool slabs) const {
   if (col < 0 || row < 0 || col >= region_.width || row >= region_.height)
-    return false;
+    return nullptr;
   const std::size_t c = cell(col, row);
   const float simple = simple_height_[c];
   if (std::isnan(simple))
-    return false;
-  if (std::isfinite(simple)) {
-    if (std::abs(simple - height) >= 0.5F)
-      return false;
-    out = simple;
-    return true;
-  }
+    return nullptr;
+  if (std::isfinite(simple))
+    return std::abs(simple - height) < 0.5F ? &surfaces_[begin_[c]] : nullptr;
   float best = 0.5F;
-  bool found = false;
+  const Surface* found = nullptr;
   for (const Surface& s : surfaces(c)) {
     if (s.vertical && !slabs)
       continue;
     const float difference = std::abs(s.top - height);
     if (difference < best) {
       best = difference;
-      out = s.top;
-      found = true;
+      found = &s;
     }
   }
   return found;
@@ -215,39 +223,73 @@ void SurfaceGrid::classify() {
   // flat). Not differences of single cells: sparse rings leave a cell one neighbour on an axis, and a
   // lidar's floor scatters some centimetres from cell to cell (its pose's tilt error times the range),
   // which single differences read as 20 degree slopes on flat ground and ramps; the plane through up to
-  // 25 heights does not.
+  // 25 heights does not. Each height weighs by how sure the map is of it, and the neighbours within reach
+  // are those within a step, a slope and what their uncertainty explains: a ramp's ring seen once from
+  // the deck 12 m away, 0.1-0.25 m low (sigma 0.12-0.22 m), fitted a plane of its own across the ramp,
+  // too steep, and closed it (issue 58: the lidar demo's ramp goals); so, the certain cells decide.
   const double max_step = config_.max_step;
   const double gradient_per_cell = max_gradient * cell_size_;
   // The plane's gradient, and on which sides of the cell its neighbours lie (kLeft | kRight | ...).
   enum Side : unsigned { kLeft = 1U, kRight = 2U, kBelow = 4U, kAbove = 8U, kEverySide = 15U };
   struct Plane {
     double gradient = 0.0;
+    double sigma = 0.0;  ///< the gradient's standard error, from the heights' variances
     unsigned sides = 0U;
   };
-  const auto fit_plane = [&](int col, int row, float height, bool slabs) {
+  const auto weight = [](float variance) {
+    return kSureVariance / (kSureVariance + static_cast<double>(variance));
+  };
+  const auto fit_plane = [&](int col, int row, const Surface& surface) {
     Plane plane;
-    double n = 1.0, sx = 0.0, sy = 0.0, sz = 0.0, sxx = 0.0, syy = 0.0, sxy = 0.0, sxz = 0.0, syz = 0.0;
+    const float height = surface.top;
+    // The surface itself is at (0, 0, 0).
+    double n = weight(surface.variance);
+    double sx = 0.0, sy = 0.0, sz = 0.0, sxx = 0.0, syy = 0.0, sxy = 0.0, sxz = 0.0, syz = 0.0;
     for (int dr = -2; dr <= 2; ++dr)
       for (int dc = -2; dc <= 2; ++dc) {
-        float neighbour = 0.0F;
-        if ((dr == 0 && dc == 0) || !neighbour_height(col + dc, row + dr, height, neighbour, slabs))
+        const Surface* other =
+            dr == 0 && dc == 0 ? nullptr : neighbour(col + dc, row + dr, height, surface.vertical);
+        if (other == nullptr)
           continue;
-        // The surface itself is at (0, 0, 0).
-        const double x = dc, y = dr, z = static_cast<double>(neighbour - height);
-        if (std::abs(z) > max_step + gradient_per_cell * std::max(std::abs(dc), std::abs(dr)))
+        const double x = dc, y = dr, z = static_cast<double>(other->top - height);
+        // Within max_step is within reach whatever the variances (most neighbours): step_limit's square
+        // root only beyond.
+        const double slope_reach = gradient_per_cell * std::max(std::abs(dc), std::abs(dr));
+        if (std::abs(z) > max_step + slope_reach &&
+            std::abs(z) > max_step + slope_reach +
+                              std::min(config_.max_uncertain_step,
+                                       config_.step_sigmas *
+                                           std::sqrt(std::max(
+                                               0.0, static_cast<double>(surface.variance + other->variance) -
+                                                        2.0 * kSureReach))))
           continue;
-        n += 1.0;
-        sx += x, sy += y, sz += z, sxx += x * x, syy += y * y, sxy += x * y, sxz += x * z, syz += y * z;
+        const double w = weight(other->variance);
+        n += w;
+        sx += w * x, sy += w * y, sz += w * z, sxx += w * x * x, syy += w * y * y, sxy += w * x * y;
+        sxz += w * x * z, syz += w * y * z;
         plane.sides |=
             (dc < 0 ? kLeft : 0U) | (dc > 0 ? kRight : 0U) | (dr < 0 ? kBelow : 0U) | (dr > 0 ? kAbove : 0U);
       }
     const double cxx = sxx - sx * sx / n, cyy = syy - sy * sy / n, cxy = sxy - sx * sy / n;
     const double cxz = sxz - sx * sz / n, cyz = syz - sy * sz / n;
     const double det = cxx * cyy - cxy * cxy;
-    if (det > 1e-6)
-      plane.gradient = std::hypot((cyy * cxz - cxy * cyz) / det, (cxx * cyz - cxy * cxz) / det);
-    else  // the neighbours on one line (or none): its gradient per axis (on a diagonal, sqrt(2) too steep)
-      plane.gradient = std::hypot(cxx > 1e-9 ? cxz / cxx : 0.0, cyy > 1e-9 ? cyz / cyy : 0.0);
+    // The weights are inverse variances over kSureVariance: the gradient's covariance is kSureVariance
+    // times the inverse of the weighted moments.
+    if (det > 1e-6) {
+      const double gx = (cyy * cxz - cxy * cyz) / det, gy = (cxx * cyz - cxy * cxz) / det;
+      plane.gradient = std::hypot(gx, gy);
+      if (plane.gradient > 0.0) {  // along the gradient: u' C^-1 u, C^-1 = [cyy -cxy; -cxy cxx] / det
+        const double ux = gx / plane.gradient, uy = gy / plane.gradient;
+        plane.sigma = std::sqrt(kSureVariance * (cyy * ux * ux - 2.0 * cxy * ux * uy + cxx * uy * uy) / det);
+      }
+    } else {  // the neighbours on one line (or none): its gradient per axis (on a diagonal, sqrt(2) too
+              // steep)
+      const double gx = cxx > 1e-9 ? cxz / cxx : 0.0, gy = cyy > 1e-9 ? cyz / cyy : 0.0;
+      plane.gradient = std::hypot(gx, gy);
+      const double vx = cxx > 1e-9 ? kSureVariance / cxx : 0.0, vy = cyy > 1e-9 ? kSureVariance / cyy : 0.0;
+      if (plane.gradient > 0.0)
+        plane.sigma = std::sqrt((gx * gx * vx + gy * gy * vy)) / plane.gradient;
+    }
     return plane;
   };
   for (int row = 0; row < region_.height; ++row)
@@ -268,10 +310,11 @@ void SurfaceGrid::classify() {
         // patch from its underside to its top (the gap rule), and stood as a wall across the deck (issue
         // 58: no goal on the campus bridge). A wall's top, a curb or a drop's edge has ground at its
         // height on one side at most.
-        const Plane plane = fit_plane(col, row, s.top, s.vertical);
+        const Plane plane = fit_plane(col, row, s);
         if (s.vertical && plane.sides != kEverySide)
           continue;
-        s.traversable = plane.gradient <= gradient_per_cell;
+        // Too steep beyond what the heights' uncertainty explains, as a step is (step_sigmas).
+        s.traversable = plane.gradient - config_.step_sigmas * plane.sigma <= gradient_per_cell;
       }
     }
 }

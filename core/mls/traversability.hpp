@@ -28,8 +28,11 @@ struct TraversabilityConfig {
   /// sigma 0.1-0.15 m, stood 0.08-0.1 m from their neighbours as steps, and their edges left the robot no
   /// room on flat ground). Closer scans shrink a patch's sigma, and a real step is a step again.
   double step_sigmas = 1.0;
-  /// The most uncertainty forgives on top of max_step, metres: a far, noisy view never hides a curb.
-  double max_uncertain_step = 0.08;
+  /// The most uncertainty forgives on top of max_step, metres: a far, noisy view never hides a curb
+  /// higher than the two together. 0.12 rather than 0.08: a ring of the campus ramp seen from the deck
+  /// 12 m away lay 0.12-0.25 m below the ramp across its width, and the robot could not cross it to a
+  /// goal below (issue 58); near, the cells are sure and the step is max_step again.
+  double max_uncertain_step = 0.12;
   double max_slope = 0.2618;  ///< steepest ground, radians (15 degrees)
   double robot_height = 1.0;  ///< free space needed above a patch to drive there, metres
   /// The robot's patch is the horizontal patch nearest its ground height within this, metres.
@@ -128,9 +131,9 @@ class SurfaceGrid {
   [[nodiscard]] std::size_t cell_of_surface(std::uint32_t index) const;
 
  private:
-  /// Height of the horizontal surface in (col, row) nearest `height` (within 0.5 m), if any; with `slabs`,
-  /// of the top of any surface.
-  [[nodiscard]] bool neighbour_height(int col, int row, float height, float& out, bool slabs = false) const;
+  /// The horizontal surface in (col, row) whose top is nearest `height` (within 0.5 m), if any; with
+  /// `slabs`, any surface.
+  [[nodiscard]] const Surface* neighbour(int col, int row, float height, bool slabs = false) const;
   void classify();
   /// Where one structure ends against another (a ramp's end under a bridge deck), the cell at the seam
   /// holds the end face seen from below and the surface seen from above: one vertical patch. Its top is

@@ -118,6 +118,52 @@ TEST(DrivenGround, AScanMarksWhereTheRobotStoodUnderItsOwnVersion) {
   EXPECT_EQ(map.patch_count(), patches);
 }
 
+// Issue 58: at 5x real time the campus demo mapped one scan in six, footprints 0.5-0.7 m apart, and the
+// bridge deck's seam with the plateau kept, in cells between two footprints, only the plateau's face seen
+// from the road below: a wall across the way back. The ground between two scans' footprints bore the
+// robot too; a jump farther than driven_stride (a relocalization) marks nothing between.
+TEST(DrivenGround, TheWayBetweenTwoScansIsDrivenAJumpIsNot) {
+  const auto deck_with_a_seam = [] {
+    MlsMap map(scene_config());
+    PointCloud deck;
+    test::add_plane(deck, -1, 1.95, -1, 1, 3.0);
+    test::add_plane(deck, 2.25, 2.95, -1, 1, 3.0);
+    test::add_plane(deck, 3.25, 6, -1, 1, 3.0);
+    map.insert_scan(deck, {2, 0, 4});
+    PointCloud below;  // x = 2.0-2.1: a face from the road up to 2.4 m; x = 3.0-3.1: the underside
+    for (double y = -0.95; y < 1.0; y += 0.1) {
+      for (double z = 0.0; z < 2.4; z += 0.05)
+        below.emplace_back(2.05, y, z);
+      below.emplace_back(3.05, y, 2.7);
+    }
+    map.insert_scan(below, {-3, 0, 1});
+    return map;
+  };
+  const auto top_driven = [](const MlsMap& map, double x, double y) {
+    const std::vector<MlsPatch> patches = map.patches(map.cell_of(x, y));
+    return !patches.empty() && patches.back().driven() && std::abs(patches.back().top() - 3.0F) < 0.05F;
+  };
+  MlsMap map = deck_with_a_seam();
+  ASSERT_FALSE(top_driven(map, 2.05, 0.0));
+  ASSERT_FALSE(top_driven(map, 3.05, 0.0));
+  PointCloud far;
+  test::add_plane(far, 4, 6, -1, 1, 3.0);
+  for (const double x : {1.4, 2.7, 3.6})
+    map.insert_scan(far, {x, 0, 4}, Eigen::Vector3d(x, 0, 3));
+  for (const double y : {-0.2, 0.0, 0.2}) {
+    EXPECT_TRUE(top_driven(map, 2.05, y)) << "the seam at y = " << y << ", between the footprints";
+    EXPECT_TRUE(top_driven(map, 3.05, y)) << "the underside at y = " << y << ", between the footprints";
+  }
+  EXPECT_TRUE(map.patches(map.cell_of(3.05, 0.0)).back().vertical())
+      << "from the underside up to the deck, as a point on the deck would make it";
+  EXPECT_FALSE(top_driven(map, 2.05, 0.45)) << "beyond the footprint's radius of the way";
+
+  MlsMap jumped = deck_with_a_seam();
+  jumped.insert_scan(far, {0.0, 0, 4}, Eigen::Vector3d(0.0, 0, 3));
+  jumped.insert_scan(far, {4.1, 0, 4}, Eigen::Vector3d(4.1, 0, 3));
+  EXPECT_FALSE(top_driven(jumped, 2.05, 0.0)) << "4.1 m between two scans is a jump, not a drive";
+}
+
 TEST(DrivenGround, TheRobotsOwnBodyIsNoObstacleWhereItStands) {
   // A lidar on a car's roof (2.15 m) sees the bonnet 0.8 m up around it, and no ground within 3.7 m: the
   // bonnet's patches are the car itself, gone once the ground it stands on is marked; beyond the

@@ -295,5 +295,48 @@ TEST(SurfaceGridRules, ThinFlatGroundSeenFromAfarIsDrivableACurbSeenWellIsNot) {
   EXPECT_TRUE(plan_across(flat_seen_well, 0.0, exact).found());
 }
 
+/// A ramp up x (grade 0.1, x = 0 to 8 m, y = -2 to 2 m), a point every 0.1 m, seen from `near`, but for a
+/// ring across it at x = 4.0-4.3 m, `depth` below it, seen from `ring_origin` alone.
+MlsMap ramp_with_low_ring(const Eigen::Vector3d& near, const Eigen::Vector3d& ring_origin, double depth) {
+  MlsMap map;
+  PointCloud ramp;
+  PointCloud ring;
+  for (double x = 0.05; x < 8.0; x += 0.1)
+    for (double y = -1.95; y < 2.0; y += 0.1) {
+      if (x > 4.0 && x < 4.3)
+        ring.emplace_back(x, y, 0.1 * x - depth);
+      else
+        ramp.emplace_back(x, y, 0.1 * x);
+    }
+  map.insert_scan(ramp, near);
+  map.insert_scan(ring, ring_origin);
+  return map;
+}
+
+// Issue 58: the lidar demo's ramp seen from the bridge deck 12 m away held a ring across it in cells no
+// near scan had reached, 0.12-0.25 m below the ramp (sigma 0.12-0.22 m); the slope rule fitted those
+// cells a plane of their own, too steep, and every goal down the ramp was refused. Weighed by how sure
+// each height is, the ramp's certain cells decide, and the ring's step is within what its uncertainty
+// explains; the same ring seen well is a trench, and a trench seen from afar deeper than the uncertainty
+// forgives is one too.
+TEST(SurfaceGridRules, AFarLowRingAcrossARampDoesNotCloseItARingSeenWellDoes) {
+  const TraversabilityConfig rules;
+  const Eigen::Vector3d near(4.0, 0.0, 1.5);
+  const Eigen::Vector3d far(30.0, 0.0, 5.0);
+  const auto plan_up = [&](const MlsMap& map) {
+    PatchGraphConfig graph_config;
+    graph_config.traversability = rules;
+    const PatchGraph graph(
+        std::make_shared<const SurfaceGrid>(map, CellRegion::of_tiles(map.tile_indices()), rules),
+        map.resolution(), graph_config);
+    return plan_on_patches(graph, {1.0, 0.0, 0.1}, {.x = 7.0, .y = 0.0, .z = 0.7});
+  };
+  const PatchPath across = plan_up(ramp_with_low_ring(near, far, 0.15));
+  EXPECT_TRUE(across.found()) << describe(across.status);
+  EXPECT_NEAR(across.length, 6.0, 1.0);
+  EXPECT_FALSE(plan_up(ramp_with_low_ring(near, near, 0.15)).found()) << "a trench seen well";
+  EXPECT_FALSE(plan_up(ramp_with_low_ring(near, far, 0.4)).found()) << "deeper than uncertainty forgives";
+}
+
 }  // namespace
 }  // namespace strata
