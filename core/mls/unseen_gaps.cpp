@@ -21,6 +21,8 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
     return grid;
   const CellRegion& region = grid.region();
   const auto robot_height = static_cast<float>(traversability.robot_height);
+  const auto overhang_depth = static_cast<float>(config.overhang_depth);
+  const double max_overhang_gap = config.max_overhang_gap;
   const auto measured_drivable = [](const SurfaceGrid::Surface& s) {
     return s.traversable && !s.vertical && !s.inferred;
   };
@@ -34,6 +36,7 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
           const int dx = direction[0];
           const int dy = direction[1];
           const double cell_length = resolution * ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0);
+          bool over_deep_ground = false;  // the stretch so far has ground far below it (overhang_depth)
           for (int k = 1; k <= max_cells + 1; ++k) {
             const int c = col + k * dx;
             const int r = row + k * dy;
@@ -42,14 +45,21 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
             const auto climb = static_cast<float>(k * cell_length * config.max_grade);
             const SurfaceGrid::Surface* end = nullptr;
             bool blocked = false;
+            bool deep = false;
             for (const SurfaceGrid::Surface& s : grid.surfaces(grid.cell(c, r))) {
               if (measured_drivable(s) &&
                   std::abs(s.top - from.top) <= grid.step_limit(from.variance, s.variance) + climb &&
                   (end == nullptr || std::abs(s.top - from.top) < std::abs(end->top - from.top)))
                 end = &s;
               // Anything at the line's height or below it ends the line: a wall, a step, or ground seen
-              // lower down (a drop; and a surface above ground that rays reached cannot be there).
-              blocked = blocked || s.bottom <= from.top + robot_height;
+              // lower down (a drop; and a surface above ground that rays reached cannot be there). Unless
+              // it lies so deep under a stretch so narrow that it was seen from the side (overhang_depth).
+              if (s.bottom <= from.top + robot_height) {
+                if (s.top <= from.top - overhang_depth)
+                  deep = true;
+                else
+                  blocked = true;
+              }
             }
             if (end != nullptr) {
               for (int i = 1; i < k; ++i) {
@@ -65,7 +75,8 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
               }
               break;
             }
-            if (blocked)
+            over_deep_ground = over_deep_ground || deep;
+            if (blocked || (over_deep_ground && k * cell_length > max_overhang_gap + 1e-6))
               break;
           }
         }
