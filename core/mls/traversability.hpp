@@ -25,6 +25,11 @@ struct UnseenGapConfig {
   /// closed the deck (issue 58); a hole the robot could fall into shows its floor only from its edge.
   double overhang_depth = 2.0;
   double max_overhang_gap = 0.4;  ///< metres
+  /// A stretch this narrow is bridged whatever was seen lower down in it, metres: the wheels span it. The
+  /// lidar demo's deck held single cells where only its underside was seen, 0.25-0.3 m below the deck,
+  /// and the robot's clearance kept it off the deck around them (issue 58). Diagonal lines (0.14 m a
+  /// cell) bridge none.
+  double max_slot = 0.1;
 };
 
 /// What the robot can drive on (docs/architecture.md 4.3). Defaults: the thesis's wheelchair.

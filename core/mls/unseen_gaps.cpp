@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 #include <vector>
 
@@ -23,6 +24,8 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
   const auto robot_height = static_cast<float>(traversability.robot_height);
   const auto overhang_depth = static_cast<float>(config.overhang_depth);
   const double max_overhang_gap = config.max_overhang_gap;
+  const double max_slot = config.max_slot;
+  const auto max_step = static_cast<float>(traversability.max_step);
   const auto measured_drivable = [](const SurfaceGrid::Surface& s) {
     return s.traversable && !s.vertical && !s.inferred;
   };
@@ -36,7 +39,8 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
           const int dx = direction[0];
           const int dy = direction[1];
           const double cell_length = resolution * ((dx != 0 && dy != 0) ? std::sqrt(2.0) : 1.0);
-          bool over_deep_ground = false;  // the stretch so far has ground far below it (overhang_depth)
+          // How wide the stretch may be, given what was seen below it so far (max_slot, max_overhang_gap).
+          double widest = std::numeric_limits<double>::infinity();
           for (int k = 1; k <= max_cells + 1; ++k) {
             const int c = col + k * dx;
             const int r = row + k * dy;
@@ -45,21 +49,21 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
             const auto climb = static_cast<float>(k * cell_length * config.max_grade);
             const SurfaceGrid::Surface* end = nullptr;
             bool blocked = false;
-            bool deep = false;
             for (const SurfaceGrid::Surface& s : grid.surfaces(grid.cell(c, r))) {
               if (measured_drivable(s) &&
                   std::abs(s.top - from.top) <= grid.step_limit(from.variance, s.variance) + climb &&
                   (end == nullptr || std::abs(s.top - from.top) < std::abs(end->top - from.top)))
                 end = &s;
               // Anything at the line's height or below it ends the line: a wall, a step, or ground seen
-              // lower down (a drop; and a surface above ground that rays reached cannot be there). Unless
-              // it lies so deep under a stretch so narrow that it was seen from the side (overhang_depth).
-              if (s.bottom <= from.top + robot_height) {
-                if (s.top <= from.top - overhang_depth)
-                  deep = true;
-                else
-                  blocked = true;
-              }
+              // lower down (a drop; and a surface above ground that rays reached cannot be there). Ground
+              // seen lower down under a stretch the wheels span does not (max_slot), nor ground so deep under
+              // one so narrow that it was seen from the side (overhang_depth).
+              if (s.bottom > from.top + robot_height)
+                continue;
+              if (s.top > from.top - max_step)
+                blocked = true;
+              else
+                widest = std::min(widest, s.top <= from.top - overhang_depth ? max_overhang_gap : max_slot);
             }
             if (end != nullptr) {
               for (int i = 1; i < k; ++i) {
@@ -75,8 +79,7 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
               }
               break;
             }
-            over_deep_ground = over_deep_ground || deep;
-            if (blocked || (over_deep_ground && k * cell_length > max_overhang_gap + 1e-6))
+            if (blocked || k * cell_length > widest + 1e-6)
               break;
           }
         }
@@ -85,7 +88,6 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
   std::sort(added.begin(), added.end(), [](const auto& a, const auto& b) {
     return a.first != b.first ? a.first < b.first : a.second.top < b.second.top;
   });
-  const auto max_step = static_cast<float>(traversability.max_step);
   std::vector<std::pair<std::size_t, SurfaceGrid::Surface>> kept;
   kept.reserve(added.size());
   for (const auto& item : added)
