@@ -15,6 +15,17 @@ bool usable(const Eigen::Vector3d& p) {
   return p.allFinite() && p.cwiseAbs().maxCoeff() < kMaxCoordinate;
 }
 
+/// Heights spanning more than tau without a gap: the patch becomes a vertical structure from its lowest
+/// to its highest point; a new top takes the height's variance.
+void extend_patch(MlsPatch& patch, float z, float variance) {
+  const float top = std::max(patch.top(), z);
+  const float bottom = std::min(patch.bottom(), z);
+  if (z >= patch.top())
+    patch.variance = variance;
+  patch.mean = top;
+  patch.depth = top - bottom;
+}
+
 float gap_between(const MlsPatch& patch, float z) {
   if (z > patch.top())
     return z - patch.top();
@@ -232,13 +243,7 @@ bool MlsMap::add_point(MlsTile& tile, int local, float z, float variance) {
     patch.variance = patch.variance * variance / sum;
     patch.depth = patch.mean - bottom;
   } else {
-    // Heights spanning more than tau without a gap: a vertical structure from its lowest to highest point.
-    const float top = std::max(patch.top(), z);
-    const float bottom = std::min(patch.bottom(), z);
-    if (z >= patch.top())
-      patch.variance = variance;
-    patch.mean = top;
-    patch.depth = top - bottom;
+    extend_patch(patch, z, variance);
   }
   if (patch.evidence < config_.max_evidence)
     ++patch.evidence;
@@ -436,10 +441,7 @@ std::size_t MlsMap::mark_ground(const Eigen::Vector3d& ground, std::uint64_t ver
       // their top. A point at the ground would make the patch reach up to it (add_point), and so does
       // the robot.
       MlsPatch& patch = tile.at(insert_after);
-      const float bottom = patch.bottom();
-      patch.mean = fill;
-      patch.depth = fill - bottom;
-      patch.variance = tolerance * tolerance;
+      extend_patch(patch, fill, tolerance * tolerance);
       patch.flags |= MlsPatch::kDriven;
       cell_changed = true;
     } else if (!in_the_way && (insert_after == 0 || fill - tile.at(insert_after).top() >= gamma)) {
