@@ -26,9 +26,10 @@ SurfaceGrid fill_unseen_gaps(const SurfaceGrid& grid, double resolution,
   const double max_overhang_gap = config.max_overhang_gap;
   const double max_slot = config.max_slot;
   const auto max_step = static_cast<float>(traversability.max_step);
-  const auto measured_drivable = [](const SurfaceGrid::Surface& s) {
-    return s.traversable && !s.vertical && !s.inferred;
-  };
+  // A slab's top counts as measured ground: classify() keeps a vertical patch traversable only where
+  // level ground continues its top on every side (a deck seen from below and above). Not an anchor, the
+  // deck's slab cells ended every line across it and left its unseen cells holes (issue 58).
+  const auto measured_drivable = [](const SurfaceGrid::Surface& s) { return s.traversable && !s.inferred; };
   std::vector<std::pair<std::size_t, SurfaceGrid::Surface>> added;
   for (int row = 0; row < region.height; ++row)
     for (int col = 0; col < region.width; ++col)

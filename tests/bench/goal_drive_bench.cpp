@@ -21,7 +21,8 @@
 //            error_m: the robot's true distance from the goal at the end; pose_xy_m, pose_z_m: the
 //            estimate's error when the goal was sent (the goal is in true coordinates, the map in the
 //            estimate's)
-//   summary  goals tried, accepted and reached, and their shares; failures by reason
+//   summary  goals tried, accepted and reached, and their shares; the scans the localizer processed and
+//            dropped (busy); failures by reason
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -259,14 +260,21 @@ int main(int argc, char** argv) {
         outcome.message.empty() ? "" : "\"");
     std::fflush(stdout);
   }
+  // How much of the scan stream the robot's localizer kept up with (a busy machine drops scans).
+  const auto metrics = http_request(port, http::verb::get, "/metrics", {}, kTestOperatorToken).body();
+  const auto counter = [&](const std::string& name) {
+    const std::size_t at = metrics.find("\n" + name + " ");
+    return at == std::string::npos ? -1.0 : std::atof(metrics.c_str() + at + name.size() + 2);
+  };
   std::string reasons;
   for (const auto& [reason, count] : failed)
     reasons += " " + reason + "=" + std::to_string(count);
   std::printf(
       "summary world=%s scanner=%s warmup=%.0f tried=%d accepted=%d reached=%d accepted_share=%.2f "
-      "reached_share=%.2f%s\n",
+      "reached_share=%.2f scans=%.0f scans_dropped=%.0f%s\n",
       options.world.c_str(), options.scanner.c_str(), options.warmup, tried, accepted, reached,
       tried > 0 ? static_cast<double>(accepted) / tried : 0.0,
-      tried > 0 ? static_cast<double>(reached) / tried : 0.0, reasons.c_str());
+      tried > 0 ? static_cast<double>(reached) / tried : 0.0, counter("strata_scans_total"),
+      counter("strata_scans_dropped_total"), reasons.c_str());
   return 0;
 }

@@ -181,6 +181,43 @@ TEST(UnseenGaps, ADecksUnseenBandOverTheRoadOrASlotIsFilledATrenchOrAHoleIsNot) 
   EXPECT_NEAR(over_slot.length, 4.1, 0.1);
 }
 
+TEST(UnseenGaps, ADecksBandBetweenCellsSeenFromBelowAsWellIsFilled) {
+  // The lidar demo's deck (issue 58): the rows beside an unseen band one cell wide were seen from above
+  // and, from the road, from below as well: each is one patch from the underside to the top (a slab).
+  // They are the band's measured edges; taken for walls, they left the band a hole in the robot's way.
+  const auto deck_with = [](bool underside) {
+    MlsMap map(test::scene_config());
+    PointCloud deck;
+    add_plane(deck, -1.5, 1.5, -3, 0, 3.0, kSpacing);
+    add_plane(deck, -1.5, 1.5, 0.1, 3, 3.0, kSpacing);
+    map.insert_scan(deck, {0, 0, 5});
+    PointCloud under;
+    add_plane(under, -1.5, 1.5, 0.02, 0.08, 0.0, kSpacing);  // the road, seen through the band
+    if (underside) {
+      add_plane(under, -1.5, 1.5, -0.08, -0.02, 2.7, kSpacing);
+      add_plane(under, -1.5, 1.5, 0.12, 0.18, 2.7, kSpacing);
+    }
+    map.insert_scan(under, {-8, 0, 1});
+    return map;
+  };
+  const auto across = [](const MlsMap& map) {
+    return plan_on_patches(test::graph_of(map), {0.05, -2.05, 3.0}, {.x = 0.05, .y = 2.05, .z = 3.0});
+  };
+  const MlsMap slabs = deck_with(true);
+  const auto edge = slabs.find_tile(MlsMap::tile_of(slabs.cell_of(0.05, -0.05)));
+  ASSERT_NE(edge, nullptr);
+  bool slab = false;
+  edge->for_each_patch(MlsMap::local_index(slabs.cell_of(0.05, -0.05)), [&](const MlsPatch& patch) {
+    slab = slab || (patch.vertical() && patch.top() > 2.9F);
+  });
+  ASSERT_TRUE(slab) << "the band's edge is one patch from the underside to the top";
+  for (const bool underside : {false, true}) {
+    const PatchPath path = across(deck_with(underside));
+    ASSERT_TRUE(path.found()) << (underside ? "slab edges: " : "plain edges: ") << describe(path.status);
+    EXPECT_NEAR(path.length, 4.1, 0.1);
+  }
+}
+
 TEST(UnseenGaps, TheEndOfTheKnownMapIsNotAnEdge) {
   MlsMap map(test::scene_config());
   PointCloud points;
