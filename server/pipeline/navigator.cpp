@@ -179,6 +179,20 @@ void Navigator::on_map_update(const MapUpdate& update) {
   wake_.notify_all();
 }
 
+void Navigator::map_rebuilding(bool rebuilding) {
+  {
+    std::lock_guard lock(mutex_);
+    rebuilding_ = rebuilding;
+    if (rebuilding)
+      return;
+    ++rebuilds_;
+    if (!std::exchange(held_for_rebuild_, false) || tracker_.status().phase != GoalPhase::kPlanning)
+      return;
+    goal_waiting_ = true;  // judged again, on the rebuilt map
+  }
+  wake_.notify_all();
+}
+
 std::optional<DriveCommand> Navigator::drive(const Pose3& estimate, double stamp) {
   std::lock_guard lock(mutex_);
   pose_ = estimate;
@@ -236,12 +250,14 @@ bool Navigator::plan_pending() {
   std::shared_ptr<const SurfaceGrid> surfaces;
   double resolution = 0.1;
   std::uint64_t map_version = 0;
+  std::uint64_t rebuilds = 0;
   {
     std::lock_guard lock(mutex_);
     if (!planning_wanted())
       return false;
     replanning = !goal_waiting_;
     goal_waiting_ = false;
+    held_for_rebuild_ = false;
     map_changed_ = false;
     id = tracker_.status().id;
     goal = tracker_.status().target;
@@ -251,6 +267,7 @@ bool Navigator::plan_pending() {
     surfaces = surfaces_;
     resolution = resolution_;
     map_version = map_version_;
+    rebuilds = rebuilds_;
     if (!surfaces) {
       spdlog::info("goal {}: there is no map yet", id);
       tracker_.fail(id, "no_map", "there is no map yet", stamp_);
@@ -298,6 +315,18 @@ bool Navigator::plan_pending() {
         Blocked{.since = since, .reason = failure.reason, .message = failure.message, .nearest = nearest};
     tracker_.driving(id, stamp_,
                      fmt::format("{}: stopped, waiting for a scan that opens a way", failure.message));
+    return true;
+  }
+  if (!planned.found() && (rebuilding_ || rebuilds_ != rebuilds)) {
+    // Judged on a map a loop closure has made stale: the rebuilt one judges it (map_rebuilding).
+    if (rebuilding_) {
+      spdlog::info("goal {}: {} on the map before the loop closure; waiting for the map rebuilt after it", id,
+                   failure.message);
+      held_for_rebuild_ = true;
+    } else {
+      goal_waiting_ = true;
+      wake_.notify_all();
+    }
     return true;
   }
   if (!planned.found()) {

@@ -72,6 +72,13 @@ class Navigator : public MotionCommands {
     return [this](const MapUpdate& update) { on_map_update(update); };
   }
 
+  /// A loop closure moved the keyframes and the map is being rebuilt from them (true), or the rebuild is
+  /// over (false; its map, if any, came through on_map_update first). Meanwhile the map holds the drift
+  /// the loop corrected: a new goal it refuses waits for the rebuilt map and is judged on that. On the
+  /// lidar demo the first goal down the bridge ramp after a loop closure was refused ("no drivable
+  /// connection") on the old map 3 s before the rebuilt one, which planned it, arrived (issue 58).
+  void map_rebuilding(bool rebuilding);
+
   /// The driver thread, every step: the command for the robot at `estimate` (map frame, z the ground it
   /// stands on) at robot time `stamp`. Nothing until an operator has sent a goal or teleop, so the
   /// simulator keeps driving its demo route until then; afterwards a stop when there is nothing to do.
@@ -96,8 +103,11 @@ class Navigator : public MotionCommands {
   std::shared_ptr<const SurfaceGrid> surfaces_;
   double resolution_ = 0.1;
   std::uint64_t map_version_ = 0;
-  bool goal_waiting_ = false;  // a goal was accepted and not planned yet
-  bool map_changed_ = false;   // a map arrived since the last plan
+  bool goal_waiting_ = false;      // a goal was accepted and not planned yet
+  bool map_changed_ = false;       // a map arrived since the last plan
+  bool rebuilding_ = false;        // a rebuild after a loop closure is under way (map_rebuilding)
+  std::uint64_t rebuilds_ = 0;     // rebuilds over: a plan that read the map before one is stale
+  bool held_for_rebuild_ = false;  // a new goal the old map refused waits for the rebuild
   Pose3 pose_;
   double stamp_ = 0.0;
   bool commanded_ = false;  // an operator has taken over from the demo route

@@ -91,9 +91,13 @@ void RobotPipeline::map_the_registered_scans() {
       [this](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
         mapping_.submit(std::move(scan), map_from_sensor);
       });
-  // The map follows the pose graph: rebuilt from the keyframes when a loop closure moved them.
-  localizer_.set_keyframes_moved_sink(
-      [this](const std::vector<KeyframePose>& keyframes) { mapping_.rebuild_from(keyframes); });
+  // The map follows the pose graph: rebuilt from the keyframes when a loop closure moved them. A goal
+  // the old map refuses meanwhile waits for the rebuilt one.
+  localizer_.set_keyframes_moved_sink([this](const std::vector<KeyframePose>& keyframes) {
+    navigator_.map_rebuilding(true);
+    mapping_.rebuild_from(keyframes);
+    navigator_.map_rebuilding(false);
+  });
   // A saved map keeps the keyframes, and a map loaded for localizing is what the scans register against
   // from then on (docs/architecture.md 4.1, "Localizing in a saved map").
   mapping_.set_keyframe_source([this] { return localizer_.keyframes(); });

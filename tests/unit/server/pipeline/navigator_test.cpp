@@ -303,6 +303,47 @@ TEST(Navigator, AWayClosedForAMomentIsDrivenOnWhenTheMapOpensItAgain) {
   EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
 }
 
+TEST(Navigator, ANewGoalTheMapBeforeALoopClosureRefusesIsJudgedOnTheRebuiltMap) {
+  // The lidar demo (issue 58): a loop closure corrected 0.8 m of drift; while the map was rebuilt from the
+  // moved keyframes, the old one showed no way down the ramp, and the goal was refused 3 s before the
+  // rebuilt map, which planned it, arrived.
+  const MlsMap open = test::wall_and_stairs_scene();
+  MlsMap closed = test::wall_and_stairs_scene();
+  PointCloud wall;
+  test::add_vertical_face(wall, -3.0, 0.0, 2.0, 0.0, 0.0, 2.0);
+  closed.insert_scan(wall, {0, 0, 3});
+  Navigator navigator;
+  publish(navigator, closed);
+  (void)navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 0.0);
+
+  navigator.map_rebuilding(true);
+  ASSERT_TRUE(navigator.set_goal({-2.0, 4.0, {}}).ok);
+  EXPECT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kPlanning) << navigator.goal_status().message;
+  EXPECT_FALSE(navigator.plan_pending()) << "nothing to plan until the rebuild is over";
+  EXPECT_EQ(navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 1.0)->v, 0.0);
+  publish(navigator, open, 2);
+  navigator.map_rebuilding(false);
+  EXPECT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
+  ASSERT_NE(navigator.path(), nullptr);
+  EXPECT_NEAR(navigator.path()->length, 8.0, 0.1);
+
+  // The rebuilt map refuses it too: it fails then. And without a rebuild under way, at once.
+  navigator.map_rebuilding(true);
+  publish(navigator, closed, 3);
+  ASSERT_TRUE(navigator.set_goal({-2.0, 4.0, {}}).ok);
+  EXPECT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kPlanning);
+  navigator.map_rebuilding(false);
+  EXPECT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kFailed);
+  EXPECT_EQ(navigator.goal_status().reason, "no_connection");
+  ASSERT_TRUE(navigator.set_goal({-2.0, 4.0, {}}).ok);
+  EXPECT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kFailed);
+}
+
 TEST(Navigator, TeleopLastsHalfASecondUnlessRenewed) {
   ManualClock clock;
   Navigator navigator({}, clock.function());
