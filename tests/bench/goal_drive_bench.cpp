@@ -8,13 +8,15 @@
 //
 //   strata_goal_drive_bench [--world yard|campus] [--scanner tilting|lidar] [--warmup S] [--goals N]
 //                           [--timeout S] [--time-scale X] [--seed K] [--dump DIR] [--record DIR]
-//                           [--goals-at X,Y,Z;X,Y,Z...]
+//                           [--goals-at X,Y,Z;X,Y,Z...] [--imu-calibration FILE]
 //   defaults: yard, tilting, 60 simulated seconds of demo route, 20 goals, 240 simulated seconds per goal,
 //   time scale 20, seed 1 (picks the goals; the simulator's own seed is the server's default); with --dump,
 //   the map downloaded before each goal that was not reached is saved as DIR/goal_<i>.strata; with
 //   --record, the server records its scans and odometry there (`strata serve --replay` plays them again);
 //   with --goals-at, the goals are these places (true coordinates) in turn instead of random seen ground,
-//   e.g. up and down the campus bridge ramp: --goals-at "84,-28.75,3;44,-28.75,0" (issue 58)
+//   e.g. up and down the campus bridge ramp: --goals-at "84,-28.75,3;44,-28.75,0" (issue 58); with
+//   --imu-calibration, the server keeps what it learns of its IMU's mounting there and starts from it (as a
+//   robot does from its second run on; without it, every run starts unknowing)
 //
 //   goal     i, where from and to, distance; phase it ended in (reached, failed, timeout) and the reason;
 //            accepted: the server planned a way and drove (it did not refuse the goal); simulated seconds;
@@ -62,8 +64,9 @@ struct Options {
   double timeout = 240.0;
   std::string time_scale = "20";
   unsigned seed = 1;
-  std::string dump;                       ///< a folder for the maps of goals not reached; empty: none saved
-  std::string record;                     ///< a folder the server records the run into; empty: not recorded
+  std::string dump;             ///< a folder for the maps of goals not reached; empty: none saved
+  std::string record;           ///< a folder the server records the run into; empty: not recorded
+  std::string imu_calibration;  ///< the server's IMU calibration file (kept between runs); empty: a fresh one
   std::vector<Eigen::Vector3d> goals_at;  ///< fixed goals, taken in turn; empty: random seen ground
 };
 
@@ -108,6 +111,8 @@ Options parse(int argc, char** argv) {
       options.dump = value;
     else if (key == "--record")
       options.record = value;
+    else if (key == "--imu-calibration")
+      options.imu_calibration = value;
     else if (key == "--goals-at")
       options.goals_at = parse_places(value);
   }
@@ -198,6 +203,8 @@ int main(int argc, char** argv) {
                                 options.scanner, "--time-scale", options.time_scale};
   if (!options.record.empty())
     args.insert(args.end(), {"--record", options.record});
+  if (!options.imu_calibration.empty())
+    args.insert(args.end(), {"--imu-calibration", options.imu_calibration});
   testing::ServerProcess server(args);
   const std::uint16_t port = server.port();
   // Surveyed while the robot warms up: surveying takes seconds in which the demo route drives on, so done
