@@ -10,11 +10,12 @@
 // Map consistency ("revisit spread"): where two scans far apart along the way (>= 15 m driven) saw the
 // same place (within 5 m), how far apart the map puts the same true point from the two: the walls a map
 // doubles. For the live map, each scan at the pose it was mapped with; for the rebuilt map, each keyframe
-// at its final pose graph estimate. Keyframe tilt steps: how much the tilt error changes between
-// consecutive keyframes, as the scan path mapped them and after the pose graph (floor far away doubles
-// where it does); keyframe_tilt_max_deg: the largest tilt error of a keyframe after the pose graph.
-// Loop measurements: each loop edge's relative pose against its two keyframes' true relative pose, the
-// heading (signed: a mean off zero is a bias the loops hand to the map) and the position.
+// at its final pose graph estimate; "as_live", the map as the server has it when each scan comes (every
+// optimization rebuilds it from the keyframes where the graph has them then). Keyframe tilt steps: how much
+// the tilt error changes between consecutive keyframes, as the scan path mapped them and after the pose graph
+// (floor far away doubles where it does); keyframe_tilt_max_deg: the largest tilt error of a keyframe after
+// the pose graph. Loop measurements: each loop edge's relative pose against its two keyframes' true relative
+// pose, the heading (signed: a mean off zero is a bias the loops hand to the map) and the position.
 #include <algorithm>
 #include <array>
 #include <chrono>
@@ -47,6 +48,7 @@ struct Visit {
   Eigen::Isometry3d estimate;
   PointCloud points;  ///< base frame, thinned
   double travelled = 0.0;
+  double stamp = 0.0;
 };
 
 struct Spread {
@@ -120,6 +122,62 @@ Spread revisit_spread(const std::vector<Visit>& visits) {
   }
   return spread_of(std::move(spreads));
 }
+
+/// The map as the server has it when each scan comes: every earlier scan where the last rebuild put it
+/// (its keyframe's optimized pose then, carrying the scan as the keyframe carries it), or where the scan
+/// path mapped it since. Per scan, against the earlier scans the revisit rule pairs it with: the doubled
+/// surfaces a goal's plan meets in the live map.
+class AsLiveSpread {
+ public:
+  explicit AsLiveSpread(const std::vector<Visit>& visits) : visits_(visits) {}
+
+  /// After each scan the server maps (the newest of `visits`).
+  void scan_mapped() {
+    const std::size_t j = visits_.size() - 1;
+    live_.push_back(visits_[j].estimate);
+    const Visit& newest = visits_[j];
+    const Eigen::Isometry3d map_from_world_j = newest.estimate * newest.truth.inverse();
+    for (std::size_t i = 0; i < j; ++i) {
+      const Visit& old = visits_[i];
+      const Eigen::Vector3d apart = newest.truth.translation() - old.truth.translation();
+      if (newest.travelled - old.travelled < 15.0 || apart.head<2>().norm() > 5.0 ||
+          std::abs(apart.z()) > 1.0)
+        continue;
+      const Eigen::Isometry3d map_from_world_i = live_[i] * old.truth.inverse();
+      double sum = 0.0;
+      std::size_t n = 0;
+      for (const Eigen::Vector3d& p : old.points) {
+        if (p.norm() > 10.0)
+          continue;
+        const Eigen::Vector3d world = old.truth * p;
+        sum += (map_from_world_i * world - map_from_world_j * world).norm();
+        ++n;
+      }
+      if (n > 0)
+        spreads_.push_back(sum / static_cast<double>(n));
+    }
+  }
+
+  /// After an optimization: the map is rebuilt from the keyframes where the graph now has them.
+  void rebuilt(const std::vector<KeyframePose>& keyframes) {
+    if (keyframes.empty())
+      return;
+    std::size_t k = 0;
+    for (std::size_t i = 0; i < visits_.size(); ++i) {
+      while (k + 1 < keyframes.size() && keyframes[k].keyframe->stamp < visits_[i].stamp)
+        ++k;  // the keyframe that carries scan i: the first made at or after it
+      const KeyframePose& owner = keyframes[k];
+      live_[i] = owner.pose * owner.keyframe->mapped_pose.inverse() * visits_[i].estimate;
+    }
+  }
+
+  [[nodiscard]] Spread spread() const { return spread_of(spreads_); }
+
+ private:
+  const std::vector<Visit>& visits_;
+  std::vector<Eigen::Isometry3d> live_;
+  std::vector<double> spreads_;
+};
 
 std::string eigen_text(const TranslationConstraint& c) {
   char text[160];
@@ -396,7 +454,8 @@ int main(int argc, char** argv) {
   std::array<std::size_t, 3> in_state{};
   double max_error_while_ok = 0.0;
   Eigen::Vector3d last = simulator.sample().truth->position;
-  std::vector<Visit> mapped;                     // every scan the live map took, at the pose it took it with
+  std::vector<Visit> mapped;  // every scan the live map took, at the pose it took it with
+  AsLiveSpread as_live(mapped);
   std::map<double, Eigen::Isometry3d> truth_at;  // by scan stamp
   double odometry_error = 0.0, corrected_error = 0.0;
   // A keyframe's heading error where the graph has it and the raw odometry's, against the truth, degrees:
@@ -446,15 +505,20 @@ int main(int argc, char** argv) {
       streamed.set_mounting_error(localizer.gravity_mounting());
       streamed.set_correction(update.map_from_odom, scan.stamp);
       truth_at[scan.stamp] = scan.truth->to_isometry();
-      if (!update.registration || update.correction != Correction::kNone)
-        mapped.push_back(
-            {scan.truth->to_isometry(), update.pose, voxel_downsample(points_deskewed, 0.5), travelled});
+      if (!update.registration || update.correction != Correction::kNone) {
+        mapped.push_back({scan.truth->to_isometry(), update.pose, voxel_downsample(points_deskewed, 0.5),
+                          travelled, scan.stamp});
+        as_live.scan_mapped();
+      }
       scan_times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
       // The server runs this on a thread of its own; here it runs after each scan, so the numbers do not
       // depend on the machine's speed.
       const auto loop_start = std::chrono::steady_clock::now();
       const std::size_t loops_before = localizer.graph_status().loops;
+      const std::size_t optimizations_before = localizer.graph_status().optimizations;
       localizer.close_loops();
+      if (localizer.graph_status().optimizations != optimizations_before)
+        as_live.rebuilt(localizer.keyframes());
       loop_seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - loop_start).count();
       if (std::getenv("STRATA_BENCH_TRACE") != nullptr && localizer.graph_status().loops != loops_before)
         std::fprintf(stderr, "loops %zu -> %zu at t=%.1f: the last moved its keyframe %.3f m\n", loops_before,
@@ -549,6 +613,7 @@ int main(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - rebuild_start).count();
   const Spread live_spread = revisit_spread(mapped);
   const Spread rebuilt_spread = revisit_spread(rebuilt);
+  const Spread as_live_spread = as_live.spread();
   const Spread path_tilt = keyframe_tilt_steps(keyframes, false, truth_at);
   const Spread graph_tilt = keyframe_tilt_steps(keyframes, true, truth_at);
   double max_keyframe_tilt = 0.0;
@@ -608,7 +673,8 @@ int main(int argc, char** argv) {
       "\"keyframe_map_points\":%zu,\"keyframe_map_mb_per_km\":%.1f,\"rebuild_s\":%.2f,\"rebuilt_patches\":%"
       "zu},"
       "\"revisit_spread_m\":{\"live_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f},"
-      "\"rebuilt_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}},"
+      "\"rebuilt_map\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f},"
+      "\"as_live\":{\"pairs\":%zu,\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}},"
       "\"keyframe_tilt_step_deg\":{\"scan_path\":{\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f},"
       "\"graph\":{\"median\":%.3f,\"p95\":%.3f,\"max\":%.3f}},\"keyframe_tilt_max_deg\":%.3f,"
       "\"loop_measurement\":{\"heading_error_deg\":{\"mean\":%.3f,\"mean_abs\":%.3f,\"max_abs\":%.3f},"
@@ -627,7 +693,8 @@ int main(int argc, char** argv) {
       simulator.imu() ? simulator.imu()->mounting_error().y() * 180.0 / M_PI : 0.0, keyframe_points,
       keyframe_mb_per_km, keyframe_map_points, map_mb_per_km, rebuild_seconds, rebuilt_map.patch_count(),
       live_spread.pairs, live_spread.median, live_spread.p95, live_spread.max, rebuilt_spread.pairs,
-      rebuilt_spread.median, rebuilt_spread.p95, rebuilt_spread.max, path_tilt.median, path_tilt.p95,
+      rebuilt_spread.median, rebuilt_spread.p95, rebuilt_spread.max, as_live_spread.pairs,
+      as_live_spread.median, as_live_spread.p95, as_live_spread.max, path_tilt.median, path_tilt.p95,
       path_tilt.max, graph_tilt.median, graph_tilt.p95, graph_tilt.max, max_keyframe_tilt,
       loop_heading_sum / loop_count, loop_heading_abs_sum / loop_count, loop_heading_worst,
       pct_of(loop_position_errors, 0.5), pct_of(loop_position_errors, 1.0));

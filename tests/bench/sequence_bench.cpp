@@ -2,7 +2,8 @@
 // replay driver, the localizer and the mapping worker of `strata serve --replay DIR --replay-odometry none`
 // (RobotPipeline, without the network), paced as fast as the pipeline takes the scans (none dropped) or by
 // the recorded clock (a busy localizer drops scans, as on a robot). Prints a line per processed scan (time,
-// verdict, localization state, CPU, errors against the reference) and a JSON summary: maximum horizontal
+// verdict, localization state, CPU, errors against the reference: horizontal, 3D, the height signed, and
+// the tilt as pitch and roll in the reference's body frame) and a JSON summary: maximum horizontal
 // and 3D error, heading, relative error per 10 m, KITTI-style drift, scans dropped, whether the track was
 // ever lost. A benchmark: prints numbers, never fails on them.
 //
@@ -133,10 +134,16 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
     track.push_back({o.stamp, o.pose, o.truth->to_isometry()});
     if (!settings.quiet) {
       const Eigen::Vector3d offset = o.pose.translation() - track.back().reference.translation();
-      std::fprintf(stderr, "%s scan %zu t=%.3f cpu %.1f ms %s rmse %.3f m %s horizontal %.3f m 3d %.3f m\n",
+      // The tilt error as the estimate's up axis seen in the reference's body frame: x is pitch, y is roll.
+      const Eigen::Vector3d up_seen = track.back().reference.linear().transpose() * o.pose.linear().col(2);
+      constexpr double kDeg = 180.0 / 3.141592653589793;
+      std::fprintf(stderr,
+                   "%s scan %zu t=%.3f cpu %.1f ms %s rmse %.3f m %s horizontal %.3f m 3d %.3f m dz %+.3f m "
+                   "tilt %+.2f %+.2f deg\n",
                    dir.filename().c_str(), i, o.stamp, o.cpu_ms,
                    o.registered ? std::string(to_string(o.correction)).c_str() : "first", o.rmse,
-                   std::string(to_string(o.state)).c_str(), offset.head<2>().norm(), offset.norm());
+                   std::string(to_string(o.state)).c_str(), offset.head<2>().norm(), offset.norm(),
+                   offset.z(), std::asin(up_seen.x()) * kDeg, std::asin(up_seen.y()) * kDeg);
     }
   }
   const bench::TrajectoryErrors errors = bench::trajectory_errors(track);
