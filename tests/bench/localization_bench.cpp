@@ -552,7 +552,7 @@ int main(int argc, char** argv) {
             "t=%7.1f yaw=%.3f truth=(%7.3f %7.3f %6.3f) error=(%6.2f %6.2f %6.2f) rot=(%5.2f %5.2f %5.2f) "
             "%-8s %s eig=%s "
             "rmse=%.3f icp_yaw=%.3f yaw_info=%.4f drift=%.2f odometry_yaw=%.3f mounting=(%.3f %.3f) "
-            "leveling_mounting=(%.3f %.3f)\n",
+            "leveling_mounting=(%.3f %.3f) pairs=%zu/%zu target=%zu\n",
             scan.stamp, scan.truth->yaw * 180.0 / M_PI, scan.truth->position.x(), scan.truth->position.y(),
             scan.truth->position.z(), error.x(), error.y(), error.z(), turn_deg.x(), turn_deg.y(),
             turn_deg.z(), std::string(to_string(update.correction)).c_str(),
@@ -571,7 +571,10 @@ int main(int argc, char** argv) {
                 180.0 / M_PI,
             localizer.graph_status().gravity_mounting_deg().x(),
             localizer.graph_status().gravity_mounting_deg().y(),
-            localizer.gravity_mounting().x() * 180.0 / M_PI, localizer.gravity_mounting().y() * 180.0 / M_PI);
+            localizer.gravity_mounting().x() * 180.0 / M_PI, localizer.gravity_mounting().y() * 180.0 / M_PI,
+            update.registration ? update.registration->pairs : 0,
+            update.registration ? update.registration->source_points : 0,
+            update.registration ? update.registration->target_points : 0);
       }
     }
     // Error of the pose the server would stream now.
