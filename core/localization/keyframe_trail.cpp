@@ -4,7 +4,7 @@
 
 #include "core/points/voxel_downsample.hpp"
 #include "core/points/voxel_key.hpp"
-#include "core/points/voxel_key_map.hpp"
+#include "core/points/voxel_key_set.hpp"
 
 namespace strata {
 
@@ -42,7 +42,7 @@ std::vector<KeyframeScan> KeyframeTrail::close(const PointCloud& thinned,
   std::size_t expected = thinned.size();
   for (const Scan& scan : scans_)
     expected += scan.points.size();
-  VoxelKeyMap reached(expected);
+  VoxelKeySet reached(expected);
   const auto keep = [&](const PointCloud& scan_points, const Eigen::Vector3d& origin,
                         const Eigen::Isometry3d& keyframe_from_scan) {
     KeyframeScan scan;
@@ -50,7 +50,7 @@ std::vector<KeyframeScan> KeyframeTrail::close(const PointCloud& thinned,
     scan.ground = keyframe_from_scan.translation().cast<float>();
     for (const Eigen::Vector3d& p : scan_points) {
       const Eigen::Vector3d q = keyframe_from_scan * p;
-      if (reached.try_emplace(voxel_key(voxel_cell(q, inverse_voxel)), 0).second)
+      if (reached.insert(voxel_key(voxel_cell(q, inverse_voxel))))
         scan.points.push_back(q.cast<float>());
     }
     kept.push_back(std::move(scan));

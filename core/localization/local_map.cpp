@@ -1,6 +1,7 @@
 #include "core/localization/local_map.hpp"
 
 #include <algorithm>
+#include <array>
 
 #include "core/points/voxel_key.hpp"
 
@@ -11,6 +12,36 @@ namespace {
 /// point, hashes the map again and makes the registration index it anew, which every scan did before
 /// (docs/benchmarks.md, "The local map's index").
 constexpr std::size_t kCompactionShareDivisor = 4;
+
+/// Points whose voxels are asked of memory before the first of them is looked up.
+constexpr std::size_t kLookAhead = 8;
+
+/// Calls visit(i, point, key) for the points point_at(0), ..., point_at(count - 1) in order, each with its
+/// voxel's key, the voxel asked of memory kLookAhead points before it is visited: a map of a few hundred
+/// thousand voxels is tens of megabytes, and each lookup otherwise waited for memory.
+template <class PointAt, class Visit>
+void for_each_voxel(const VoxelKeyMap& voxels, double inverse_voxel_size, std::size_t count, PointAt point_at,
+                    Visit visit) {
+  struct Ahead {
+    Eigen::Vector3d point;
+    VoxelKey key = 0;
+  };
+  std::array<Ahead, kLookAhead> ahead;
+  const auto ask = [&](std::size_t i) {
+    Ahead& a = ahead[i % kLookAhead];
+    a.point = point_at(i);
+    a.key = voxel_key(voxel_cell(a.point, inverse_voxel_size));
+    voxels.prefetch(a.key);
+  };
+  for (std::size_t i = 0; i < std::min(count, kLookAhead); ++i)
+    ask(i);
+  for (std::size_t i = 0; i < count; ++i) {
+    const Ahead a = ahead[i % kLookAhead];
+    if (i + kLookAhead < count)
+      ask(i + kLookAhead);
+    visit(i, a.point, a.key);
+  }
+}
 
 }  // namespace
 
@@ -24,24 +55,32 @@ void LocalMap::keep_normals(LazyNormals::Estimates normals) {
     normals_ = {};
 }
 
-void LocalMap::add(const PointCloud& points, const Eigen::Vector3d& sensor) {
+void LocalMap::add(const PointCloud& scan, const Eigen::Isometry3d& map_from_scan,
+                   const Eigen::Vector3d& sensor) {
+  const Eigen::Vector3d sensor_in_map = map_from_scan * sensor;
   ++scan_;
   if (last_sensor_)
-    travelled_ += (sensor - *last_sensor_).norm();
-  last_sensor_ = sensor;
-  for (const Eigen::Vector3d& p : points) {
-    const auto next = static_cast<std::uint32_t>(points_.size());
-    const auto [index, added] = voxels_.try_emplace(voxel_key(voxel_cell(p, inverse_voxel_size_)), next);
-    if (added) {
-      points_.push_back(p);
-      viewpoints_.push_back(sensor);
-      seen_.push_back(scan_);
-      seen_at_.push_back(travelled_);
-    } else {
-      seen_[index] = scan_;
-      seen_at_[index] = travelled_;
-    }
-  }
+    travelled_ += (sensor_in_map - *last_sensor_).norm();
+  last_sensor_ = sensor_in_map;
+  records_.push_back({.travelled = travelled_, .voxels = 0});
+  std::uint32_t& reached_now = records_.back().voxels;
+  for_each_voxel(
+      voxels_, inverse_voxel_size_, scan.size(), [&](std::size_t i) { return map_from_scan * scan[i]; },
+      [&](std::size_t, const Eigen::Vector3d& p, VoxelKey key) {
+        const auto next = static_cast<std::uint32_t>(points_.size());
+        const auto [index, added] = voxels_.try_emplace(key, next);
+        if (added) {
+          points_.push_back(p);
+          viewpoints_.push_back(sensor_in_map);
+          seen_.push_back(scan_);
+          ++reached_now;
+        } else if (const std::uint32_t last = seen_[index]; last != scan_) {
+          --record(last).voxels;
+          expired_ -= last < live_from_ ? 1 : 0;
+          seen_[index] = scan_;
+          ++reached_now;
+        }
+      });
   if (!normals_.states.empty()) {  // the new voxels have none yet
     normals_.normals.resize(points_.size());
     normals_.states.resize(points_.size(), LazyNormals::State::kUnknown);
@@ -51,53 +90,62 @@ void LocalMap::add(const PointCloud& points, const Eigen::Vector3d& sensor) {
 
 void LocalMap::transform(const Eigen::Isometry3d& transform) {
   ++layout_;
-  const PointCloud moved = transformed(points_, transform);
-  const std::vector<std::uint32_t> seen = seen_;
-  const std::vector<double> seen_at = seen_at_;
-  const std::vector<Eigen::Vector3d> viewpoints = viewpoints_;
-  points_.clear();
-  viewpoints_.clear();
-  seen_.clear();
-  seen_at_.clear();
   voxels_.clear();
   normals_ = {};
-  for (std::size_t i = 0; i < moved.size(); ++i) {
-    const auto next = static_cast<std::uint32_t>(points_.size());
-    const auto [index, added] =
-        voxels_.try_emplace(voxel_key(voxel_cell(moved[i], inverse_voxel_size_)), next);
-    if (added) {
-      points_.push_back(moved[i]);
-      viewpoints_.push_back(transform * viewpoints[i]);
-      seen_.push_back(seen[i]);
-      seen_at_.push_back(seen_at[i]);
-    } else {
-      seen_[index] = std::max(seen_[index], seen[i]);
-      seen_at_[index] = std::max(seen_at_[index], seen_at[i]);
-    }
-  }
+  // In place: a point moves to an index no later than its own.
+  std::size_t kept = 0;
+  for_each_voxel(
+      voxels_, inverse_voxel_size_, points_.size(), [&](std::size_t i) { return transform * points_[i]; },
+      [&](std::size_t i, const Eigen::Vector3d& moved, VoxelKey key) {
+        const auto [index, added] = voxels_.try_emplace(key, static_cast<std::uint32_t>(kept));
+        if (added) {
+          points_[kept] = moved;
+          viewpoints_[kept] = transform * viewpoints_[i];
+          seen_[kept] = seen_[i];
+          ++kept;
+        } else {
+          seen_[index] = std::max(seen_[index], seen_[i]);
+        }
+      });
+  points_.resize(kept);
+  viewpoints_.resize(kept);
+  seen_.resize(kept);
+  recount();
+}
+
+void LocalMap::recount() {
+  for (ScanRecord& r : records_)
+    r.voxels = 0;
+  for (const std::uint32_t last : seen_)
+    ++record(last).voxels;
+  expired_ = 0;
+  for (std::uint32_t scan = first_record_; scan < live_from_; ++scan)
+    expired_ += record(scan).voxels;
 }
 
 void LocalMap::expire() {
   if (scan_ <= scans_)
     return;
   const std::uint32_t oldest_kept = scan_ - static_cast<std::uint32_t>(scans_) + 1;
-  const auto live = [&](std::size_t i) {
-    return seen_[i] >= oldest_kept || (metres_ > 0.0 && travelled_ - seen_at_[i] <= metres_);
-  };
-  std::size_t expired = 0;
-  for (std::size_t i = 0; i < points_.size(); ++i)
-    expired += live(i) ? 0 : 1;
-  if (expired == 0 || expired * kCompactionShareDivisor < points_.size())
+  while (live_from_ < oldest_kept &&
+         !(metres_ > 0.0 && travelled_ - record(live_from_).travelled <= metres_)) {
+    expired_ += record(live_from_).voxels;
+    ++live_from_;
+  }
+  if (expired_ == 0 || expired_ * kCompactionShareDivisor < points_.size())
     return;  // not worth moving every point and hashing the map again for
+  compact();
+}
+
+void LocalMap::compact() {
   ++layout_;
   std::size_t kept = 0;
   const bool normals = !normals_.states.empty();
   for (std::size_t i = 0; i < points_.size(); ++i) {
-    if (live(i)) {
+    if (seen_[i] >= live_from_) {
       points_[kept] = points_[i];
       viewpoints_[kept] = viewpoints_[i];
       seen_[kept] = seen_[i];
-      seen_at_[kept] = seen_at_[i];
       if (normals) {
         normals_.normals[kept] = normals_.normals[i];
         normals_.states[kept] = normals_.states[i];
@@ -108,17 +156,22 @@ void LocalMap::expire() {
   points_.resize(kept);
   viewpoints_.resize(kept);
   seen_.resize(kept);
-  seen_at_.resize(kept);
   if (normals) {
     normals_.normals.resize(kept);
     normals_.states.resize(kept);
   }
+  // No voxel names an expired scan any more.
+  records_.erase(records_.begin(), records_.begin() + (live_from_ - first_record_));
+  first_record_ = live_from_;
+  expired_ = 0;
   // The map holds indices into points_, which just moved: hash the survivors again (a pass over the
   // live voxels, no scan's points).
   voxels_.clear();
-  for (std::size_t i = 0; i < points_.size(); ++i)
-    voxels_.try_emplace(voxel_key(voxel_cell(points_[i], inverse_voxel_size_)),
-                        static_cast<std::uint32_t>(i));
+  for_each_voxel(
+      voxels_, inverse_voxel_size_, points_.size(), [&](std::size_t i) { return points_[i]; },
+      [&](std::size_t i, const Eigen::Vector3d&, VoxelKey key) {
+        voxels_.try_emplace(key, static_cast<std::uint32_t>(i));
+      });
 }
 
 }  // namespace strata

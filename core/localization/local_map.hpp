@@ -27,8 +27,13 @@ class LocalMap {
  public:
   LocalMap(double voxel_size, std::size_t scans, double metres = 0.0);
 
-  /// Adds a registered scan (map frame) taken from `sensor` (map frame) and expires what it leaves too old.
-  void add(const PointCloud& points, const Eigen::Vector3d& sensor);
+  /// Adds a registered scan, its points and its `sensor` in the scan's own frame placed in the map frame by
+  /// `map_from_scan`, and expires what it leaves too old.
+  void add(const PointCloud& scan, const Eigen::Isometry3d& map_from_scan, const Eigen::Vector3d& sensor);
+  /// The same for points and a sensor already in the map frame.
+  void add(const PointCloud& points, const Eigen::Vector3d& sensor) {
+    add(points, Eigen::Isometry3d::Identity(), sensor);
+  }
   /// Moves every point by `transform` (the map frame was corrected): the voxels are hashed again, two
   /// points in one voxel keep the older, and the normals are estimated afresh.
   void transform(const Eigen::Isometry3d& transform);
@@ -50,7 +55,18 @@ class LocalMap {
   void keep_normals(LazyNormals::Estimates normals);
 
  private:
+  /// A scan some voxel may still name as the last to reach it.
+  struct ScanRecord {
+    double travelled = 0.0;    ///< travelled_ when it was added
+    std::uint32_t voxels = 0;  ///< voxels it was the last scan to reach
+  };
+
   void expire();
+  /// Drops the voxels last reached before live_from_.
+  void compact();
+  [[nodiscard]] ScanRecord& record(std::uint32_t scan) { return records_[scan - first_record_]; }
+  /// Counts the voxels per last scan afresh (after two voxels merged).
+  void recount();
 
   double inverse_voxel_size_;
   std::size_t scans_;
@@ -61,10 +77,16 @@ class LocalMap {
   std::uint64_t layout_ = 0;
   PointCloud points_;                        ///< per live voxel
   std::vector<std::uint32_t> seen_;          ///< per live voxel: the last scan that reached it
-  std::vector<double> seen_at_;              ///< per live voxel: travelled_ at that scan
   std::vector<Eigen::Vector3d> viewpoints_;  ///< per live voxel: the sensor that first saw its point
   VoxelKeyMap voxels_;                       ///< voxel -> its index in points_
   LazyNormals::Estimates normals_;           ///< per live voxel, when known
+  // Whether a voxel has expired depends only on its last scan, and an older scan expires no later than a
+  // newer one: the expired voxels are those last reached before one scan, live_from_. Counting them per
+  // scan spares a pass over the whole map at every scan to decide whether to compact it.
+  std::vector<ScanRecord> records_;  ///< scans first_record_, first_record_ + 1, ..., scan_
+  std::uint32_t first_record_ = 1;
+  std::uint32_t live_from_ = 1;
+  std::size_t expired_ = 0;  ///< voxels last reached before live_from_
 };
 
 }  // namespace strata

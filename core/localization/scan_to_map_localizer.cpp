@@ -133,7 +133,7 @@ LocalizationUpdate ScanToMapLocalizer::add_scan(const PointCloud& points, const 
   update.map_from_odom = global_.correction();
 
   if (saved_map_ == nullptr)
-    local_map_.add(transformed(points, update.pose), update.pose * sensor_origin_);
+    local_map_.add(points, update.pose, sensor_origin_);
   return update;
 }
 

@@ -3,8 +3,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <map>
 #include <numbers>
+#include <optional>
+#include <random>
 #include <set>
+#include <utility>
 
 #include "core/points/voxel_downsample.hpp"
 #include "core/points/voxel_key.hpp"
@@ -151,6 +155,143 @@ TEST(LocalMap, KeepsWhatTheSensorPassedInTheLastMetresWhateverTheScanRate) {
   for (int i = 0; i < 10; ++i)
     map.add({{3.5, 0.5, 0.5}}, {1.2, 0, 0});
   EXPECT_EQ(map.size(), 3U);
+}
+
+/// The local map's rule as a pass over every point at every scan (LocalMap counts its expired voxels per
+/// scan instead): what the map must hold, point for point, after every scan and correction.
+class PassOverEveryPoint {
+ public:
+  PassOverEveryPoint(double voxel, std::size_t scans, double metres)
+      : inverse_(1.0 / voxel), scans_(scans), metres_(metres) {}
+
+  void add(const PointCloud& points, const Eigen::Vector3d& sensor) {
+    ++scan_;
+    if (last_sensor_)
+      travelled_ += (sensor - *last_sensor_).norm();
+    last_sensor_ = sensor;
+    for (const Eigen::Vector3d& p : points) {
+      const auto [at, added] = voxels_.try_emplace(voxel_key(voxel_cell(p, inverse_)), points_.size());
+      if (added) {
+        points_.push_back(p);
+        viewpoints_.push_back(sensor);
+        seen_.push_back(scan_);
+        seen_at_.push_back(travelled_);
+      } else {
+        seen_[at->second] = scan_;
+        seen_at_[at->second] = travelled_;
+      }
+    }
+    if (scan_ <= scans_)
+      return;
+    const std::uint32_t oldest_kept = scan_ - static_cast<std::uint32_t>(scans_) + 1;
+    const auto live = [&](std::size_t i) {
+      return seen_[i] >= oldest_kept || (metres_ > 0.0 && travelled_ - seen_at_[i] <= metres_);
+    };
+    std::size_t expired = 0;
+    for (std::size_t i = 0; i < points_.size(); ++i)
+      expired += live(i) ? 0 : 1;
+    if (expired == 0 || 4 * expired < points_.size())
+      return;
+    keep_where(live, Eigen::Isometry3d::Identity());
+  }
+
+  void transform(const Eigen::Isometry3d& transform) {
+    keep_where([](std::size_t) { return true; }, transform);
+  }
+
+  [[nodiscard]] const PointCloud& points() const { return points_; }
+  [[nodiscard]] const std::vector<Eigen::Vector3d>& viewpoints() const { return viewpoints_; }
+
+ private:
+  /// The points `keep` keeps, moved by `transform` and hashed again: of two in one voxel, the older stays
+  /// with the later one's last sight.
+  template <class Keep>
+  void keep_where(Keep keep, const Eigen::Isometry3d& transform) {
+    PointCloud points;
+    std::vector<Eigen::Vector3d> viewpoints;
+    std::vector<std::uint32_t> seen;
+    std::vector<double> seen_at;
+    voxels_.clear();
+    for (std::size_t i = 0; i < points_.size(); ++i) {
+      if (!keep(i))
+        continue;
+      const Eigen::Vector3d p = transform * points_[i];
+      const auto [at, added] = voxels_.try_emplace(voxel_key(voxel_cell(p, inverse_)), points.size());
+      if (added) {
+        points.push_back(p);
+        viewpoints.push_back(transform * viewpoints_[i]);
+        seen.push_back(seen_[i]);
+        seen_at.push_back(seen_at_[i]);
+      } else {
+        seen[at->second] = std::max(seen[at->second], seen_[i]);
+        seen_at[at->second] = std::max(seen_at[at->second], seen_at_[i]);
+      }
+    }
+    points_ = std::move(points);
+    viewpoints_ = std::move(viewpoints);
+    seen_ = std::move(seen);
+    seen_at_ = std::move(seen_at);
+  }
+
+  double inverse_;
+  std::size_t scans_;
+  double metres_;
+  std::uint32_t scan_ = 0;
+  double travelled_ = 0.0;
+  std::optional<Eigen::Vector3d> last_sensor_;
+  PointCloud points_;
+  std::vector<Eigen::Vector3d> viewpoints_;
+  std::vector<std::uint32_t> seen_;
+  std::vector<double> seen_at_;
+  std::map<VoxelKey, std::size_t> voxels_;
+};
+
+// Expiry counted per scan keeps, drops and merges exactly the points a pass over the whole map at every
+// scan would: a sensor that wanders, stops, and turns back over what it saw, with corrections between.
+TEST(LocalMap, ExpiresExactlyAsAPassOverEveryPointWould) {
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (const double metres : {0.0, 2.0}) {
+    LocalMap map(0.5, 3, metres);
+    PassOverEveryPoint reference(0.5, 3, metres);
+    Eigen::Vector3d sensor = Eigen::Vector3d::Zero();
+    std::size_t compactions = 0;
+    std::uint64_t layout = map.layout();
+    for (int step = 0; step < 400; ++step) {
+      if (step % 5 != 4)  // every fifth scan from where the last one was taken
+        sensor += Eigen::Vector3d(0.4 * unit(random), 0.4 * unit(random), 0.0);
+      PointCloud scan;
+      for (int k = 0; k < 40; ++k)
+        scan.push_back(sensor + Eigen::Vector3d(3.0 * unit(random), 3.0 * unit(random), unit(random)));
+      if (step % 37 == 36) {
+        const Eigen::Isometry3d correction(Eigen::Translation3d(0.3 * unit(random), 0.3 * unit(random), 0.0) *
+                                           Eigen::AngleAxisd(0.05 * unit(random), Eigen::Vector3d::UnitZ()));
+        map.transform(correction);
+        reference.transform(correction);
+        sensor = correction * sensor;
+      }
+      map.add(scan, sensor);
+      reference.add(scan, sensor);
+      ASSERT_EQ(map.points(), reference.points()) << "metres " << metres << ", scan " << step;
+      ASSERT_EQ(map.viewpoints(), reference.viewpoints()) << "metres " << metres << ", scan " << step;
+      compactions += std::exchange(layout, map.layout()) != map.layout() ? 1 : 0;
+    }
+    EXPECT_GT(compactions, 20U) << "metres " << metres;
+  }
+}
+
+// A scan given in its own frame with its pose lands as the same scan moved into the map frame first.
+TEST(LocalMap, AScanWithItsPoseIsTheScanMovedIntoTheMapFrame) {
+  const Eigen::Isometry3d map_from_scan(Eigen::Translation3d(2.0, -1.0, 0.3) *
+                                        Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitZ()));
+  const PointCloud scan = test::room_scene(0.05, 0.0, 3);
+  const Eigen::Vector3d sensor(0.1, 0.0, 0.5);
+  LocalMap with_pose(0.1, 3);
+  LocalMap moved(0.1, 3);
+  with_pose.add(scan, map_from_scan, sensor);
+  moved.add(transformed(scan, map_from_scan), map_from_scan * sensor);
+  EXPECT_EQ(with_pose.points(), moved.points());
+  EXPECT_EQ(with_pose.viewpoints(), moved.viewpoints());
 }
 
 }  // namespace

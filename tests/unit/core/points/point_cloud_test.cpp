@@ -1,5 +1,6 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 #include <set>
 #include <tuple>
@@ -7,6 +8,7 @@
 #include "core/points/voxel_downsample.hpp"
 #include "core/points/voxel_key.hpp"
 #include "core/points/voxel_key_map.hpp"
+#include "core/points/voxel_key_set.hpp"
 #include "tests/support/synthetic_scenes.hpp"
 
 namespace strata {
@@ -67,6 +69,29 @@ TEST(VoxelKeyMap, FindsWhatWasStoredThroughGrowth) {
   map.clear();
   EXPECT_EQ(map.size(), 0U);
   EXPECT_EQ(map.find(voxel_key({5, -5, 3})), nullptr);
+}
+
+TEST(VoxelKeySet, KnowsWhatWasInsertedThroughGrowth) {
+  VoxelKeySet set(2);  // small: grows many times
+  for (int i = 0; i < 5000; ++i)
+    EXPECT_TRUE(set.insert(voxel_key({i % 71, -i, 3})));
+  EXPECT_EQ(set.size(), 5000U);
+  for (int i = 0; i < 5000; ++i)
+    EXPECT_FALSE(set.insert(voxel_key({i % 71, -i, 3})));
+  EXPECT_TRUE(set.insert(voxel_key({0, 1, 3})));
+  EXPECT_EQ(set.size(), 5001U);
+}
+
+// A scan whose points nearly all fall into voxels of their own (sparse rings) grows the set on the way:
+// still the first point of each voxel, in scan order.
+TEST(VoxelDownsample, ASparseScanKeepsNearlyEveryPointInOrder) {
+  PointCloud cloud;
+  for (int i = 0; i < 3000; ++i)
+    cloud.emplace_back(0.3 * i + 0.01, 0.05, 0.05);
+  cloud.emplace_back(0.02, 0.06, 0.04);  // shares the first voxel
+  const PointCloud kept = voxel_downsample(cloud, 0.1);
+  ASSERT_EQ(kept.size(), 3000U);
+  EXPECT_TRUE(std::equal(kept.begin(), kept.end(), cloud.begin()));
 }
 
 }  // namespace
