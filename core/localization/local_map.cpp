@@ -91,12 +91,7 @@ void LocalMap::add(const PointCloud& scan, const Eigen::Isometry3d& map_from_sca
 void LocalMap::transform(const Eigen::Isometry3d& transform) {
   ++layout_;
   voxels_.clear();
-  // A correction moves the map rigidly: the surfaces keep their shapes, and their normals turn with them
-  // (estimating them afresh after every correction was a third of a lidar scan's registration on the
-  // campus, docs/benchmarks.md "Normals through a correction"). A point that showed no surface is asked
-  // again, as before: its neighbourhood may have filled in since (the campus lidar's worst seed drifted
-  // 0.32 m on the bridge deck where every estimate was kept, 0.28 m so).
-  const bool normals = !normals_.states.empty();
+  normals_ = {};
   // In place: a point moves to an index no later than its own.
   std::size_t kept = 0;
   for_each_voxel(
@@ -107,12 +102,6 @@ void LocalMap::transform(const Eigen::Isometry3d& transform) {
           points_[kept] = moved;
           viewpoints_[kept] = transform * viewpoints_[i];
           seen_[kept] = seen_[i];
-          if (normals) {
-            normals_.normals[kept] = transform.linear() * normals_.normals[i];
-            normals_.states[kept] = normals_.states[i] == LazyNormals::State::kValid
-                                        ? LazyNormals::State::kValid
-                                        : LazyNormals::State::kUnknown;
-          }
           ++kept;
         } else {
           seen_[index] = std::max(seen_[index], seen_[i]);
@@ -121,10 +110,6 @@ void LocalMap::transform(const Eigen::Isometry3d& transform) {
   points_.resize(kept);
   viewpoints_.resize(kept);
   seen_.resize(kept);
-  if (normals) {
-    normals_.normals.resize(kept);
-    normals_.states.resize(kept);
-  }
   recount();
 }
 

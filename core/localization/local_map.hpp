@@ -35,8 +35,7 @@ class LocalMap {
     add(points, Eigen::Isometry3d::Identity(), sensor);
   }
   /// Moves every point by `transform` (the map frame was corrected): the voxels are hashed again, two
-  /// points in one voxel keep the older (and its normal), and the normals turn with their points (a point
-  /// that showed no surface is asked again).
+  /// points in one voxel keep the older, and the normals are estimated afresh.
   void transform(const Eigen::Isometry3d& transform);
 
   /// One point per voxel, oldest voxels first (expired ones until they are dropped, above).

@@ -99,34 +99,6 @@ TEST(LocalMap, CarriesNormalsWithTheirPoints) {
   EXPECT_TRUE(map.take_normals().states.empty());
 }
 
-// A correction of the map frame moves the surfaces rigidly: each normal turns with its point, and a voxel two
-// points come to share keeps the older point's. A point that showed no surface is asked again (its
-// neighbourhood may have filled in since).
-TEST(LocalMap, TurnsNormalsWithTheirPointsThroughACorrection) {
-  LocalMap map(1.0, 5);
-  map.add({{0.5, 0.5, 0.5}, {1.5, 0.5, 0.5}, {3.9, 0.5, 0.5}}, Eigen::Vector3d::Zero());
-  map.add({{4.1, 0.5, 0.5}}, Eigen::Vector3d::Zero());
-  LazyNormals::Estimates estimates;
-  estimates.normals = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitZ(), Eigen::Vector3d::UnitY(),
-                       -Eigen::Vector3d::UnitX()};
-  estimates.states = {LazyNormals::State::kValid, LazyNormals::State::kInvalid, LazyNormals::State::kValid,
-                      LazyNormals::State::kValid};
-  map.keep_normals(estimates);
-  // A quarter turn about z, and 0.15 m along it: (3.9, 0.5) and (4.1, 0.5) both land in the voxel (-1, 4).
-  const Eigen::Isometry3d correction(Eigen::Translation3d(0.0, 0.15, 0.0) *
-                                     Eigen::AngleAxisd(std::numbers::pi / 2.0, Eigen::Vector3d::UnitZ()));
-  map.transform(correction);
-  ASSERT_EQ(map.size(), 3U);
-  const LazyNormals::Estimates carried = map.take_normals();
-  ASSERT_EQ(carried.states.size(), 3U);
-  EXPECT_EQ(carried.states[0], LazyNormals::State::kValid);
-  EXPECT_TRUE(carried.normals[0].isApprox(Eigen::Vector3d::UnitY()));
-  EXPECT_EQ(carried.states[1], LazyNormals::State::kUnknown);
-  EXPECT_TRUE(map.points()[2].isApprox(correction * Eigen::Vector3d(3.9, 0.5, 0.5)));
-  EXPECT_EQ(carried.states[2], LazyNormals::State::kValid);
-  EXPECT_TRUE(carried.normals[2].isApprox(-Eigen::Vector3d::UnitX())) << "the older point's, turned";
-}
-
 // Each point keeps where the sensor was that first saw it (the thin-wall side test needs it): through a
 // revisit, expiry and a correction of the map frame, which turns the viewpoints with the points.
 TEST(LocalMap, CarriesViewpointsWithTheirPoints) {

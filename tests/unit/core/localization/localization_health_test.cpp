@@ -269,7 +269,29 @@ TEST(LocalizationHealth, ADirectionFromAnUncertainPredictionIsDegraded) {
   const LocalizationHealth health = robot.add(along_the_road);
   EXPECT_EQ(health.state, kDegraded);
   EXPECT_EQ(health.reason,
-            "corridor: position along x from the prediction for 2.0 m, which may be 8.0 m off");
+            "corridor: position along x from the prediction for 2.0 m, which may be 8.1 m off");
+}
+
+// Scan after scan along a corridor, a lidar alone's position along it is the prediction's: each prediction's
+// possible error adds to the ones before, until the estimate may be a metre off; a scan matched whole ends
+// it.
+TEST(LocalizationHealth, PredictionsCarriedAlongACorridorAddUpTheirErrors) {
+  Robot robot(0.01, 0.1);  // the prediction's stale 0.1 m/s: 0.4 m in 40 scans, short of 10 m
+  robot.first();
+  ScanOutcome along_the_corridor;
+  along_the_corridor.registered = true;
+  along_the_corridor.predicted = true;
+  along_the_corridor.correction = Correction::kPartial;
+  along_the_corridor.odometry_directions = {Eigen::Vector3d::UnitX()};
+  along_the_corridor.guess_uncertainty = 0.025;  // a 10 Hz lidar's next revolution, 5 m/s^2 at most
+  for (int i = 1; i < 40; ++i)
+    ASSERT_EQ(robot.add(along_the_corridor).state, kOk) << "scan " << i;
+  robot.add(along_the_corridor);
+  const LocalizationHealth health = robot.add(along_the_corridor);
+  EXPECT_EQ(health.state, kDegraded) << "41 scans: 1.025 m";
+  EXPECT_NE(health.reason.find("which may be 1.0 m off"), std::string::npos) << health.reason;
+  EXPECT_EQ(robot.full().state, kOk);
+  EXPECT_EQ(robot.add(along_the_corridor).state, kOk) << "counted afresh after a whole match";
 }
 
 // How closely scans fit depends on what they see: a road's trees and cars fit looser than walls do.
