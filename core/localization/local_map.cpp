@@ -126,6 +126,14 @@ void LocalMap::recount() {
 void LocalMap::expire() {
   if (scan_ <= scans_)
     return;
+  // Scans no voxel names any more (all reached again since) say nothing: dropped, so that a sensor standing
+  // still, which expires nothing, keeps no record per scan.
+  std::size_t unnamed = 0;
+  while (first_record_ + unnamed < scan_ && records_[unnamed].voxels == 0)
+    ++unnamed;
+  records_.erase(records_.begin(), records_.begin() + static_cast<std::ptrdiff_t>(unnamed));
+  first_record_ += static_cast<std::uint32_t>(unnamed);
+  live_from_ = std::max(live_from_, first_record_);
   const std::uint32_t oldest_kept = scan_ - static_cast<std::uint32_t>(scans_) + 1;
   while (live_from_ < oldest_kept &&
          !(metres_ > 0.0 && travelled_ - record(live_from_).travelled <= metres_)) {

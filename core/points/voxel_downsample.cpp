@@ -25,7 +25,8 @@ PointCloud voxel_downsample(const PointCloud& points, double voxel_size, double 
   const double inverse = 1.0 / voxel_size;
   // Sized for half the points: a scan thinned at 0.1-0.3 m keeps 20-85 % of them (a BALM scan 31-10 %, a
   // KAIST03 keyframe 85-51 %), and growing the set on the way took two thirds of the time where most
-  // stayed (43 against 13 ns a point, docs/benchmarks.md "Thinning sized for the scan").
+  // stayed (43 against 13 ns a point, docs/benchmarks.md, "The local map's bookkeeping and the scan's
+  // thinning").
   VoxelKeySet occupied(points.size() / 2);
   PointCloud kept;
   kept.reserve(points.size() / 2);

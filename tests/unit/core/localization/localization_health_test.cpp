@@ -31,6 +31,15 @@ class Robot {
     scan.odometry_directions = {Eigen::Vector3d::UnitX()};
     return add(scan);
   }
+  /// A lidar alone in a corridor along x: the position along it is the prediction's, which may be
+  /// `uncertainty` metres off.
+  LocalizationHealth predicted_corridor(double uncertainty) {
+    ScanOutcome scan = registered(Correction::kPartial);
+    scan.predicted = true;
+    scan.odometry_directions = {Eigen::Vector3d::UnitX()};
+    scan.guess_uncertainty = uncertainty;
+    return add(scan);
+  }
   /// Open ground: nothing constrains the position in the plane nor the heading.
   LocalizationHealth open_ground() {
     ScanOutcome scan = registered(Correction::kPartial);
@@ -258,15 +267,8 @@ TEST(LocalizationHealth, ALidarAlonesRefusedScansAreDegradedAtOnceAndLostAtTheSe
 TEST(LocalizationHealth, ADirectionFromAnUncertainPredictionIsDegraded) {
   Robot robot(1.0, 0.5);
   robot.first();
-  ScanOutcome along_the_road;
-  along_the_road.registered = true;
-  along_the_road.predicted = true;
-  along_the_road.correction = Correction::kPartial;
-  along_the_road.odometry_directions = {Eigen::Vector3d::UnitX()};
-  along_the_road.guess_uncertainty = 0.1;  // the next revolution of a 10 Hz lidar
-  EXPECT_EQ(robot.add(along_the_road).state, kOk);
-  along_the_road.guess_uncertainty = 8.0;  // 4 s since the last scan
-  const LocalizationHealth health = robot.add(along_the_road);
+  EXPECT_EQ(robot.predicted_corridor(0.1).state, kOk);              // the next revolution of a 10 Hz lidar
+  const LocalizationHealth health = robot.predicted_corridor(8.0);  // 4 s since the last scan
   EXPECT_EQ(health.state, kDegraded);
   EXPECT_EQ(health.reason,
             "corridor: position along x from the prediction for 2.0 m, which may be 8.1 m off");
@@ -278,20 +280,15 @@ TEST(LocalizationHealth, ADirectionFromAnUncertainPredictionIsDegraded) {
 TEST(LocalizationHealth, PredictionsCarriedAlongACorridorAddUpTheirErrors) {
   Robot robot(0.01, 0.1);  // the prediction's stale 0.1 m/s: 0.4 m in 40 scans, short of 10 m
   robot.first();
-  ScanOutcome along_the_corridor;
-  along_the_corridor.registered = true;
-  along_the_corridor.predicted = true;
-  along_the_corridor.correction = Correction::kPartial;
-  along_the_corridor.odometry_directions = {Eigen::Vector3d::UnitX()};
-  along_the_corridor.guess_uncertainty = 0.025;  // a 10 Hz lidar's next revolution, 5 m/s^2 at most
+  const double each = 0.025;  // a 10 Hz lidar's next revolution, 5 m/s^2 at most
   for (int i = 1; i < 40; ++i)
-    ASSERT_EQ(robot.add(along_the_corridor).state, kOk) << "scan " << i;
-  robot.add(along_the_corridor);
-  const LocalizationHealth health = robot.add(along_the_corridor);
+    ASSERT_EQ(robot.predicted_corridor(each).state, kOk) << "scan " << i;
+  robot.predicted_corridor(each);
+  const LocalizationHealth health = robot.predicted_corridor(each);
   EXPECT_EQ(health.state, kDegraded) << "41 scans: 1.025 m";
   EXPECT_NE(health.reason.find("which may be 1.0 m off"), std::string::npos) << health.reason;
   EXPECT_EQ(robot.full().state, kOk);
-  EXPECT_EQ(robot.add(along_the_corridor).state, kOk) << "counted afresh after a whole match";
+  EXPECT_EQ(robot.predicted_corridor(each).state, kOk) << "counted afresh after a whole match";
 }
 
 // How closely scans fit depends on what they see: a road's trees and cars fit looser than walls do.
