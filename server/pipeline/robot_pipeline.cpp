@@ -29,6 +29,13 @@ MappingOptions mapping_for(const RobotParameters& robot) {
 }
 
 /// The store for the driver's IMU in `file`; one that keeps nothing for a driver without an IMU.
+GraphLocalizerOptions localization_for(const PipelineOptions& options) {
+  GraphLocalizerOptions localization;
+  if (options.registration_threads)
+    localization.scan_matching.registration.icp.threads = *options.registration_threads;
+  return localization;
+}
+
 ImuCalibrationStore calibration_store(const std::filesystem::path& file, const RobotDriver& driver) {
   const std::optional<std::string> imu = driver.imu_name();
   if (file.empty() || !imu)
@@ -46,7 +53,7 @@ RobotPipeline::RobotPipeline(std::unique_ptr<RobotDriver> driver,
       navigator_(navigation_for(options.robot)),
       mapping_(map_state_, options.maps_dir, mapping_for(options.robot)),
       calibration_(calibration_store(options.imu_calibration_file, *driver_)),
-      localizer_(robot_state_, GraphLocalizerOptions{}, driver_->initial_map_from_odom()),
+      localizer_(robot_state_, localization_for(options), driver_->initial_map_from_odom()),
       max_scans_(options.max_scans),
       initial_map_(options.initial_map),
       initial_map_mode_(options.initial_map_mode) {

@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -40,6 +41,9 @@ struct PipelineOptions {
   MapMode initial_map_mode = MapMode::kMapping;
   /// Where the IMU calibration is kept between runs (ImuCalibrationStore); empty: nowhere.
   std::filesystem::path imu_calibration_file;
+  /// Threads a scan's registration may use; empty: the localizer's default (two). One measures a scan's
+  /// whole cost on the localizer's own thread (strata_sequence_bench --threads 1).
+  std::optional<unsigned> registration_threads;
 };
 
 /// One running robot: the driver and everything a scan passes through on its way into the map, and the

@@ -9,11 +9,13 @@
 //
 // Usage: strata_sequence_bench DIR [--pace max|recorded] [--time-scale X] [--mount estimate|identity]
 //        [--every N] [--quiet]   (--every N: every n-th scan only: scans dropped, turns n times as sharp)
-//        [--odometry none|recorded] [--save-map FILE]
+//        [--odometry none|recorded] [--save-map FILE] [--threads N]
 //   --odometry recorded: the dataset's odometry (a recording's odometry.csv, e.g. `strata serve --record`
 //                        of the simulator), instead of the lidar alone
 //   --save-map FILE: the map at the end, as Download "strata" gives it (for strata_live_navigation_bench
 //   --map)
+//   --threads N: the registration's threads (default the server's two); the CPU a scan printed is the
+//                localizer thread's own, so --threads 1 is a scan's whole cost on one core
 //        strata_sequence_bench --all [--data DIR] [options]: every sequence in DATA/sequences
 //        strata_sequence_bench DIR --lay-out OUT: only writes OUT/scans.csv, for `strata serve --replay OUT`
 // DIR: a scans.csv with truth_* columns, or a layout of ../shared/data/sequences
@@ -55,7 +57,8 @@ struct Settings {
   bool quiet = false;
   std::size_t every = 1;  // keep every n-th scan
   bool recorded_odometry = false;
-  std::string save_map;  // empty: not saved
+  std::string save_map;             // empty: not saved
+  std::optional<unsigned> threads;  // the registration's; empty: the server's default (two)
 };
 
 /// What the pipeline's observer saw, on the localizer's thread.
@@ -89,6 +92,7 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
   Observed observed;
   pipeline::PipelineOptions pipeline_options;
   pipeline_options.maps_dir = scratch / "maps";  // nothing is saved there
+  pipeline_options.registration_threads = settings.threads;
   pipeline::RobotPipeline robot(std::move(driver), {}, pipeline_options);
   robot.on_scan_localized([&observed](const pipeline::LocalizerWorker::ScanReport& outcome) {
     std::lock_guard lock(observed.mutex);
@@ -168,7 +172,7 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
 int usage() {
   std::fprintf(stderr,
                "usage: strata_sequence_bench DIR|--all [--data DIR] [--pace max|recorded] [--time-scale X] "
-               "[--mount estimate|identity] [--every N] [--quiet] [--lay-out OUT]\n");
+               "[--mount estimate|identity] [--every N] [--threads N] [--quiet] [--lay-out OUT]\n");
   return 2;
 }
 
@@ -192,6 +196,8 @@ int main(int argc, char** argv) {
       settings.quiet = true;
     else if (arg == "--every" && has_value)
       settings.every = static_cast<std::size_t>(std::max(1, std::atoi(argv[++i])));
+    else if (arg == "--threads" && has_value)
+      settings.threads = static_cast<unsigned>(std::max(1, std::atoi(argv[++i])));
     else if (arg == "--lay-out" && has_value)
       lay_out = argv[++i];
     else if (arg == "--data" && has_value)
