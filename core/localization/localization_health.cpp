@@ -108,7 +108,7 @@ LocalizationHealth LocalizationHealth::no_scan_yet() {
   return {LocalizationState::kDegraded, "no scan yet: position from odometry only"};
 }
 
-void LocalizationHealthClassifier::add_scan(const ScanOutcome& scan) {
+void LocalizationHealthClassifier::classify(const ScanOutcome& scan) {
   const Eigen::Vector2d step =
       have_position_ ? Eigen::Vector2d(scan.position - last_position_) : Eigen::Vector2d::Zero();
   const double moved = step.norm();

@@ -103,7 +103,7 @@ class LocalizationHealthClassifier {
   explicit LocalizationHealthClassifier(LocalizationHealthOptions options = {}) : options_(options) {}
 
   /// After each scan the localizer processed.
-  void add_scan(const ScanOutcome& scan);
+  void classify(const ScanOutcome& scan);
   /// A search placed the robot at the scan of `stamp`: degraded until its next scans confirm it
   /// (confirm()) or contradict it (lose()).
   void placed(double stamp);

@@ -30,7 +30,7 @@ Localizer::Localizer(GraphLocalizerOptions options, const Eigen::Isometry3d& ini
                      LocalizationHealthOptions health)
     : graph_(std::move(options), initial_map_from_odom), health_(health) {}
 
-LocalizedScan Localizer::add_scan(ScanToLocalize& scan) {
+LocalizedScan Localizer::localize(ScanToLocalize& scan) {
   // 1b The revolution's points as if measured at once, at the stamp: the map and the searches get them so.
   graph_.deskew(scan.points, scan.times, scan.odometry, scan.stamp);
   scan.times = {};
@@ -78,7 +78,7 @@ Eigen::Isometry3d Localizer::place(const Eigen::Isometry3d& pose, const ScanToLo
 }
 
 void Localizer::judge(const ScanToLocalize& scan, const LocalizationUpdate& update) {
-  health_.add_scan(outcome_of(update, scan));
+  health_.classify(outcome_of(update, scan));
   // A loop closure measured the estimate against the map made long before: what odometry carried since
   // is accounted for.
   const std::size_t loops = graph_.status().loops;

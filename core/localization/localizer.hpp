@@ -17,7 +17,7 @@ namespace strata {
 
 /// One scan as the localizer takes it.
 struct ScanToLocalize {
-  PointCloud points;         ///< base frame, cleaned; deskewed in place by Localizer::add_scan
+  PointCloud points;         ///< base frame, cleaned; deskewed in place by Localizer::localize
   std::vector<float> times;  ///< each point's time from the stamp, s (a spinning lidar's); empty: none
   double stamp = 0.0;
   std::optional<Pose2> odometry;  ///< the base's odometry at the stamp; none for a lidar alone
@@ -60,7 +60,7 @@ class Localizer {
                      LocalizationHealthOptions health = {});
 
   /// One scan's way through localization.
-  LocalizedScan add_scan(ScanToLocalize& scan);
+  LocalizedScan localize(ScanToLocalize& scan);
 
   /// From the next scan on, localizes in `map` (null: maps again), and searches it for the robot.
   void localize_in(std::shared_ptr<const LocalizationMap> map);

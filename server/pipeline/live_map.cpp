@@ -39,13 +39,6 @@ LiveMap::LiveMap(LiveMapOptions options) : options_(std::move(options)), map_(op
   snapshot_ = std::make_shared<const MapSnapshot>();
 }
 
-MappingTimes LiveMap::add_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
-                               const Eigen::Vector3d& robot_ground, double received_at) {
-  MappingTimes times = insert_scan(points, sensor_origin, robot_ground, received_at);
-  refresh_pending(times);
-  return times;
-}
-
 MappingTimes LiveMap::insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
                                   const Eigen::Vector3d& robot_ground, double received_at) {
   MappingTimes times;

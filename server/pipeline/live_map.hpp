@@ -41,12 +41,10 @@ class LiveMap {
  public:
   explicit LiveMap(LiveMapOptions options = {});
 
-  /// Steps 6-8 for one registered scan: `points` in the map frame at full resolution, measured from
-  /// `sensor_origin`; `robot_ground` the map-frame point the robot stands on.
-  /// `received_at`: wall-clock time the scan reached the pipeline, stamped on what it changes.
-  MappingTimes add_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
-                        const Eigen::Vector3d& robot_ground, double received_at = 0.0);
-  /// Step 6 alone: the scan joins the MLS map; the drivable map, the tiles and the snapshot (7-8) wait for
+  /// Step 6 for one registered scan: `points` in the map frame at full resolution, measured from
+  /// `sensor_origin`; `robot_ground` the map-frame point the robot stands on; `received_at`: wall-clock
+  /// time the scan reached the pipeline, stamped on what it changes. The scan joins the MLS map; the
+  /// drivable map, the tiles and the snapshot (7-8) wait for
   /// refresh_pending(). A burst of scans then costs one refresh: with a lidar's far-reaching rays a
   /// refresh covers a scan's whole reach and cost 200 ms on the campus (issue 58), so refreshing after
   /// each of ten scans a second left most scans unmapped.

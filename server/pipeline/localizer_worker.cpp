@@ -264,7 +264,7 @@ void LocalizerWorker::process(ScanEvent event) {
     localizer_.search_at_next_scan(*estimate);
   PreprocessedScan preprocessed = preprocess(std::move(event));  // step 1, once for the whole pipeline
   ScanToLocalize scan = to_localize(preprocessed);
-  const LocalizedScan localized = localizer_.add_scan(scan);
+  const LocalizedScan localized = localizer_.localize(scan);
   report(preprocessed.event, localized);
   {
     std::lock_guard lock(mutex_);

@@ -447,7 +447,7 @@ int main(int argc, char** argv) {
   double travelled = 0.0, max_odometry_error = 0.0, max_corrected_error = 0.0, registration_seconds = 0.0;
   std::vector<double> times;
   std::vector<double> source_points;  // per registration, after thinning
-  std::vector<double> scan_times;     // the whole add_scan: local map, index, registration
+  std::vector<double> scan_times;     // the whole Localizer::localize: local map, index, registration
   std::size_t scans = 0, full = 0, partial = 0, none = 0, retried = 0;
   // Scans by the localization state they left (ok, degraded, lost), and the largest error the state
   // called ok: how honest the status is.
@@ -491,7 +491,7 @@ int main(int argc, char** argv) {
                                  .sensor_origin = scan.sensor_to_base.translation(),
                                  .gravity = gravity ? scan.gravity : std::nullopt,
                                  .standing_gyro = standing_gyro ? scan.standing_gyro : std::nullopt};
-      const LocalizedScan localized = localizer.add_scan(to_localize);
+      const LocalizedScan localized = localizer.localize(to_localize);
       const PointCloud& points_deskewed = to_localize.points;
       const LocalizationUpdate& update = localized.update;
       ++in_state[static_cast<std::size_t>(localized.health.state)];

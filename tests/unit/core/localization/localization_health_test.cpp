@@ -51,7 +51,7 @@ class Robot {
     scan.stamp = seconds_ * static_cast<double>(scans_);
     scan.position = {step_ * static_cast<double>(scans_), 0.0};
     ++scans_;
-    classifier.add_scan(scan);
+    classifier.classify(scan);
     return classifier.health();
   }
 

@@ -43,7 +43,7 @@ struct SimulatedRun {
       for (const ScanEvent& event : simulator.take_scans()) {
         truth = *event.truth;
         ScanToLocalize scan = to_localize(event);
-        LocalizedScan localized = localizer.add_scan(scan);
+        LocalizedScan localized = localizer.localize(scan);
         localizer.close_loops();
         return localized;
       }
