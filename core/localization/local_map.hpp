@@ -6,9 +6,9 @@
 #include <optional>
 #include <vector>
 
-#include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/points/voxel_key_map.hpp"
+#include "core/registration/normals.hpp"
 
 namespace strata {
 

@@ -9,9 +9,9 @@
 
 #include "core/ann/growing_kdtree.hpp"
 #include "core/localization/localization_map.hpp"
-#include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/points/voxel_key_map.hpp"
+#include "core/registration/normals.hpp"
 #include "core/registration/register_scan.hpp"
 
 namespace strata {

@@ -3,9 +3,9 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/registration/icp.hpp"
+#include "core/registration/normals.hpp"
 
 namespace strata {
 

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "core/ann/growing_kdtree.hpp"
-#include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
+#include "core/registration/normals.hpp"
 #include "core/registration/partner_search.hpp"
 #include "core/registration/rotation_solvers.hpp"
 #include "core/registration/surface_sides.hpp"

@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "core/ann/growing_kdtree.hpp"
-#include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
 #include "core/registration/fault_check.hpp"
 #include "core/registration/icp.hpp"
+#include "core/registration/normals.hpp"
 
 namespace strata {
 

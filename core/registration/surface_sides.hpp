@@ -4,8 +4,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "core/points/normals.hpp"
 #include "core/points/point_cloud.hpp"
+#include "core/registration/normals.hpp"
 #include "core/registration/partner_search.hpp"
 
 namespace strata {

@@ -1,7 +1,7 @@
 // The layout that docs/architecture.md section 2 documents. The include order: core <- drivers <- server, and
-// inside server/ the folder order on the doc's "server:" line. A folder includes only itself and the folders
-// before it, so there is no include cycle between folders; this test fails on the first include that breaks
-// it.
+// inside core/ and server/ the folder orders on the doc's "core:" and "server:" lines. A folder includes only
+// itself and the folders before it, so there is no include cycle between folders; this test fails on the
+// first include that breaks it.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -60,7 +60,7 @@ std::vector<Include> includes_under(const std::string& folder) {
   return found;
 }
 
-/// The first path component, or the second for server/ ("server/net/x.hpp" -> "net").
+/// The first path component, or the second for core/ and server/ ("server/net/x.hpp" -> "net").
 std::string component(const std::string& path, int depth) {
   std::stringstream parts(path);
   std::string part;
@@ -87,25 +87,36 @@ void expect_order(const std::string& folder, int depth, const std::vector<std::s
   }
 }
 
-TEST(Layering, TheArchitectureDocumentsTheOrder) {
-  EXPECT_EQ(documented_order("top"), (std::vector<std::string>{"core", "drivers", "server"}));
-  const auto server = documented_order("server");
-  EXPECT_GE(server.size(), 8U);
-  for (const auto& folder : server)
-    EXPECT_TRUE(std::filesystem::is_directory(kSourceDir / "server" / folder)) << "server/" << folder;
-  // Every folder of server/ has its place.
-  for (const auto& entry : std::filesystem::directory_iterator(kSourceDir / "server")) {
+/// The doc's order for `top_folder` names its folders, every one of them.
+void expect_every_folder_ordered(const std::string& top_folder) {
+  const auto order = documented_order(top_folder);
+  EXPECT_GE(order.size(), 8U) << top_folder;
+  for (const auto& folder : order)
+    EXPECT_TRUE(std::filesystem::is_directory(kSourceDir / top_folder / folder))
+        << top_folder << "/" << folder;
+  for (const auto& entry : std::filesystem::directory_iterator(kSourceDir / top_folder)) {
     if (entry.is_directory()) {
-      EXPECT_NE(std::find(server.begin(), server.end(), entry.path().filename().string()), server.end())
-          << entry.path().filename().string() << " is not in docs/architecture.md's server order";
+      EXPECT_NE(std::find(order.begin(), order.end(), entry.path().filename().string()), order.end())
+          << entry.path().filename().string() << " is not in docs/architecture.md's " << top_folder
+          << " order";
     }
   }
+}
+
+TEST(Layering, TheArchitectureDocumentsTheOrder) {
+  EXPECT_EQ(documented_order("top"), (std::vector<std::string>{"core", "drivers", "server"}));
+  expect_every_folder_ordered("core");
+  expect_every_folder_ordered("server");
 }
 
 TEST(Layering, CoreDriversServerIncludeOnlyDownwards) {
   const auto top = documented_order("top");
   for (const std::string folder : {"core", "drivers", "server"})
     expect_order(folder, 0, top, "");
+}
+
+TEST(Layering, CoreFoldersIncludeOnlyEarlierFolders) {
+  expect_order("core", 1, documented_order("core"), "core/");
 }
 
 TEST(Layering, ServerFoldersIncludeOnlyEarlierFolders) {

@@ -9,8 +9,8 @@
 #include <vector>
 
 #include "core/ann/kdtree.hpp"
-#include "core/points/normals.hpp"
 #include "core/registration/icp.hpp"
+#include "core/registration/normals.hpp"
 #include "core/registration/partner_search.hpp"
 #include "tests/support/synthetic_scenes.hpp"
 

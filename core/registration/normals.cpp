@@ -1,4 +1,4 @@
-#include "core/points/normals.hpp"
+#include "core/registration/normals.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
