@@ -3,14 +3,14 @@
 #include <vector>
 
 #include "core/points/point_cloud.hpp"
+#include "core/points/scan_cleaning.hpp"
 #include "drivers/scan_event.hpp"
 
 namespace strata::pipeline {
 
-/// Step 1 of the pipeline (docs/architecture.md 3): the scan's points in the robot's base frame, without
-/// invalid (NaN, infinite) points, returns closer than `min_range` to the sensor (the robot itself), and
-/// the sensor's max-range "no return" readings. `times`, when given, gets the kept points' times
-/// (ScanEvent::point_times; empty when the scan has none).
+/// Step 1 of the pipeline (docs/architecture.md 3): the scan cleaned (clean_scan: no invalid point, none
+/// closer than `min_range` to the sensor, no max-range "no return") in the robot's base frame. `times`,
+/// when given, gets the kept points' times (ScanEvent::point_times; empty when the scan has none).
 [[nodiscard]] PointCloud points_in_base(const ScanEvent& scan, double min_range = 0.3,
                                         std::vector<float>* times = nullptr);
 
