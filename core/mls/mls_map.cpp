@@ -362,6 +362,16 @@ std::size_t MlsMap::mark_driven(const Eigen::Vector3d& ground) {
   return changed;
 }
 
+std::size_t MlsMap::mark_passed(const Eigen::Vector3d& ground) {
+  if (!usable(ground))
+    return 0;
+  const std::size_t changed = mark_way(ground, version_ + 1) + mark_ground(ground, version_ + 1);
+  last_driven_ = ground;
+  if (changed > 0)
+    ++version_;
+  return changed;
+}
+
 std::size_t MlsMap::mark_ground(const Eigen::Vector3d& ground, std::uint64_t version,
                                 std::optional<float> body_top) {
   if (!usable(ground) || !(config_.driven_radius > 0.0))

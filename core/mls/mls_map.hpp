@@ -68,6 +68,13 @@ class MlsMap {
   /// patches leave no room for one (something within `gap` of the ground that is not ground) is left as
   /// it is. Returns the cells changed; when any, version() increments once and their tiles get it.
   std::size_t mark_driven(const Eigen::Vector3d& ground);
+  /// The robot passed `ground` between two scans inserted (one the mapping had no time for): its footprint
+  /// and the way to it from the last ground are marked as insert_scan marks them, and the next scan's way
+  /// starts there. At 5x the campus demo's mapping dropped scans until two mapped ones lay 2.1 m apart, past
+  /// driven_stride, and the way the robot drove onto the bridge deck stayed unmarked: a line of the deck's
+  /// seam seen only from the road below closed the way back (issue 58). Returns the cells changed; when
+  /// any, version() increments once.
+  std::size_t mark_passed(const Eigen::Vector3d& ground);
 
   [[nodiscard]] const MlsConfig& config() const { return config_; }
   [[nodiscard]] double resolution() const { return config_.resolution; }

@@ -61,6 +61,12 @@ bool LiveMap::refresh_pending(MappingTimes& times) {
   return true;
 }
 
+void LiveMap::mark_passed(const Eigen::Vector3d& robot_ground) {
+  if (!pending_since_)
+    pending_since_ = map_.version();
+  map_.mark_passed(robot_ground);
+}
+
 bool LiveMap::follow_robot(const Eigen::Vector3d& robot_ground, double radius, double every) {
   if (followed_from_ && (robot_ground - *followed_from_).norm() < every)
     return false;

@@ -50,6 +50,9 @@ class LiveMap {
   /// each of ten scans a second left most scans unmapped.
   MappingTimes insert_scan(const PointCloud& points, const Eigen::Vector3d& sensor_origin,
                            const Eigen::Vector3d& robot_ground, double received_at = 0.0);
+  /// The robot passed `robot_ground` between two scans (one the mapping dropped): MlsMap::mark_passed, the
+  /// change refreshed with the next scan's.
+  void mark_passed(const Eigen::Vector3d& robot_ground);
   /// Steps 7-8 for every scan inserted since the last refresh; false (and nothing done) if there is none.
   bool refresh_pending(MappingTimes& times);
 

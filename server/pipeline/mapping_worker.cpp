@@ -6,6 +6,7 @@
 #include <chrono>
 #include <future>
 #include <initializer_list>
+#include <iterator>
 #include <utility>
 
 #include "server/pipeline/scan_preprocessing.hpp"
@@ -57,14 +58,28 @@ void MappingWorker::submit(ScanEvent scan, const Eigen::Isometry3d& map_from_sen
 void MappingWorker::submit(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
   {
     std::lock_guard lock(mutex_);
+    std::vector<Eigen::Vector3d> passed;
     if (waiting_scans_ >= std::max<std::size_t>(options_.queue_capacity, 1)) {
-      const auto oldest = std::find_if(queue_.begin(), queue_.end(),
-                                       [](const Item& item) { return std::holds_alternative<Scan>(item); });
+      const auto is_scan = [](const Item& item) { return std::holds_alternative<Scan>(item); };
+      const auto oldest = std::find_if(queue_.begin(), queue_.end(), is_scan);
+      // Its points go, where the robot stood stays: the next scan marks the way through it.
+      Scan& dropped = std::get<Scan>(*oldest);
+      passed = std::move(dropped.passed);
+      const Eigen::Isometry3d map_from_base =
+          dropped.map_from_sensor * dropped.preprocessed.event.sensor_to_base.inverse();
+      if (map_from_base.matrix().allFinite())
+        passed.push_back(map_from_base.translation());
+      const auto next = std::find_if(std::next(oldest), queue_.end(), is_scan);
+      if (next != queue_.end()) {
+        std::vector<Eigen::Vector3d>& later = std::get<Scan>(*next).passed;
+        later.insert(later.begin(), passed.begin(), passed.end());
+        passed.clear();
+      }
       queue_.erase(oldest);
       --waiting_scans_;
       ++status_.dropped;
     }
-    queue_.emplace_back(Scan{std::move(scan), map_from_sensor});
+    queue_.emplace_back(Scan{std::move(scan), map_from_sensor, std::move(passed)});
     ++waiting_scans_;
   }
   wake_.notify_all();
@@ -128,6 +143,8 @@ bool MappingWorker::insert(const Scan& scan, MappingTimes& times) {
   const Eigen::Isometry3d map_from_base = scan.map_from_sensor * event.sensor_to_base.inverse();
   const PointCloud points = transformed(scan.preprocessed.points, map_from_base);
   try {
+    for (const Eigen::Vector3d& ground : scan.passed)
+      live_.mark_passed(ground);
     times = live_.insert_scan(points, scan.map_from_sensor.translation(), map_from_base.translation(),
                               event.received_at);
   } catch (const std::exception& error) {  // an encoder failure must not end the mapping thread

@@ -120,6 +120,9 @@ class MappingWorker final : public MapCommands {
   struct Scan {
     PreprocessedScan preprocessed;
     Eigen::Isometry3d map_from_sensor;
+    /// Where the robot stood at the scans dropped from the queue just before this one, oldest first: the
+    /// way it drove is marked through them (LiveMap::mark_passed).
+    std::vector<Eigen::Vector3d> passed;
   };
   using Task = std::function<void()>;
   using Item = std::variant<Scan, Task>;

@@ -196,10 +196,10 @@ int main(int argc, char** argv) {
         for (std::size_t i = 0; i < cell_surfaces.size(); ++i) {
           const SurfaceGrid::Surface& s = cell_surfaces[i];
           const auto node = static_cast<PatchGraph::Node>(grid.first_surface(grid.cell(col, row)) + i);
-          std::printf(" [%.3f..%.3f sd=%.3f%s%s%s c=%.2f]", static_cast<double>(s.bottom),
+          std::printf(" [%.3f..%.3f sd=%.3f%s%s%s%s c=%.2f]", static_cast<double>(s.bottom),
                       static_cast<double>(s.top), std::sqrt(static_cast<double>(s.variance)),
                       s.vertical ? " V" : "", s.traversable ? " T" : "", s.inferred ? " I" : "",
-                      static_cast<double>(seen.clearance(node)));
+                      s.driven ? " D" : "", static_cast<double>(seen.clearance(node)));
         }
         std::printf("\n");
       }

@@ -162,6 +162,18 @@ TEST(DrivenGround, TheWayBetweenTwoScansIsDrivenAJumpIsNot) {
   jumped.insert_scan(far, {0.0, 0, 4}, Eigen::Vector3d(0.0, 0, 3));
   jumped.insert_scan(far, {4.1, 0, 4}, Eigen::Vector3d(4.1, 0, 3));
   EXPECT_FALSE(top_driven(jumped, 2.05, 0.0)) << "4.1 m between two scans is a jump, not a drive";
+
+  // The same two scans with the places the robot passed between them (scans the mapping dropped).
+  MlsMap passed = deck_with_a_seam();
+  passed.insert_scan(far, {0.0, 0, 4}, Eigen::Vector3d(0.0, 0, 3));
+  const std::uint64_t before = passed.version();
+  EXPECT_GT(passed.mark_passed({1.4, 0, 3}), 0U);
+  EXPECT_EQ(passed.version(), before + 1);
+  EXPECT_GT(passed.mark_passed({2.7, 0, 3}), 0U);
+  EXPECT_EQ(passed.mark_passed({std::numeric_limits<double>::quiet_NaN(), 0, 3}), 0U);
+  passed.insert_scan(far, {4.1, 0, 4}, Eigen::Vector3d(4.1, 0, 3));
+  for (const double x : {0.7, 2.05, 3.05, 3.5})
+    EXPECT_TRUE(top_driven(passed, x, 0.0)) << "x = " << x << ": driven through the places passed";
 }
 
 TEST(DrivenGround, TheRobotsOwnBodyIsNoObstacleWhereItStands) {

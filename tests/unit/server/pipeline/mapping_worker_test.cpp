@@ -10,8 +10,11 @@
 #include <limits>
 #include <memory>
 #include <string>
+#include <string_view>
+#include <utility>
 #include <vector>
 
+#include "core/mls/mls_file.hpp"
 #include "server/encoding/occupancy_png.hpp"
 #include "server/encoding/tile_codec.hpp"
 #include "tests/support/campus_scans.hpp"
@@ -298,6 +301,49 @@ TEST(MappingWorker, FullQueueDropsTheOldestScanAndStoppedWorkerRefusesCommands) 
   worker.stop();
   EXPECT_EQ(worker.load_map("x.smls", MapMode::kMapping).code, ErrorCode::kNotFound);
   EXPECT_EQ(worker.save_map("x.smls").code, ErrorCode::kUnavailable);
+}
+
+// At 5x the campus demo's mapping dropped scans until two it mapped lay 2.1 m apart, and the way the robot
+// drove across the bridge deck's seam was never marked (issue 58). A dropped scan's points go; where the
+// robot stood does not.
+TEST(MappingWorker, TheWayThroughDroppedScansIsDriven) {
+  const auto floor_seen_from = [](double x) {
+    ScanEvent scan;
+    scan.stamp = x;
+    scan.sensor_to_base = Eigen::Isometry3d(Eigen::Translation3d(0.0, 0.0, 1.0));
+    for (double a = 3.0; a <= 5.0; a += 0.05)  // a floor ring beyond the robot: none under it
+      for (double b = -1.0; b <= 1.0; b += 0.05)
+        scan.points.emplace_back(static_cast<float>(a), static_cast<float>(b), -1.0F);
+    return std::pair{scan, Eigen::Isometry3d(Eigen::Translation3d(x, 0.0, 1.0))};
+  };
+  const auto driven_along_the_way = [&](std::size_t queue_capacity) {
+    ScratchMapsDir dir;
+    MapState state;
+    MappingWorker worker(state, dir.path(), {.queue_capacity = queue_capacity});
+    for (const double x : {0.0, 1.5, 3.0}) {  // 1.5 m apart: a drive; 3 m apart: a jump
+      const auto [scan, pose] = floor_seen_from(x);
+      worker.submit(scan, pose);
+    }
+    worker.start();
+    EXPECT_TRUE(worker.flush());
+    const std::vector<std::uint8_t> bytes = worker.download("strata", std::nullopt).bytes;
+    const MlsMap map =
+        deserialize_map_file(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                             "test")
+            .map;
+    std::size_t driven = 0;
+    for (double x = 0.05; x < 3.0; x += 0.1) {
+      const std::vector<MlsPatch> patches = map.patches(map.cell_of(x, 0.0));
+      driven += !patches.empty() && patches.front().driven() ? 1 : 0;
+    }
+    return std::pair{driven, worker.status().dropped};
+  };
+  const auto [driven, dropped] = driven_along_the_way(1);
+  EXPECT_EQ(dropped, 2U) << "the first two scans dropped, the last one mapped";
+  EXPECT_EQ(driven, 30U) << "every cell from the first place to the last";
+  const auto [every_scan_driven, none_dropped] = driven_along_the_way(3);
+  EXPECT_EQ(none_dropped, 0U);
+  EXPECT_EQ(every_scan_driven, 30U) << "as when every scan is mapped";
 }
 
 // Faults from a sensor or a localizer gone wrong: an empty scan, a scan of NaN, infinite and absurdly far
