@@ -8,6 +8,7 @@
 //   strata_live_navigation_bench [--world yard|campus] [--scanner tilting|lidar] [--seconds S]
 //                                [--spacing M] [--max-gap M] [--track 0|1] [--ascii FILE]
 //                                [--map FILE --at X,Y,Z] [--save-map FILE] [--goals-at X,Y,Z;X,Y,Z...]
+//                                [--passed X,Y,Z;...] [--inspect X,Y,HALF]
 //
 //   --max-gap: the longest unseen gap inferred as ground (0: none)
 //   --track: 1 (default) marks the ground the robot drove over, as the live map does; 0 does not
@@ -15,6 +16,8 @@
 //   --save-map: writes the map the goals are tried on (a native map file)
 //   --goals-at: also plans to these places, one line each ("place"), e.g. the campus ramp's goals on a map
 //           strata_goal_drive_bench --dump saved (issue 58)
+//   --passed X,Y,Z;...: places the robot passed, marked on the loaded map first (MlsMap::mark_passed), as
+//           the mapping marks the scans it dropped
 //   map     scans mapped, cells and patches of the live map, graph nodes, ms to build the graph
 //   goals   per distance band from the robot: goals tried, planned (a way found; strata_goal_drive_bench
 //           drives them), and why the others failed;
@@ -58,7 +61,25 @@ struct Options {
   double step_sigmas = TraversabilityConfig{}.step_sigmas;
   double max_uncertain_step = TraversabilityConfig{}.max_uncertain_step;
   std::vector<Eigen::Vector3d> inspect;  ///< cells whose surfaces are printed (x, y, half width in cells)
+  std::vector<Eigen::Vector3d> passed;   ///< places the robot passed, marked on the loaded map in order
 };
+
+/// "X,Y,Z;X,Y,Z;..." as points; exits on a malformed list.
+std::vector<Eigen::Vector3d> places(const char* flag, const char* value) {
+  std::vector<Eigen::Vector3d> out;
+  for (const char* item = value; *item != '\0';) {
+    Eigen::Vector3d place;
+    int used = 0;
+    if (std::sscanf(item, "%lf,%lf,%lf%n", &place.x(), &place.y(), &place.z(), &used) != 3) {
+      std::fprintf(stderr, "%s: \"%s\" is not X,Y,Z;...\n", flag, value);
+      std::exit(2);
+    }
+    out.push_back(place);
+    item += used;
+    item += *item == ';' ? 1 : 0;
+  }
+  return out;
+}
 
 Options parse(int argc, char** argv) {
   Options options;
@@ -94,17 +115,9 @@ Options parse(int argc, char** argv) {
       std::sscanf(value, "%lf,%lf,%lf", &at.x(), &at.y(), &at.z());
       options.inspect.push_back(at);
     } else if (key == "--goals-at")
-      for (const char* item = value; *item != '\0';) {
-        Eigen::Vector3d place;
-        int used = 0;
-        if (std::sscanf(item, "%lf,%lf,%lf%n", &place.x(), &place.y(), &place.z(), &used) != 3) {
-          std::fprintf(stderr, "--goals-at: \"%s\" is not X,Y,Z;...\n", value);
-          std::exit(2);
-        }
-        options.goals_at.push_back(place);
-        item += used;
-        item += *item == ';' ? 1 : 0;
-      }
+      options.goals_at = places("--goals-at", value);
+    else if (key == "--passed")
+      options.passed = places("--passed", value);
   }
   return options;
 }
@@ -156,6 +169,8 @@ int main(int argc, char** argv) {
   int scans = 0;
   if (!options.map.empty())
     live = load_mls_map(options.map);
+  for (const Eigen::Vector3d& ground : options.passed)  // as the mapping marks a dropped scan's place
+    live.mark_passed(ground);
   for (double t = 0.0; options.map.empty() && t < options.seconds; t += 0.1) {
     simulator.step(0.1);
     for (const ScanEvent& scan : simulator.take_scans()) {

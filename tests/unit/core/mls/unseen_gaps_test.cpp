@@ -182,6 +182,41 @@ TEST(UnseenGaps, ADecksUnseenBandOverTheRoadOrASlotIsFilledATrenchOrAHoleIsNot) 
   EXPECT_NEAR(over_slot.length, 4.1, 0.1);
 }
 
+// Issue 58: the lidar demo's bridge deck met the plateau in a band two cells wide that no scan saw from
+// above; from the road the scanner saw the plateau's face there, up to 0.4 m below the deck. A face rising
+// from as deep as overhang_depth was seen from the side, as deep ground is: the band is bridged. A face
+// that rises from less deep (a shallow structure, not the side of what the band lies in) is not, nor a
+// wall rising above the deck.
+TEST(UnseenGaps, ASeamsFaceSeenFromTheRoadIsBridgedAShallowFaceOrAWallIsNot) {
+  const auto deck_with_face = [](double face_bottom, double face_top) {
+    MlsMap map(test::scene_config());
+    PointCloud deck;
+    add_plane(deck, -1.5, 1.5, -3, 0, 3.0, kSpacing);
+    add_plane(deck, -1.5, 1.5, 0.2, 3, 3.0, kSpacing);
+    map.insert_scan(deck, {0, 0, 5});
+    PointCloud face;  // in both of the band's rows, seen from the road
+    for (double x = -1.45; x < 1.5; x += 0.1)
+      for (double z = face_bottom; z <= face_top + 1e-9; z += 0.05) {
+        face.emplace_back(x, 0.05, z);
+        face.emplace_back(x, 0.15, z);
+      }
+    map.insert_scan(face, {-8, 0, 1});
+    return map;
+  };
+  const auto across = [](const MlsMap& map) {
+    return plan_on_patches(test::graph_of(map), {0.05, -2.05, 3.0}, {.x = 0.05, .y = 2.05, .z = 3.0});
+  };
+  const MlsMap seam = deck_with_face(0.0, 2.6);
+  const std::vector<MlsPatch> in_band = seam.patches(seam.cell_of(0.05, 0.05));
+  ASSERT_EQ(in_band.size(), 1U);
+  ASSERT_TRUE(in_band[0].vertical()) << "the face, no top";
+  const PatchPath path = across(seam);
+  ASSERT_TRUE(path.found()) << describe(path.status);
+  EXPECT_NEAR(path.length, 4.1, 0.1);
+  EXPECT_FALSE(across(deck_with_face(2.0, 2.6)).found()) << "a face from 1 m below the deck";
+  EXPECT_FALSE(across(deck_with_face(0.0, 3.5)).found()) << "a wall rising above the deck";
+}
+
 TEST(UnseenGaps, ADecksBandBetweenCellsSeenFromBelowAsWellIsFilled) {
   // The lidar demo's deck (issue 58): the rows beside an unseen band one cell wide were seen from above
   // and, from the road, from below as well: each is one patch from the underside to the top (a slab).
