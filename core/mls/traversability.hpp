@@ -18,11 +18,12 @@ struct UnseenGapConfig {
   /// Steepest grade assumed across a gap, rise per metre, on top of the max_step any two cells may differ.
   /// Kept below ramps' grades on purpose: a steep unseen stretch may as well be a drop.
   double max_grade = 0.1;
-  /// Ground seen at least overhang_depth below a gap at most max_overhang_gap wide ends no line: no
-  /// scanner saw it through the gap (from h above the gap, ground D below shows through a gap w wide only
-  /// within w * h / D of it: 0.4 m for a scanner 2 m up), but from the side, under what the gap lies in.
-  /// Bands of a bridge deck no scan saw from above, the road under them seen from beside the bridge,
-  /// closed the deck (issue 58); a hole the robot could fall into shows its floor only from its edge.
+  /// Ground seen at least overhang_depth below a gap at most max_overhang_gap wide, or a face reaching down
+  /// that deep (its top hidden by the gap), ends no line: no scanner saw it through the gap (from h above the
+  /// gap, ground D below shows through a gap w wide only within w * h / D of it: 0.4 m for a scanner 2 m up),
+  /// but from the side, under what the gap lies in. Bands of a bridge deck no scan saw from above, the road
+  /// under them seen from beside the bridge, closed the deck (issue 58); a hole the robot could fall into
+  /// shows its floor only from its edge.
   double overhang_depth = 2.0;
   double max_overhang_gap = 0.4;  ///< metres
   /// A stretch this narrow is bridged whatever was seen lower down in it, metres: the wheels span it. The
