@@ -20,9 +20,9 @@ namespace {
 static_assert(std::endian::native == std::endian::little, "the native map format is written little-endian");
 
 constexpr char kMagic[8] = {'S', 'T', 'R', 'A', 'T', 'M', 'L', 'S'};
-/// 2: a flags byte per patch (MlsPatch::kDriven). 3: the localization map after the tiles. Version 1
-/// files (no flags) are still read.
-constexpr std::uint32_t kFormatVersion = 3;
+/// 2: a flags byte per patch (MlsPatch::kDriven). 3: the localization map after the tiles. 4: the flag
+/// MlsPatch::kTrack (an older build would call it corrupt). Version 1 files (no flags) are still read.
+constexpr std::uint32_t kFormatVersion = 4;
 constexpr std::uint32_t kOldestFormatVersion = 1;
 constexpr std::size_t kHeaderBytes = sizeof(kMagic) + sizeof(std::uint32_t) + sizeof(std::uint64_t);
 constexpr std::size_t kChecksumBytes = sizeof(std::uint64_t);
@@ -282,6 +282,7 @@ MapFile decode(std::string_view data, const std::string& name) {
       const CellIndex cell{index.x * kMlsTileSize + local % kMlsTileSize,
                            index.y * kMlsTileSize + local / kMlsTileSize};
       float previous_top = -std::numeric_limits<float>::infinity();
+      const std::uint8_t known_flags = format >= 4 ? MlsPatch::kKnownFlags : MlsPatch::kDriven;
       for (unsigned i = 0; i < counts[static_cast<std::size_t>(local)]; ++i) {
         MlsPatch patch;
         patch.mean = fields.get<float>();
@@ -291,7 +292,7 @@ MapFile decode(std::string_view data, const std::string& name) {
         patch.flags = format >= 2 ? fields.get<std::uint8_t>() : std::uint8_t{0};
         if (!std::isfinite(patch.mean) || !std::isfinite(patch.variance) || !std::isfinite(patch.depth) ||
             patch.depth < 0.0F || patch.variance < 0.0F || patch.evidence == 0 ||
-            patch.mean <= previous_top || (patch.flags & ~MlsPatch::kKnownFlags) != 0)
+            patch.mean <= previous_top || (patch.flags & ~known_flags) != 0)
           fields.fail("invalid patch in tile (" + std::to_string(index.x) + ", " + std::to_string(index.y) +
                       ")");
         previous_top = patch.mean;

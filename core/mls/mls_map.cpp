@@ -147,13 +147,18 @@ MlsInsertStats MlsMap::insert_scan(const PointCloud& points, const Eigen::Vector
     if (!add_point(tile, local_index(cell), static_cast<float>(p.z()), static_cast<float>(sigma * sigma)))
       ++stats.points_dropped;
   }
-  if (robot_ground && stats.points_dropped < stats.points) {  // a scan of nothing usable changes nothing
-    stats.driven_cells = mark_way(*robot_ground, version_) +
-                         mark_ground(*robot_ground, version_, static_cast<float>(sensor_origin.z()));
-    if (usable(*robot_ground))
-      last_driven_ = *robot_ground;
-  }
+  if (robot_ground && stats.points_dropped < stats.points)  // a scan of nothing usable changes nothing
+    stats.driven_cells = drive_to(*robot_ground, version_, static_cast<float>(sensor_origin.z()));
   return stats;
+}
+
+std::size_t MlsMap::drive_to(const Eigen::Vector3d& ground, std::uint64_t version,
+                             std::optional<float> body_top) {
+  if (!usable(ground))
+    return 0;
+  const std::size_t changed = mark_way(ground, version) + mark_ground(ground, version, body_top);
+  last_driven_ = ground;
+  return changed;
 }
 
 std::size_t MlsMap::mark_way(const Eigen::Vector3d& ground, std::uint64_t version) {
@@ -363,10 +368,7 @@ std::size_t MlsMap::mark_driven(const Eigen::Vector3d& ground) {
 }
 
 std::size_t MlsMap::mark_passed(const Eigen::Vector3d& ground) {
-  if (!usable(ground))
-    return 0;
-  const std::size_t changed = mark_way(ground, version_ + 1) + mark_ground(ground, version_ + 1);
-  last_driven_ = ground;
+  const std::size_t changed = drive_to(ground, version_ + 1);
   if (changed > 0)
     ++version_;
   return changed;
@@ -409,6 +411,8 @@ std::size_t MlsMap::mark_ground(const Eigen::Vector3d& ground, std::uint64_t ver
   }
   std::size_t changed = 0;
   for (const CellIndex& cell : footprint) {
+    const auto marks = static_cast<std::uint8_t>(
+        cell.x == centre.x && cell.y == centre.y ? MlsPatch::kDriven | MlsPatch::kTrack : MlsPatch::kDriven);
     MlsTile& tile = tile_for(tile_of(cell));  // a new tile always gets the patch below
     MlsTile::Handle& head = tile.first[static_cast<std::size_t>(local_index(cell))];
     bool cell_changed = false;
@@ -441,8 +445,8 @@ std::size_t MlsMap::mark_ground(const Eigen::Vector3d& ground, std::uint64_t ver
     }
     if (standing != 0) {
       MlsPatch& patch = tile.at(standing);
-      cell_changed = cell_changed || !patch.driven();
-      patch.flags |= MlsPatch::kDriven;
+      cell_changed = cell_changed || (patch.flags & marks) != marks;
+      patch.flags |= marks;
     } else if (!in_the_way && insert_after != 0 && fill - tile.at(insert_after).top() < gamma &&
                !seen.empty()) {
       // A surface less than gamma below the ground the footprint shows elsewhere, seen from beneath: a
@@ -452,7 +456,7 @@ std::size_t MlsMap::mark_ground(const Eigen::Vector3d& ground, std::uint64_t ver
       // the robot.
       MlsPatch& patch = tile.at(insert_after);
       extend_patch(patch, fill, tolerance * tolerance);
-      patch.flags |= MlsPatch::kDriven;
+      patch.flags |= marks;
       cell_changed = true;
     } else if (!in_the_way && (insert_after == 0 || fill - tile.at(insert_after).top() >= gamma)) {
       // A gap the robot's ground can sit in (elsewhere the measurements are left be): a new patch.
@@ -460,7 +464,7 @@ std::size_t MlsMap::mark_ground(const Eigen::Vector3d& ground, std::uint64_t ver
       fresh.mean = fill;
       fresh.variance = tolerance * tolerance;
       fresh.evidence = static_cast<std::uint8_t>(config_.max_evidence);  // the wheels are on it
-      fresh.flags = MlsPatch::kDriven;
+      fresh.flags = marks;
       cell_changed = insert_after_patch(tile, head, insert_after, fresh) || cell_changed;
     }
     if (cell_changed) {

@@ -64,7 +64,8 @@ class MlsMap {
   /// The robot stands at `ground` (map frame, the point between its wheels): the cells within
   /// MlsConfig::driven_radius of it are ground it drove over. Each gets its surface at that height marked
   /// MlsPatch::kDriven: the horizontal patch (or the top of a low vertical one) within driven_tolerance,
-  /// else a new horizontal patch there, since scanners rarely see the ground under the robot. A cell whose
+  /// else a new horizontal patch there, since scanners rarely see the ground under the robot. The cell under
+  /// `ground` itself is also marked MlsPatch::kTrack: the line the robot's centre followed. A cell whose
   /// patches leave no room for one (something within `gap` of the ground that is not ground) is left as
   /// it is. Returns the cells changed; when any, version() increments once and their tiles get it.
   std::size_t mark_driven(const Eigen::Vector3d& ground);
@@ -130,6 +131,10 @@ class MlsMap {
                           std::optional<float> body_top = std::nullopt);
   /// The ground between last_driven_ and `ground`, footprints a cell apart, if within driven_stride.
   std::size_t mark_way(const Eigen::Vector3d& ground, std::uint64_t version);
+  /// The robot reached `ground`: the way there and its footprint are marked (mark_way, mark_ground) and it
+  /// becomes last_driven_. What insert_scan and mark_passed share.
+  std::size_t drive_to(const Eigen::Vector3d& ground, std::uint64_t version,
+                       std::optional<float> body_top = std::nullopt);
   void trace_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end, MlsInsertStats& stats);
   void merge_into(MlsTile& tile, MlsTile::Handle lower, MlsTile::Handle upper);
 

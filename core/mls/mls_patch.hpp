@@ -18,10 +18,15 @@ struct MlsPatch {
   /// The robot stood on this surface (MlsMap::mark_driven): ground its wheels found, whether or not a
   /// scanner saw it. Traversable whatever the neighbours suggest.
   static constexpr std::uint8_t kDriven = 1U;
-  static constexpr std::uint8_t kKnownFlags = kDriven;
+  /// The robot's centre passed over this surface: its track, the line it drove along (always driven too).
+  /// The robot fitted there, so it may drive back along it whatever lower ground was seen beside it
+  /// (PatchGraph::passable).
+  static constexpr std::uint8_t kTrack = 2U;
+  static constexpr std::uint8_t kKnownFlags = kDriven | kTrack;
 
   [[nodiscard]] bool vertical() const { return depth > 0.0F; }
   [[nodiscard]] bool driven() const { return (flags & kDriven) != 0; }
+  [[nodiscard]] bool on_track() const { return (flags & kTrack) != 0; }
   [[nodiscard]] float top() const { return mean; }
   [[nodiscard]] float bottom() const { return mean - depth; }
 };

@@ -61,7 +61,8 @@ SurfaceGrid::SurfaceGrid(const MlsMap& map, const CellRegion& region, const Trav
                                .bottom = patch.bottom(),
                                .variance = patch.variance,
                                .vertical = patch.vertical(),
-                               .driven = patch.driven()});
+                               .driven = patch.driven(),
+                               .track = patch.on_track()});
         });
     }
   }

@@ -90,6 +90,8 @@ class SurfaceGrid {
     /// The robot stood on it (MlsPatch::kDriven): traversable whatever the slope estimate or the patch above
     /// say, so the robot never strands itself on a map that misreads the ground it is on.
     bool driven = false;
+    /// The robot's centre passed over it (MlsPatch::kTrack): it fitted there (PatchGraph::passable).
+    bool track = false;
   };
 
   SurfaceGrid(const MlsMap& map, const CellRegion& region, const TraversabilityConfig& config);

@@ -97,8 +97,20 @@ void PatchGraph::link(const TraversabilityConfig& config) {
         return true;
     return false;
   };
+  // Whether (col, row) holds something seen rising above a patch more than a step, below the robot's roof:
+  // a wall, a box, a curb; not lower ground, nor a face reaching up from it.
+  const auto rises_at = [&](int col, int row, const SurfaceGrid::Surface& from) {
+    if (!grid.contains_local(col, row))
+      return false;
+    for (const SurfaceGrid::Surface& s : grid.surfaces(grid.cell(col, row)))
+      if (!s.inferred && s.bottom <= from.top + robot_height &&
+          s.top - from.top > grid.step_limit(from.variance, s.variance))
+        return true;
+    return false;
+  };
   constexpr float kNoSeed = std::numeric_limits<float>::infinity();
   edge_seed_.assign(grid.surface_count(), kNoSeed);
+  rising_seed_.assign(grid.surface_count(), kNoSeed);
   missing_seed_.assign(grid.surface_count(), kNoSeed);
   // Beyond a missing side, an edge further than this does not limit the robot's centre.
   const int look_ahead = static_cast<int>(std::ceil(config_.robot_radius / resolution_)) + 1;
@@ -139,9 +151,13 @@ void PatchGraph::link(const TraversabilityConfig& config) {
             // cut: the ground a corner cell holds is no edge (the sides say whether something is there).
             if (meet(c2, r2, from) != kNone)
               break;
-            if (seen_at(c2, r2, top)) {
-              const float distance = side + static_cast<float>((j - 1) * step_length(d) * resolution_);
+            const float distance = side + static_cast<float>((j - 1) * step_length(d) * resolution_);
+            if (seen_at(c2, r2, top))
               edge_seed_[node] = std::min(edge_seed_[node], distance);
+            // Past lower ground, on to the first thing rising above this patch: what the track must keep
+            // clear of.
+            if (rises_at(c2, r2, from)) {
+              rising_seed_[node] = std::min(rising_seed_[node], distance);
               break;
             }
           }
@@ -152,6 +168,7 @@ void PatchGraph::link(const TraversabilityConfig& config) {
 
 void PatchGraph::measure_clearance() {
   clearance_ = spread(edge_seed_);
+  rising_clearance_ = spread(rising_seed_);
   margin_ = spread(missing_seed_);
   for (std::size_t node = 0; node < margin_.size(); ++node)
     margin_[node] = std::min(margin_[node], clearance_[node]);

@@ -61,9 +61,20 @@ class PatchGraph {
   [[nodiscard]] float margin(Node node) const { return margin_[node]; }
   /// Whether the node's surface was inferred across an unseen gap rather than measured.
   [[nodiscard]] bool inferred(Node node) const;
-  /// Traversable with room for the robot.
+  /// Metres from the node's centre to the nearest thing seen rising above it more than a step (a wall, a
+  /// box; not lower ground), likewise: at least clearance().
+  [[nodiscard]] float rising_clearance(Node node) const { return rising_clearance_[node]; }
+  /// Whether the robot's centre passed over the node's surface (MlsPatch::kTrack).
+  [[nodiscard]] bool on_track(Node node) const { return surfaces_->surface(node).track; }
+  /// Traversable with room for the robot: no edge within robot_radius. On the robot's track only what rises
+  /// above it counts: the robot fitted there, so lower ground seen beside the track is no edge it could
+  /// fall over. Where the pose's height drifted, the track lies 0.1-0.2 m above far views of the same
+  /// ground, a step, and a track 2 x driven_radius wide closed the way back (issue 58: the campus bridge
+  /// deck between its seams, the lidar demo at 5x stranded on it).
   [[nodiscard]] bool passable(Node node) const {
-    return traversable(node) && clearance_[node] >= static_cast<float>(config_.robot_radius);
+    const auto radius = static_cast<float>(config_.robot_radius);
+    return traversable(node) &&
+           (clearance_[node] >= radius || (on_track(node) && rising_clearance_[node] >= radius));
   }
   /// Passable nodes joined by edges between passable nodes share a component; kNone for the others. Two
   /// passable nodes in different components have no path: answered without a search.
@@ -97,8 +108,10 @@ class PatchGraph {
   std::vector<std::uint8_t> traversable_;
   std::vector<std::array<Node, 8>> neighbours_;
   std::vector<float> edge_seed_;     ///< per node: metres to the nearest edge seen across its missing sides
+  std::vector<float> rising_seed_;   ///< likewise, to the nearest thing rising above it (rises_at)
   std::vector<float> missing_seed_;  ///< per node: metres to its nearest missing side
   std::vector<float> clearance_;
+  std::vector<float> rising_clearance_;
   std::vector<float> margin_;
   std::vector<std::uint32_t> component_;
 };

@@ -94,6 +94,8 @@ TEST(DrivenGround, MarksTheFloorItFindsAndChangesNothingTwice) {
   ASSERT_EQ(under.size(), 1U);
   EXPECT_TRUE(under[0].driven());
   EXPECT_NEAR(under[0].mean, 0.03, 0.01) << "the measured height stays";
+  EXPECT_FALSE(under[0].on_track()) << "beside the robot's centre";
+  EXPECT_TRUE(map.patches(map.cell_of(0.05, 0.05))[0].on_track()) << "under it";
   EXPECT_FALSE(map.patches(map.cell_of(0.55, 0.0))[0].driven());
 
   EXPECT_EQ(map.mark_driven({0.01, 0, 0.02}), 0U) << "marked already";
@@ -274,6 +276,46 @@ TEST(DrivenGround, TheTrackItDroveLeadsBackWhereItCameFrom) {
   EXPECT_NEAR(back.length, 6.0, 0.2);
   EXPECT_EQ(plan_on_patches(graph, robot, {.x = 3.0, .y = 2.0}).status, PatchPlanStatus::goal_off_map)
       << "beside the track is still unseen";
+}
+
+// Issue 58: the campus bridge deck was driven while the pose's height stood 0.1 m high, and seen beside the
+// track only from far away, 0.1-0.15 m low: the 0.6 m of driven track lay a step above the deck around it,
+// and the planner's 0.45 m radius found no room on it. The robot fitted there: it drives back along its
+// track past lower ground, not past something that rises beside it.
+TEST(DrivenGround, TheTrackLeadsBackPastLowerGroundNotPastAnObstacle) {
+  const auto deck = [](bool box) {
+    MlsMap map(scene_config());
+    PointCloud cloud;
+    test::add_plane(cloud, 0, 8, -0.3, 0.4, 3.0);   // where the robot drove, seen from near
+    test::add_plane(cloud, 0, 8, -2.0, -0.3, 2.7);  // the far views, 0.3 m low
+    test::add_plane(cloud, 0, 8, 0.4, 2.0, 2.7);
+    if (box)  // a box beside the track, 0.4 m from its middle
+      test::add_vertical_face(cloud, 4.0, 0.45, 4.3, 0.45, 2.7, 3.5);
+    map.insert_scan(cloud, {4, 0, 4});
+    for (double x = 0.05; x <= 7.96; x += 0.1)
+      map.mark_driven({x, 0.05, 3.0});
+    return map;
+  };
+  const Eigen::Vector3d robot(7.95, 0.05, 3.0);
+  const PatchGoal back{.x = 0.55, .y = 0.05, .z = 3.0};
+
+  const MlsMap open = deck(false);
+  const PatchGraph graph = test::graph_of(open);
+  const auto node_at = [&](double x, double y) { return *graph.locate(x, y, 3.0, 0.1); };
+  EXPECT_LT(graph.clearance(node_at(4.05, 0.05)), graph.config().robot_radius) << "the far views are edges";
+  EXPECT_TRUE(graph.on_track(node_at(4.05, 0.05)));
+  EXPECT_TRUE(graph.passable(node_at(4.05, 0.05)));
+  EXPECT_FALSE(graph.passable(node_at(4.05, 0.25))) << "driven, but the robot's centre was not there";
+  const PatchPath path = plan_on_patches(graph, robot, back);
+  ASSERT_TRUE(path.found()) << describe(path.status);
+  EXPECT_NEAR(path.length, 7.4, 0.1);
+  for (const Eigen::Vector3d& p : path.points)
+    EXPECT_NEAR(p.z(), 3.0, 0.05);
+
+  const MlsMap blocked = deck(true);
+  const PatchGraph boxed = test::graph_of(blocked);
+  EXPECT_FALSE(boxed.passable(*boxed.locate(4.05, 0.05, 3.0, 0.1)));
+  EXPECT_EQ(plan_on_patches(boxed, robot, back).status, PatchPlanStatus::no_path);
 }
 
 }  // namespace

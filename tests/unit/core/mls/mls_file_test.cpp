@@ -151,10 +151,12 @@ TEST_F(MlsFileTest, DrivenMarksSurviveTheFileAndVersion1FilesStillLoad) {
   const MlsMap loaded = deserialize_mls_map(serialize_mls_map(map), "driven.smls");
   EXPECT_TRUE(loaded.same_content(map));
   EXPECT_TRUE(loaded.patches(loaded.cell_of(0.05, 0.05))[0].driven());
+  EXPECT_TRUE(loaded.patches(loaded.cell_of(0.05, 0.05))[0].on_track());
+  EXPECT_FALSE(loaded.patches(loaded.cell_of(0.15, 0.05))[0].on_track());
 
-  // One patch in one tile, written in format 3, then rewritten as format 2 (no localization byte after
-  // the tiles) and 1 (no flags byte either): both load, the first unmarked. Patches start after the header
-  // (112), the tile's x, y, version, total (20) and counts.
+  // One patch in one tile, written in format 4, then rewritten as format 3 (kTrack unknown to it), 2 (no
+  // localization byte after the tiles) and 1 (no flags byte either): both load, the first unmarked. Patches
+  // start after the header (112), the tile's x, y, version, total (20) and counts.
   MlsMap one;
   one.insert_scan({{0.05, 0.05, 0.0}}, {0, 0, 1});
   std::string bytes = serialize_mls_map(one);
@@ -169,6 +171,13 @@ TEST_F(MlsFileTest, DrivenMarksSurviveTheFileAndVersion1FilesStillLoad) {
     bytes.replace(12, 8, std::string(reinterpret_cast<const char*>(&size), 8));
     return resealed(bytes, 0, "");
   };
+  const std::string tracked = resealed(bytes, kFlags, "\x03");
+  EXPECT_TRUE(deserialize_mls_map(tracked, "tracked.smls").patches(one.cell_of(0.05, 0.05))[0].on_track());
+  bytes = tracked;
+  EXPECT_THROW(static_cast<void>(deserialize_mls_map(rewritten_as(3), "format3.smls")), MlsFileError)
+      << "format 3 knew no track";
+  bytes = resealed(bytes, kFlags, std::string(1, '\0'));
+  EXPECT_EQ(deserialize_map_file(rewritten_as(3), "format3.smls").format_version, 3U);
   bytes.erase(kFlags + 1, 1);
   const MapFile format2 = deserialize_map_file(rewritten_as(2), "format2.smls");
   EXPECT_TRUE(format2.map.same_content(one));
@@ -178,10 +187,10 @@ TEST_F(MlsFileTest, DrivenMarksSurviveTheFileAndVersion1FilesStillLoad) {
   const MlsMap old = deserialize_mls_map(rewritten_as(1), "old.smls");
   EXPECT_TRUE(old.same_content(one));
   try {
-    static_cast<void>(deserialize_mls_map(rewritten_as(4), "new.smls"));
+    static_cast<void>(deserialize_mls_map(rewritten_as(5), "new.smls"));
     ADD_FAILURE() << "loaded a format from the future";
   } catch (const MlsFileError& error) {
-    EXPECT_NE(std::string(error.what()).find("reads 1 to 3"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("reads 1 to 4"), std::string::npos) << error.what();
   }
 }
 
