@@ -168,8 +168,10 @@ std::size_t MlsMap::mark_way(const Eigen::Vector3d& ground, std::uint64_t versio
   const double length = way.norm();
   if (!(length <= config_.driven_stride))
     return 0;
-  // Footprints a cell apart, short of both ends (their own footprints mark those): a band as wide as one.
-  const int steps = static_cast<int>(std::ceil(length * inverse_resolution_));
+  // Footprints half a cell apart, short of both ends (their own footprints mark those): a band as wide as
+  // one, and a track (kTrack) with no cell skipped. A cell apart, rounding put two in one cell and skipped
+  // the next, and a gap in the track between edges closed it (issue 58).
+  const int steps = static_cast<int>(std::ceil(2.0 * length * inverse_resolution_));
   std::size_t changed = 0;
   for (int i = 1; i < steps; ++i)
     changed += mark_ground(*last_driven_ + way * (static_cast<double>(i) / steps), version);

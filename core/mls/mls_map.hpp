@@ -129,7 +129,7 @@ class MlsMap {
   /// wholly between the ground and that height are removed first: the robot's own body.
   std::size_t mark_ground(const Eigen::Vector3d& ground, std::uint64_t version,
                           std::optional<float> body_top = std::nullopt);
-  /// The ground between last_driven_ and `ground`, footprints a cell apart, if within driven_stride.
+  /// The ground between last_driven_ and `ground`, footprints half a cell apart, if within driven_stride.
   std::size_t mark_way(const Eigen::Vector3d& ground, std::uint64_t version);
   /// The robot reached `ground`: the way there and its footprint are marked (mark_way, mark_ground) and it
   /// becomes last_driven_. What insert_scan and mark_passed share.

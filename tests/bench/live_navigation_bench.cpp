@@ -18,6 +18,8 @@
 //           strata_goal_drive_bench --dump saved (issue 58)
 //   --passed X,Y,Z;...: places the robot passed, marked on the loaded map first (MlsMap::mark_passed), as
 //           the mapping marks the scans it dropped
+//   --inspect prints each cell's surfaces: bottom..top, sd, flags (V vertical, T traversable, I inferred,
+//           D driven, K the robot's track, P passable: room for the robot) and c= the clearance
 //   map     scans mapped, cells and patches of the live map, graph nodes, ms to build the graph
 //   goals   per distance band from the robot: goals tried, planned (a way found; strata_goal_drive_bench
 //           drives them), and why the others failed;
@@ -211,10 +213,11 @@ int main(int argc, char** argv) {
         for (std::size_t i = 0; i < cell_surfaces.size(); ++i) {
           const SurfaceGrid::Surface& s = cell_surfaces[i];
           const auto node = static_cast<PatchGraph::Node>(grid.first_surface(grid.cell(col, row)) + i);
-          std::printf(" [%.3f..%.3f sd=%.3f%s%s%s%s c=%.2f]", static_cast<double>(s.bottom),
+          std::printf(" [%.3f..%.3f sd=%.3f%s%s%s%s%s%s c=%.2f]", static_cast<double>(s.bottom),
                       static_cast<double>(s.top), std::sqrt(static_cast<double>(s.variance)),
                       s.vertical ? " V" : "", s.traversable ? " T" : "", s.inferred ? " I" : "",
-                      s.driven ? " D" : "", static_cast<double>(seen.clearance(node)));
+                      s.driven ? " D" : "", s.track ? " K" : "", seen.passable(node) ? " P" : "",
+                      static_cast<double>(seen.clearance(node)));
         }
         std::printf("\n");
       }

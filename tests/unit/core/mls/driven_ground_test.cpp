@@ -2,8 +2,11 @@
 // not show the ground it stands on (issue 21).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
+#include <vector>
 
 #include "core/mls/drivable_map.hpp"
 #include "core/mls/mls_map.hpp"
@@ -276,6 +279,54 @@ TEST(DrivenGround, TheTrackItDroveLeadsBackWhereItCameFrom) {
   EXPECT_NEAR(back.length, 6.0, 0.2);
   EXPECT_EQ(plan_on_patches(graph, robot, {.x = 3.0, .y = 2.0}).status, PatchPlanStatus::goal_off_map)
       << "beside the track is still unseen";
+}
+
+// The track is the line of cells the robot's centre passed: unbroken between two scans' ground points
+// (a cell of it missing between edges closes it, PatchGraph::passable), whatever the way's direction.
+TEST(DrivenGround, TheTrackBetweenTwoScansSkipsNoCell) {
+  // Places passed in a row (a way of several steps) and single ways in every direction.
+  std::vector<std::vector<Eigen::Vector3d>> drives;
+  std::vector<Eigen::Vector3d> along_the_deck;
+  for (int i = 0; i <= 8; ++i)
+    along_the_deck.emplace_back(83.6 + 0.3 * i, -28.75, 3.1);
+  drives.push_back(along_the_deck);
+  drives.push_back({{0.05, 0.05, 0.0}, {1.85, 0.05, 0.0}});
+  drives.push_back({{0.03, 0.07, 0.0}, {1.83, 0.91, 0.0}});
+  drives.push_back({{-0.31, 0.44, 0.0}, {0.52, -1.37, 0.0}});
+  drives.push_back({{0.0, 0.0, 0.0}, {1.4, 1.4, 0.0}});
+  drives.push_back({{12.95, 7.05, 1.0}, {11.15, 7.05, 1.0}});
+  for (const std::vector<Eigen::Vector3d>& drive : drives) {
+    MlsMap map(scene_config());
+    for (const Eigen::Vector3d& place : drive)
+      map.mark_passed(place);
+    // Flood the track's cells from the first: 8-connected, it reaches the last.
+    const CellIndex start = map.cell_of(drive.front().x(), drive.front().y());
+    const CellIndex end = map.cell_of(drive.back().x(), drive.back().y());
+    const auto on_track = [&](CellIndex cell) {
+      const std::vector<MlsPatch> patches = map.patches(cell);
+      return !patches.empty() && patches.front().on_track();
+    };
+    std::vector<CellIndex> open{start};
+    std::vector<CellIndex> seen{start};
+    bool reached = false;
+    while (!open.empty() && !reached) {
+      const CellIndex cell = open.back();
+      open.pop_back();
+      reached = cell.x == end.x && cell.y == end.y;
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dx = -1; dx <= 1; ++dx) {
+          const CellIndex next{cell.x + dx, cell.y + dy};
+          const bool known = std::any_of(seen.begin(), seen.end(),
+                                         [&](CellIndex c) { return c.x == next.x && c.y == next.y; });
+          if (!known && on_track(next)) {
+            seen.push_back(next);
+            open.push_back(next);
+          }
+        }
+    }
+    EXPECT_TRUE(reached) << "from " << drive.front().transpose() << " to " << drive.back().transpose();
+    EXPECT_LE(seen.size(), 40U) << "a line, not the footprint";
+  }
 }
 
 // Issue 58: the campus bridge deck was driven while the pose's height stood 0.1 m high, and seen beside the
