@@ -57,7 +57,9 @@ inline PatchGraph surveyed_graph(const sim::World& world, const PatchGraph& seen
 
 /// Every place (on a grid of `spacing`) that the surveyed world `truth` says the robot can reach from
 /// `robot` with room to spare (0.2 m beyond its radius: a wall scanned from afar is a cell thicker than
-/// surveyed), and that the live map, as the graph `seen`, has measured at that height (not inferred).
+/// surveyed; the world's own end counts, where the simulator finds no ground: a campus goal 0.05 m from it
+/// left the robot stuck there, unable to turn), and that the live map, as the graph `seen`, has measured
+/// at that height (not inferred).
 inline std::vector<Eigen::Vector3d> seen_goal_spots(const PatchGraph& truth, const PatchGraph& seen,
                                                     const Eigen::Vector3d& robot, double spacing = 0.5) {
   const auto robot_node = truth.locate(robot.x(), robot.y(), robot.z(), 0.5, 1.0);
@@ -68,7 +70,7 @@ inline std::vector<Eigen::Vector3d> seen_goal_spots(const PatchGraph& truth, con
     const auto [col, row] = truth.cell(node);
     if (col % step != 0 || row % step != 0 || !truth.passable(node) ||
         truth.component(node) != robot_component ||
-        static_cast<double>(truth.clearance(node)) < seen.config().robot_radius + 0.2)
+        static_cast<double>(truth.margin(node)) < seen.config().robot_radius + 0.2)
       continue;
     const Eigen::Vector3d spot = truth.position(node);
     const auto measured = seen.locate(spot.x(), spot.y(), spot.z(), 0.2);
