@@ -334,14 +334,15 @@ TEST(DrivenGround, TheTrackBetweenTwoScansSkipsNoCell) {
 // and the planner's 0.45 m radius found no room on it. The robot fitted there: it drives back along its
 // track past lower ground, not past something that rises beside it.
 TEST(DrivenGround, TheTrackLeadsBackPastLowerGroundNotPastAnObstacle) {
-  const auto deck = [](bool box) {
+  // A box beside the track at `box_y` (none: 0), on the far views' ground.
+  const auto deck = [](double box_y) {
     MlsMap map(scene_config());
     PointCloud cloud;
     test::add_plane(cloud, 0, 8, -0.3, 0.4, 3.0);   // where the robot drove, seen from near
     test::add_plane(cloud, 0, 8, -2.0, -0.3, 2.7);  // the far views, 0.3 m low
     test::add_plane(cloud, 0, 8, 0.4, 2.0, 2.7);
-    if (box)  // a box beside the track, 0.4 m from its middle
-      test::add_vertical_face(cloud, 4.0, 0.45, 4.3, 0.45, 2.7, 3.5);
+    if (box_y > 0.0)
+      test::add_vertical_face(cloud, 4.0, box_y, 4.3, box_y, 2.7, 3.5);
     map.insert_scan(cloud, {4, 0, 4});
     for (double x = 0.05; x <= 7.96; x += 0.1)
       map.mark_driven({x, 0.05, 3.0});
@@ -350,7 +351,7 @@ TEST(DrivenGround, TheTrackLeadsBackPastLowerGroundNotPastAnObstacle) {
   const Eigen::Vector3d robot(7.95, 0.05, 3.0);
   const PatchGoal back{.x = 0.55, .y = 0.05, .z = 3.0};
 
-  const MlsMap open = deck(false);
+  const MlsMap open = deck(0.0);
   const PatchGraph graph = test::graph_of(open);
   const auto node_at = [&](double x, double y) { return *graph.locate(x, y, 3.0, 0.1); };
   EXPECT_LT(graph.clearance(node_at(4.05, 0.05)), graph.config().robot_radius) << "the far views are edges";
@@ -363,10 +364,18 @@ TEST(DrivenGround, TheTrackLeadsBackPastLowerGroundNotPastAnObstacle) {
   for (const Eigen::Vector3d& p : path.points)
     EXPECT_NEAR(p.z(), 3.0, 0.05);
 
-  const MlsMap blocked = deck(true);
+  const MlsMap blocked = deck(0.45);  // 0.4 m from the track's middle, next to the driven band
   const PatchGraph boxed = test::graph_of(blocked);
   EXPECT_FALSE(boxed.passable(*boxed.locate(4.05, 0.05, 3.0, 0.1)));
   EXPECT_EQ(plan_on_patches(boxed, robot, back).status, PatchPlanStatus::no_path);
+
+  // A box past a cell of the lower ground, 0.45 m from the track's middle, for a robot 0.5 m in radius:
+  // what rises is looked for past the first edge.
+  const MlsMap past_lower_ground = deck(0.55);
+  const PatchGraphConfig wider{.robot_radius = 0.5};
+  EXPECT_TRUE(plan_on_patches(test::graph_of(open, wider), robot, back).found());
+  EXPECT_EQ(plan_on_patches(test::graph_of(past_lower_ground, wider), robot, back).status,
+            PatchPlanStatus::no_path);
 }
 
 }  // namespace
