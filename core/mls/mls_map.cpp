@@ -327,7 +327,11 @@ void MlsMap::trace_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& end
         MlsPatch& patch = tile->at(h);
         const bool crossed = high >= patch.bottom() && low <= patch.top();
         const bool ends_elsewhere = patch.vertical() || std::abs(end_z - patch.mean) > margin;
-        if (crossed && ends_elsewhere) {
+        // Ground the robot stood on is no surface a ray passes through: a ray "through" it is the pose's
+        // tilt error (a deck seen ahead, 0.15 m low, had its driven cells cleared one by one, and a gap
+        // in the track closed the way; issue 58). What rises from it (a vertical patch) can still go.
+        const bool stood_on = patch.driven() && !patch.vertical();
+        if (crossed && ends_elsewhere && !stood_on) {
           tile->version = version_;
           if (--patch.evidence == 0) {
             *link = patch.next;

@@ -281,6 +281,32 @@ TEST(DrivenGround, TheTrackItDroveLeadsBackWhereItCameFrom) {
       << "beside the track is still unseen";
 }
 
+// Issue 58: on the lidar demo's deck, cells of the robot's track lost their driven ground to rays that,
+// with the pose's tilt a few tenths of a degree off, passed "through" the deck to points on it further on;
+// a track cell gone closed the way back. Ground the robot stood on is not see-through.
+TEST(DrivenGround, RaysThroughGroundTheRobotStoodOnDoNotClearIt) {
+  MlsConfig config;
+  config.free_space_ray_stride = 1;
+  MlsMap map(config);
+  PointCloud floor;
+  test::add_plane(floor, -1, 1, -1, 2, 0.0);
+  map.insert_scan(floor, {0, 0, 1});
+  map.mark_driven({0.05, 0.05, 0.0});
+  ASSERT_TRUE(map.patches(map.cell_of(0.05, 0.05))[0].driven());
+  ASSERT_FALSE(map.patches(map.cell_of(0.05, 1.55))[0].driven());
+  // Rays from 2 m west, 1 m up, to points 2 m east and 1 m below the floor: through the floor at x = 0,
+  // where the robot stood (y = 0.05) and where it did not (y = 1.55).
+  for (int i = 0; i < 20; ++i)
+    for (const double y : {0.05, 1.55})
+      map.insert_scan({{2.05, y, -1.0}}, {-1.95, y, 1.0});  // at height 0 in the middle of cell x 0-0.1
+  const std::vector<MlsPatch> driven = map.patches(map.cell_of(0.05, 0.05));
+  ASSERT_FALSE(driven.empty());
+  EXPECT_TRUE(driven.front().driven());
+  EXPECT_NEAR(driven.front().top(), 0.0, 0.01) << "the ground the robot stood on stays";
+  const std::vector<MlsPatch> seen_only = map.patches(map.cell_of(0.05, 1.55));
+  EXPECT_TRUE(seen_only.empty() || std::abs(seen_only.front().top()) > 0.01) << "floor only seen is cleared";
+}
+
 // The track is the line of cells the robot's centre passed: unbroken between two scans' ground points
 // (a cell of it missing between edges closes it, PatchGraph::passable), whatever the way's direction.
 TEST(DrivenGround, TheTrackBetweenTwoScansSkipsNoCell) {
