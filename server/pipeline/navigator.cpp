@@ -202,7 +202,10 @@ std::optional<DriveCommand> Navigator::drive(const Pose3& estimate, double stamp
       return teleop_;
     teleop_until_.reset();  // expired: the operator stopped renewing it
   }
-  if (blocked_ && tracker_.status().phase == GoalPhase::kDriving &&
+  // Not while a map that may open the way is still to come: a rebuild under way, or a map not yet judged
+  // (at 5x a rebuild after a loop closure took longer than the grace, and a goal the rebuilt map opened
+  // failed as blocked; issue 58).
+  if (blocked_ && tracker_.status().phase == GoalPhase::kDriving && !rebuilding_ && !map_changed_ &&
       stamp - blocked_->since > config_.blocked_grace) {
     spdlog::info("goal {} failed ({}): {}", tracker_.status().id, blocked_->reason, blocked_->message);
     tracker_.fail(tracker_.status().id, blocked_->reason, blocked_->message, stamp, blocked_->nearest);

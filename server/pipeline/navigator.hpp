@@ -30,7 +30,8 @@ struct NavigatorConfig {
   double stuck_after = 20.0;
   /// A replan that finds the way closed (a new scan blocks it, or a loop closure moved the pose before the
   /// rebuilt map arrived) stops the robot and waits this many robot seconds for a map that opens it again
-  /// before the goal fails: a rebuild after a loop closure takes seconds, a person in a doorway longer.
+  /// before the goal fails: a rebuild after a loop closure takes seconds, a person in a doorway longer. A
+  /// rebuild under way, or a map not yet planned on, extends the wait until it is judged.
   double blocked_grace = 20.0;
 };
 

@@ -303,6 +303,49 @@ TEST(Navigator, AWayClosedForAMomentIsDrivenOnWhenTheMapOpensItAgain) {
   EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
 }
 
+TEST(Navigator, ABlockedGoalWaitsForTheRebuildUnderWayPastTheGrace) {
+  // The lidar demo at 5x (issue 58): blocked after a loop closure moved the pose, the goal failed while the
+  // rebuilt map that opened the way again was still being built (4 s of wall time, 20 s of robot time).
+  const MlsMap open = test::wall_and_stairs_scene();
+  MlsMap closed = test::wall_and_stairs_scene();
+  PointCloud wall;
+  test::add_vertical_face(wall, -3.0, 0.0, 2.0, 0.0, 0.0, 2.0);
+  closed.insert_scan(wall, {0, 0, 3});
+  Navigator navigator;
+  publish(navigator, open);
+  (void)navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 0.0);
+  ASSERT_TRUE(navigator.set_goal({-2.0, 4.0, {}}).ok);
+  ASSERT_TRUE(navigator.plan_pending());
+  publish(navigator, closed, 2);
+  ASSERT_TRUE(navigator.plan_pending());
+  ASSERT_EQ(navigator.path(), nullptr);  // blocked from t = 0
+
+  navigator.map_rebuilding(true);
+  EXPECT_EQ(navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 25.0)->v, 0.0);
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving) << "a rebuild is under way";
+  publish(navigator, open, 3);
+  navigator.map_rebuilding(false);
+  EXPECT_EQ(navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 26.0)->v, 0.0);
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving) << "the rebuilt map is not judged yet";
+  ASSERT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.goal_status().message, "the way is open again");
+  EXPECT_GT(navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 26.5)->v, 0.0);
+
+  // A rebuilt map that keeps the way closed: the goal fails once it is judged, the grace long past.
+  publish(navigator, closed, 4);
+  ASSERT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 27.0)->v, 0.0);
+  navigator.map_rebuilding(true);
+  EXPECT_EQ(navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 50.0)->v, 0.0);
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kDriving);
+  publish(navigator, closed, 5);
+  navigator.map_rebuilding(false);
+  ASSERT_TRUE(navigator.plan_pending());
+  EXPECT_EQ(navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 51.0)->v, 0.0);
+  EXPECT_EQ(navigator.goal_status().phase, GoalPhase::kFailed);
+  EXPECT_EQ(navigator.goal_status().reason, "blocked");
+}
+
 TEST(Navigator, ANewGoalTheMapBeforeALoopClosureRefusesIsJudgedOnTheRebuiltMap) {
   // The lidar demo (issue 58): a loop closure corrected 0.8 m of drift; while the map was rebuilt from the
   // moved keyframes, the old one showed no way down the ramp, and the goal was refused 3 s before the
