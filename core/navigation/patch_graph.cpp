@@ -168,17 +168,18 @@ void PatchGraph::link(const TraversabilityConfig& config) {
 
 void PatchGraph::measure_clearance() {
   clearance_ = spread(edge_seed_);
-  rising_clearance_ = spread(rising_seed_);
+  // Only ever compared with the robot's radius (passable): spread no further.
+  rising_clearance_ = spread(rising_seed_, static_cast<float>(config_.robot_radius + resolution_));
   margin_ = spread(missing_seed_);
   for (std::size_t node = 0; node < margin_.size(); ++node)
     margin_[node] = std::min(margin_[node], clearance_[node]);
 }
 
-std::vector<float> PatchGraph::spread(std::vector<float> distance) const {
+std::vector<float> PatchGraph::spread(std::vector<float> distance, std::optional<float> horizon_limit) const {
   // Only distances up to the widest one a plan looks at matter (the robot's radius, the comfortable
   // clearance): stopping there keeps the search to a band along the edges instead of all open ground.
-  const auto horizon =
-      static_cast<float>(std::max(config_.robot_radius, config_.comfortable_clearance) + resolution_);
+  const auto horizon = horizon_limit.value_or(
+      static_cast<float>(std::max(config_.robot_radius, config_.comfortable_clearance) + resolution_));
   using Item = std::pair<float, Node>;
   std::priority_queue<Item, std::vector<Item>, std::greater<>> open;
   for (Node node = 0; node < distance.size(); ++node) {

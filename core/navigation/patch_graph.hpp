@@ -62,7 +62,7 @@ class PatchGraph {
   /// Whether the node's surface was inferred across an unseen gap rather than measured.
   [[nodiscard]] bool inferred(Node node) const;
   /// Metres from the node's centre to the nearest thing seen rising above it more than a step (a wall, a
-  /// box; not lower ground), likewise: at least clearance().
+  /// box; not lower ground): at least clearance(); exact up to robot_radius, infinity beyond.
   [[nodiscard]] float rising_clearance(Node node) const { return rising_clearance_[node]; }
   /// Whether the robot's centre passed over the node's surface (MlsPatch::kTrack).
   [[nodiscard]] bool on_track(Node node) const { return surfaces_->surface(node).track; }
@@ -98,7 +98,10 @@ class PatchGraph {
   void link(const TraversabilityConfig& config);
   void measure_clearance();
   /// Multi-source Dijkstra over the graph from per-node seed distances (infinity: no seed), metres.
-  [[nodiscard]] std::vector<float> spread(std::vector<float> seeds) const;
+  /// Exact up to `horizon` metres (default: the larger of robot_radius and comfortable_clearance), infinity
+  /// beyond.
+  [[nodiscard]] std::vector<float> spread(std::vector<float> seeds,
+                                          std::optional<float> horizon = std::nullopt) const;
   void label_components();
 
   std::shared_ptr<const SurfaceGrid> surfaces_;

@@ -304,7 +304,7 @@ TEST(DrivenGround, RaysThroughGroundTheRobotStoodOnDoNotClearIt) {
   EXPECT_TRUE(driven.front().driven());
   EXPECT_NEAR(driven.front().top(), 0.0, 0.01) << "the ground the robot stood on stays";
   const std::vector<MlsPatch> seen_only = map.patches(map.cell_of(0.05, 1.55));
-  EXPECT_TRUE(seen_only.empty() || std::abs(seen_only.front().top()) > 0.01) << "floor only seen is cleared";
+  EXPECT_TRUE(seen_only.empty() || std::abs(seen_only.front().top()) > 0.01F) << "floor only seen is cleared";
 }
 
 // The track is the line of cells the robot's centre passed: unbroken between two scans' ground points

@@ -32,6 +32,15 @@ void publish(Navigator& navigator, const MlsMap& map, std::uint64_t version = 1)
   navigator.on_map_update({map, drivable, Eigen::Vector3d::Zero(), version});
 }
 
+/// wall_and_stairs_scene with a wall across the way north from (-2, -4): no way left.
+MlsMap way_closed() {
+  MlsMap closed = test::wall_and_stairs_scene();
+  PointCloud wall;
+  test::add_vertical_face(wall, -3.0, 0.0, 2.0, 0.0, 0.0, 2.0);
+  closed.insert_scan(wall, {0, 0, 3});
+  return closed;
+}
+
 TEST(Navigator, LeavesTheRobotAloneUntilAnOperatorCommands) {
   Navigator navigator;
   EXPECT_FALSE(navigator.drive(at(0, 0, 0), 0.0).has_value());
@@ -282,10 +291,7 @@ TEST(Navigator, AWayClosedForAMomentIsDrivenOnWhenTheMapOpensItAgain) {
   ASSERT_TRUE(navigator.plan_pending());
   ASSERT_NE(navigator.path(), nullptr);
 
-  MlsMap closed = test::wall_and_stairs_scene();
-  PointCloud wall;
-  test::add_vertical_face(wall, -3.0, 0.0, 2.0, 0.0, 0.0, 2.0);
-  closed.insert_scan(wall, {0, 0, 3});
+  const MlsMap closed = way_closed();
   publish(navigator, closed, 2);
   ASSERT_TRUE(navigator.plan_pending());
   EXPECT_EQ(navigator.path(), nullptr);
@@ -307,10 +313,7 @@ TEST(Navigator, ABlockedGoalWaitsForTheRebuildUnderWayPastTheGrace) {
   // The lidar demo at 5x (issue 58): blocked after a loop closure moved the pose, the goal failed while the
   // rebuilt map that opened the way again was still being built (4 s of wall time, 20 s of robot time).
   const MlsMap open = test::wall_and_stairs_scene();
-  MlsMap closed = test::wall_and_stairs_scene();
-  PointCloud wall;
-  test::add_vertical_face(wall, -3.0, 0.0, 2.0, 0.0, 0.0, 2.0);
-  closed.insert_scan(wall, {0, 0, 3});
+  const MlsMap closed = way_closed();
   Navigator navigator;
   publish(navigator, open);
   (void)navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 0.0);
@@ -351,10 +354,7 @@ TEST(Navigator, ANewGoalTheMapBeforeALoopClosureRefusesIsJudgedOnTheRebuiltMap) 
   // moved keyframes, the old one showed no way down the ramp, and the goal was refused 3 s before the
   // rebuilt map, which planned it, arrived.
   const MlsMap open = test::wall_and_stairs_scene();
-  MlsMap closed = test::wall_and_stairs_scene();
-  PointCloud wall;
-  test::add_vertical_face(wall, -3.0, 0.0, 2.0, 0.0, 0.0, 2.0);
-  closed.insert_scan(wall, {0, 0, 3});
+  const MlsMap closed = way_closed();
   Navigator navigator;
   publish(navigator, closed);
   (void)navigator.drive(at(-2.0, -4.0, 0.0, M_PI / 2), 0.0);
