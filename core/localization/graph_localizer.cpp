@@ -72,6 +72,8 @@ LocalizationUpdate GraphLocalizer::add_scan(const PointCloud& points, const std:
   // search found. Either is a jump the motion models must not take for a velocity.
   bool map_moved = pose_graph && take_graph_corrections(drift_measured);
   map_moved = std::exchange(placed_, false) || map_moved;
+  if (pose_graph)
+    join_earlier_pass();
   scan_matching_.set_sensor_origin(sensor_origin);
   const LocalizationUpdate update =
       odometry ? register_with_odometry(points, *odometry, stamp, gravity, standing_gyro, map_moved)
@@ -114,6 +116,58 @@ bool GraphLocalizer::take_graph_corrections(bool drift_measured) {
   if (mounting)
     scan_matching_.set_gravity_mounting(*mounting);
   return correction.has_value();
+}
+
+std::vector<GraphLocalizer::EarlierKeyframe> GraphLocalizer::earlier_pass_to_join() {
+  const double radius = options_.earlier_pass_radius;
+  // What the local map still holds: its points older than that are gone, and the earlier pass's with them.
+  const double window = std::max(options_.scan_matching.local_map_metres, radius);
+  std::lock_guard lock(mutex_);  // the graph's poses move with each optimization
+  if (radius <= 0.0 || keyframes_.empty())
+    return {};
+  const double now = keyframes_.back()->travelled;
+  const bool tied = std::ranges::any_of(graph_.edges(), [&](const PoseGraphEdge& edge) {
+    return edge.loop && keyframes_[std::max(edge.from, edge.to)]->travelled >= now - window;
+  });
+  if (!tied)
+    return {};
+  const std::size_t newest = keyframes_.size() - 1;
+  const Eigen::Vector3d here = graph_.pose(newest).translation();
+  std::vector<std::pair<double, std::size_t>> near;  // distance, keyframe
+  joined_.resize(keyframes_.size());
+  for (std::size_t i = 0; i < newest && keyframes_[i]->travelled < now - window; ++i) {
+    const double distance = (graph_.pose(i).translation() - here).norm();
+    if (distance <= radius && !(joined_[i] && now - *joined_[i] < window))
+      near.emplace_back(distance, i);
+  }
+  // The nearest first, a few a scan: back on an earlier pass's way, tens are near at once, and joining
+  // all of them held one scan 0.2 s.
+  const std::size_t taken = std::min(near.size(), kEarlierKeyframesPerScan);
+  std::ranges::partial_sort(near, near.begin() + static_cast<std::ptrdiff_t>(taken));
+  // The graph's frame and the scan path's agree at the newest keyframe, once its correction is taken;
+  // one made meanwhile is not yet.
+  const Eigen::Isometry3d scan_path_from_graph = last_keyframe_frontend_ * graph_.pose(newest).inverse();
+  std::vector<EarlierKeyframe> joining;
+  for (std::size_t k = 0; k < taken; ++k) {
+    const std::size_t i = near[k].second;
+    joining.push_back({keyframes_[i], scan_path_from_graph * graph_.pose(i)});
+    joined_[i] = now;
+  }
+  status_.earlier_pass_joins += joining.size();
+  return joining;
+}
+
+void GraphLocalizer::join_earlier_pass() {
+  // Their scans at the map's voxel, the local map's too: the keyframe's own points, thinned for loop
+  // closures, held the crest half as well (docs/benchmarks.md, "The earlier pass").
+  PointCloud points;
+  for (const EarlierKeyframe& earlier : earlier_pass_to_join())
+    for (const KeyframeScan& scan : earlier.keyframe->scans) {
+      points.assign(scan.points.size(), Eigen::Vector3d::Zero());
+      std::ranges::transform(scan.points, points.begin(),
+                             [](const Eigen::Vector3f& p) { return p.cast<double>(); });
+      scan_matching_.join_local_map(points, earlier.pose, scan.sensor_origin.cast<double>());
+    }
 }
 
 LocalizationUpdate GraphLocalizer::register_with_odometry(const PointCloud& points, const Pose2& odometry,
@@ -298,12 +352,22 @@ bool GraphLocalizer::close_loops() {
     // the one the graph has last. It replaces a correction not yet taken, as a loop's does.
     if (height)
       height_optimized_at_ = graph.size();
-    if (height && graph_.size() == graph.size()) {
-      Eigen::Isometry3d lift = Eigen::Isometry3d::Identity();
-      lift.translation().z() = *height - last_keyframe_frontend_.translation().z();
-      pending_correction_ = lift;
+    if (!height || graph_.size() != graph.size())
+      return false;
+    Eigen::Isometry3d lift = Eigen::Isometry3d::Identity();
+    lift.translation().z() = *height - last_keyframe_frontend_.translation().z();
+    pending_correction_ = lift;
+    // The keyframes take their heights from the graph too, so that the map made of them follows the scan
+    // path: the scan path lifted alone went on mapping ground it had mapped before at the new height, and
+    // the plateau it had driven round came out in cells 0.05 m apart, steps with no room between them
+    // (docs/benchmarks.md, "Heights before the first loop, in the map too").
+    for (std::size_t i = 0; i < graph_.size(); ++i) {
+      Eigen::Isometry3d pose = graph_.pose(i);
+      pose.translation().z() = graph.pose(i).translation().z();
+      graph_.set_pose(i, pose);
     }
-    return false;
+    ++status_.height_optimizations;
+    return true;
   }
   const PoseGraphSummary summary = graph.optimize(options_.optimizer);
   if (!summary.solved)
@@ -350,6 +414,7 @@ bool GraphLocalizer::close_loops() {
 void GraphLocalizer::localize_in(std::shared_ptr<const LocalizationMap> map) {
   scan_matching_.localize_in(std::move(map));
   trail_ = KeyframeTrail(options_.keyframe_map_voxel);
+  joined_.clear();
   std::lock_guard lock(mutex_);
   keyframes_.clear();
   graph_ = PoseGraph();

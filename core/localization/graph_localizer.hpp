@@ -66,6 +66,13 @@ struct GraphLocalizerOptions {
   /// with no loop, carried more heading error onto new ground (docs/benchmarks.md, "Height before the
   /// first loop").
   bool height_before_loops = true;
+  /// Back where it drove before, once a loop closure tied this pass to the earlier one: the earlier pass's
+  /// keyframes within this many metres of the robot join the scan path's local map (their points at their
+  /// poses in the graph). The local map holds only the last metres driven; its far views of what lies
+  /// ahead carry each scan's tilt error over their range, and the scans that follow register to them. At
+  /// the campus deck's west end the pitch swung +-0.5 degrees and the height +-0.1 m over a ramp top the
+  /// earlier pass had seen from near. 0: off.
+  double earlier_pass_radius = 15.0;
 };
 
 /// The information of the chain edge between two consecutive keyframes `distance` metres apart
@@ -107,7 +114,8 @@ class GraphLocalizer {
               double stamp) const;
 
   /// The background step: looks for loop closures of the keyframes made since the last call and, when
-  /// it finds one, optimizes the graph. True when the estimates changed. Safe to call from another
+  /// it finds one, optimizes the graph. True when the estimates changed: a loop closed, or before the
+  /// first the keyframes took the graph's heights (height_before_loops). Safe to call from another
   /// thread than add_scan.
   bool close_loops();
 
@@ -157,6 +165,16 @@ class GraphLocalizer {
   /// The newest keyframe's height in `graph` (close_loops' copy) optimized in place, where
   /// height_before_loops applies and enough keyframes came since the graph had `optimized_at`.
   [[nodiscard]] std::optional<double> height_before_loops(PoseGraph& graph, std::size_t optimized_at) const;
+  /// A keyframe of an earlier pass and its pose in the scan path's frame.
+  struct EarlierKeyframe {
+    KeyframePtr keyframe;
+    Eigen::Isometry3d pose;
+  };
+  /// The earlier pass's keyframes near the robot join the local map (GraphLocalizerOptions::
+  /// earlier_pass_radius): each once while its points can still be in it, a few a scan.
+  void join_earlier_pass();
+  [[nodiscard]] std::vector<EarlierKeyframe> earlier_pass_to_join();
+  static constexpr std::size_t kEarlierKeyframesPerScan = 4;
   void add_keyframe(const PointCloud& points, const LocalizationUpdate& update, double stamp,
                     const Eigen::Vector3d& sensor_origin, const std::optional<GravityReading>& gravity);
 
@@ -187,6 +205,8 @@ class GraphLocalizer {
   std::size_t searched_ = 0;             ///< keyframes looked at for loops so far
   /// Counts the graph's restarts: an optimization of a graph since replaced is thrown away.
   std::uint64_t generation_ = 0;
+  /// Scan path only: per keyframe, the metres driven when its points last joined the local map.
+  std::vector<std::optional<double>> joined_;
   bool placed_ = false;  // scan path only: place() moved the estimate since the last scan
   struct OdometryAt {
     double stamp = 0.0;

@@ -63,9 +63,22 @@ void LocalMap::add(const PointCloud& scan, const Eigen::Isometry3d& map_from_sca
     travelled_ += (sensor_in_map - *last_sensor_).norm();
   last_sensor_ = sensor_in_map;
   records_.push_back({.travelled = travelled_, .voxels = 0});
+  reach(scan, map_from_scan, sensor_in_map);
+  expire();
+}
+
+void LocalMap::join(const PointCloud& points, const Eigen::Isometry3d& map_from_scan,
+                    const Eigen::Vector3d& sensor) {
+  if (records_.empty())
+    return;
+  reach(points, map_from_scan, map_from_scan * sensor);
+}
+
+void LocalMap::reach(const PointCloud& points, const Eigen::Isometry3d& map_from_scan,
+                     const Eigen::Vector3d& sensor_in_map) {
   std::uint32_t& reached_now = records_.back().voxels;
   for_each_voxel(
-      voxels_, inverse_voxel_size_, scan.size(), [&](std::size_t i) { return map_from_scan * scan[i]; },
+      voxels_, inverse_voxel_size_, points.size(), [&](std::size_t i) { return map_from_scan * points[i]; },
       [&](std::size_t, const Eigen::Vector3d& p, VoxelKey key) {
         const auto next = static_cast<std::uint32_t>(points_.size());
         const auto [index, added] = voxels_.try_emplace(key, next);
@@ -85,7 +98,6 @@ void LocalMap::add(const PointCloud& scan, const Eigen::Isometry3d& map_from_sca
     normals_.normals.resize(points_.size());
     normals_.states.resize(points_.size(), LazyNormals::State::kUnknown);
   }
-  expire();
 }
 
 void LocalMap::transform(const Eigen::Isometry3d& transform) {

@@ -34,6 +34,10 @@ class LocalMap {
   void add(const PointCloud& points, const Eigen::Vector3d& sensor) {
     add(points, Eigen::Isometry3d::Identity(), sensor);
   }
+  /// Points an earlier pass saw (a keyframe's, at its pose now) join the map as if the latest scan had
+  /// reached them: voxels no scan of this pass reached take them, and they expire with that scan. Nothing
+  /// before the first scan.
+  void join(const PointCloud& points, const Eigen::Isometry3d& map_from_scan, const Eigen::Vector3d& sensor);
   /// Moves every point by `transform` (the map frame was corrected): the voxels are hashed again, two
   /// points in one voxel keep the older, and the normals are estimated afresh.
   void transform(const Eigen::Isometry3d& transform);
@@ -61,6 +65,10 @@ class LocalMap {
     std::uint32_t voxels = 0;  ///< voxels it was the last scan to reach
   };
 
+  /// Marks the voxels of `points` (map frame by `map_from_scan`) reached by the latest scan, giving new
+  /// voxels their point, seen from `sensor_in_map`.
+  void reach(const PointCloud& points, const Eigen::Isometry3d& map_from_scan,
+             const Eigen::Vector3d& sensor_in_map);
   void expire();
   /// Drops the voxels last reached before live_from_.
   void compact();

@@ -11,7 +11,13 @@ struct PoseGraphStatus {
   std::size_t keyframes = 0;
   std::size_t loops = 0;          ///< loop edges in the graph
   std::size_t loops_dropped = 0;  ///< found, then dropped as false by the optimizer
-  std::size_t optimizations = 0;
+  std::size_t optimizations = 0;  ///< after loops closed
+  /// Before the first loop: optimizations whose heights the keyframes and the scan path took
+  /// (GraphLocalizerOptions::height_before_loops).
+  std::size_t height_optimizations = 0;
+  /// Keyframes of an earlier pass that joined the scan path's local map (GraphLocalizerOptions::
+  /// earlier_pass_radius), each time one did.
+  std::size_t earlier_pass_joins = 0;
   double last_loop_stamp = -1.0;  ///< scan time of the newest keyframe of the last loop closure; -1: none
   double last_correction = 0.0;   ///< metres the last loop closure moved the newest keyframe
   double last_optimization_seconds = 0.0;

@@ -196,6 +196,13 @@ class ScanToMapLocalizer {
   /// Moves the estimate by `correction` (new map <- old map), as a pose graph optimization asks: the
   /// global pose and the local map follow, so the next scan registers where the graph put the robot.
   void correct(const Eigen::Isometry3d& correction);
+  /// Points an earlier pass saw (`points` and the `sensor` in a keyframe's frame, `pose` the keyframe's in
+  /// the map frame) join the local map (LocalMap::join); nothing while localizing in a saved map.
+  void join_local_map(const PointCloud& points, const Eigen::Isometry3d& pose,
+                      const Eigen::Vector3d& sensor) {
+    if (!localizing())
+      local_map_.join(points, pose, sensor);
+  }
   /// The gravity reading's mounting error as the pose graph estimated it (GravityLeveling::set_bias).
   void set_gravity_mounting(const Eigen::Vector3d& mounting) { leveling_.set_bias(mounting); }
   /// The mounting error the readings are levelled with now: the pose graph's estimate and what turning

@@ -88,17 +88,20 @@ void LocalizerWorker::close_loops() {
       scans_for_the_graph_ = 0;
     }
     try {
+      const std::size_t optimizations = localizer_.graph_status().optimizations;
       if (localizer_.close_loops()) {
         const PoseGraphStatus graph = localizer_.graph_status();
-        spdlog::info(
-            "localization: loop closed at t={:.1f}, {:.2f} m of drift corrected ({} loops over {} "
-            "keyframes, optimized in {:.2f} s; the odometry's heading drifts {:.1f} degrees an hour; the "
-            "IMU is mounted {:.2f} degrees rolled, {:.2f} pitched)",
-            graph.last_loop_stamp, graph.last_correction, graph.loops, graph.keyframes,
-            graph.last_optimization_seconds, graph.heading_drift_deg_per_h(),
-            graph.gravity_mounting_deg().x(), graph.gravity_mounting_deg().y());
-        if (calibration_ != nullptr)
-          calibration_->update(graph);
+        if (graph.optimizations > optimizations) {  // a loop closed; else the keyframes took the heights
+          spdlog::info(
+              "localization: loop closed at t={:.1f}, {:.2f} m of drift corrected ({} loops over {} "
+              "keyframes, optimized in {:.2f} s; the odometry's heading drifts {:.1f} degrees an hour; the "
+              "IMU is mounted {:.2f} degrees rolled, {:.2f} pitched)",
+              graph.last_loop_stamp, graph.last_correction, graph.loops, graph.keyframes,
+              graph.last_optimization_seconds, graph.heading_drift_deg_per_h(),
+              graph.gravity_mounting_deg().x(), graph.gravity_mounting_deg().y());
+          if (calibration_ != nullptr)
+            calibration_->update(graph);
+        }
         if (keyframes_sink_)
           keyframes_sink_(localizer_.keyframes());
       }

@@ -353,6 +353,9 @@ int main(int argc, char** argv) {
     graph_options.loops.max_polish_translation = 0.0;
     graph_options.loops.max_polish_rotation = 0.0;
   }
+  // STRATA_BENCH_EARLIER_PASS=<metres>: the earlier pass's keyframes within this join the local map (0: off).
+  if (const char* radius = std::getenv("STRATA_BENCH_EARLIER_PASS"))
+    graph_options.earlier_pass_radius = std::atof(radius);
   // STRATA_BENCH_MOUNTING_SIGMA=0: the graph does not estimate the IMU's mounting error (as before).
   if (const char* mounting = std::getenv("STRATA_BENCH_MOUNTING_SIGMA"))
     graph_options.optimizer.mounting_sigma = std::atof(mounting);
@@ -669,7 +672,7 @@ int main(int argc, char** argv) {
       "\"registration_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f,\"mean\":%.1f},"
       "\"add_scan_ms\":{\"median\":%.1f,\"p95\":%.1f,\"max\":%.1f},\"source_points_median\":%.0f,"
       "\"pose_graph\":{\"on\":%s,\"keyframes\":%zu,\"loops\":%zu,\"loops_dropped\":%zu,\"optimizations\":%zu,"
-      "\"background_s\":%.2f,\"heading_drift_deg_per_h\":%.2f,\"sim_gyro_drift_deg_per_h\":%.2f,"
+      "\"earlier_pass_joins\":%zu,\"background_s\":%.2f,\"heading_drift_deg_per_h\":%.2f,\"sim_gyro_drift_deg_per_h\":%.2f,"
       "\"gravity_mounting_deg\":[%.3f,%.3f],\"sim_gravity_mounting_deg\":[%.3f,%.3f],"
       "\"keyframe_points\":%zu,\"keyframe_mb_per_km\":"
       "%.1f,"
@@ -689,7 +692,7 @@ int main(int argc, char** argv) {
       times.empty() ? 0.0 : 1000 * registration_seconds / static_cast<double>(times.size()),
       1000 * pct_of(scan_times, 0.5), 1000 * pct_of(scan_times, 0.95), 1000 * pct_of(scan_times, 1.0),
       pct_of(source_points, 0.5), graph_options.pose_graph ? "true" : "false", graph.keyframes, graph.loops,
-      graph.loops_dropped, graph.optimizations, loop_seconds, graph.heading_drift_deg_per_h(),
+      graph.loops_dropped, graph.optimizations, graph.earlier_pass_joins, loop_seconds, graph.heading_drift_deg_per_h(),
       simulator.imu() ? -simulator.imu()->gyro_bias() * 180.0 / M_PI * 3600.0 : 0.0,
       graph.gravity_mounting_deg().x(), graph.gravity_mounting_deg().y(),
       simulator.imu() ? simulator.imu()->mounting_error().x() * 180.0 / M_PI : 0.0,

@@ -294,5 +294,41 @@ TEST(LocalMap, AScanWithItsPoseIsTheScanMovedIntoTheMapFrame) {
   EXPECT_EQ(with_pose.viewpoints(), moved.viewpoints());
 }
 
+// An earlier pass's points join as if the latest scan had reached them: new voxels take them (moved into
+// the map frame, seen from where that pass's sensor was), a voxel this pass holds keeps its point, and they
+// expire with the latest scan. Before any scan there is nothing to join.
+TEST(LocalMap, AnEarlierPassJoinsAsTheLatestScanWithoutMovingTheSensor) {
+  LocalMap map(1.0, 2);
+  const Eigen::Isometry3d earlier_pose(Eigen::Translation3d(10.0, 0.0, 0.0));
+  const Eigen::Vector3d earlier_sensor(0.0, 0.0, 0.5);
+  map.join({{0.5, 0.5, 0.5}}, earlier_pose, earlier_sensor);
+  EXPECT_TRUE(map.empty()) << "no scan yet";
+
+  map.add({{10.2, 0.5, 0.5}}, Eigen::Vector3d::Zero());
+  const std::uint64_t layout = map.layout();
+  map.join({{0.5, 0.5, 0.5}, {1.5, 0.5, 0.5}}, earlier_pose, earlier_sensor);  // (10.5, ..) is held
+  ASSERT_EQ(map.size(), 2U);
+  EXPECT_EQ(map.layout(), layout) << "grown at the end";
+  EXPECT_EQ(map.points()[0], Eigen::Vector3d(10.2, 0.5, 0.5)) << "this pass's point stays";
+  EXPECT_EQ(map.points()[1], Eigen::Vector3d(11.5, 0.5, 0.5));
+  EXPECT_EQ(map.viewpoints()[1], earlier_pose * earlier_sensor);
+
+  // Two scans kept: the joined voxel lives as long as the scan it joined.
+  map.add({{20.5, 0.5, 0.5}}, Eigen::Vector3d::Zero());
+  EXPECT_EQ(map.size(), 3U);
+  map.add({{20.5, 0.5, 0.5}}, Eigen::Vector3d::Zero());
+  map.add({{20.5, 0.5, 0.5}}, Eigen::Vector3d::Zero());
+  ASSERT_EQ(map.size(), 1U) << "(10, 0, 0) and (11, 0, 0) expired together";
+  EXPECT_EQ(map.points()[0], Eigen::Vector3d(20.5, 0.5, 0.5));
+
+  // Kept by metres: the earlier sensor 100 m away is not a way the sensor drove.
+  LocalMap by_metres(1.0, 1, 5.0);
+  by_metres.add({{0.5, 0.5, 0.5}}, Eigen::Vector3d::Zero());
+  by_metres.join({{0.5, 5.5, 0.5}}, Eigen::Isometry3d::Identity(), Eigen::Vector3d(100.0, 0.0, 0.0));
+  by_metres.add({{1.5, 0.5, 0.5}}, Eigen::Vector3d(1.0, 0.0, 0.0));
+  by_metres.add({{1.5, 0.5, 0.5}}, Eigen::Vector3d(1.0, 0.0, 0.0));
+  EXPECT_EQ(by_metres.size(), 3U) << "1 m driven of the 5 kept";
+}
+
 }  // namespace
 }  // namespace strata
