@@ -17,7 +17,9 @@ namespace strata {
 /// no scan has reached it in the last `scans` scans *and* the sensor has moved `metres` since one did
 /// (KISS-ICP's local map is aged by distance alone). By scans alone a 10 Hz lidar forgot in one second the
 /// ground rings it had passed, and its height walked 0.35 m in 60 s on flat ground; by distance it keeps
-/// the ground it drove over, whatever the scan rate. Each scan is hashed once, when it comes.
+/// the ground it drove over, whatever the scan rate. Each scan is hashed once, when it comes. Back on a
+/// way driven before, the earlier pass's points join it (join(), GraphLocalizerOptions::
+/// earlier_pass_radius).
 ///
 /// New voxels go at the end and the points keep their places until expired ones make up a quarter of the
 /// map: only then are they dropped and the rest moved together (layout() changes). Until then the expired
