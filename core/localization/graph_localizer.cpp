@@ -468,4 +468,11 @@ std::vector<KeyframePose> GraphLocalizer::keyframes() const {
   return out;
 }
 
+std::optional<KeyframeAnchor> GraphLocalizer::anchor() const {
+  // Read without the lock: the scan path is the only writer of both.
+  if (keyframes_.empty())
+    return std::nullopt;
+  return KeyframeAnchor{keyframes_.back(), last_keyframe_frontend_};
+}
+
 }  // namespace strata

@@ -143,6 +143,10 @@ class GraphLocalizer {
   [[nodiscard]] const Eigen::Vector3d& gravity_mounting() const { return scan_matching_.gravity_mounting(); }
   /// The keyframes and their current pose estimates (map frame), oldest first, for rebuilding the map.
   [[nodiscard]] std::vector<KeyframePose> keyframes() const;
+  /// The newest keyframe and its pose in the scan path's frame as it is now: what the scan just added
+  /// maps after (KeyframeAnchor). None without a pose graph or before its first keyframe. On the scan
+  /// path's thread.
+  [[nodiscard]] std::optional<KeyframeAnchor> anchor() const;
   /// The loop closures in the graph (their `from` and `to` index keyframes()), for judging what they
   /// measured (strata_localization_bench).
   [[nodiscard]] std::vector<PoseGraphEdge> loops() const;

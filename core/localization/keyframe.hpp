@@ -53,4 +53,13 @@ struct KeyframePose {
   Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
 };
 
+/// The keyframe a registered scan came after, and that keyframe's pose in the frame the scan was
+/// registered in: a map rebuild that moves the keyframe moves the scan with it. The scans after the newest
+/// keyframe are no keyframe's yet; mapped again at their own poses, they stayed in the frame from before
+/// the loop closure, a ramp's deck 0.17 m above where the rebuilt map had it, and closed the robot's way.
+struct KeyframeAnchor {
+  KeyframePtr keyframe;
+  Eigen::Isometry3d pose = Eigen::Isometry3d::Identity();
+};
+
 }  // namespace strata

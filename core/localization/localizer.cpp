@@ -42,6 +42,7 @@ LocalizedScan Localizer::localize(ScanToLocalize& scan) {
   result.update = graph_.add_scan(scan.points, scan.odometry, scan.stamp, scan.sensor_origin, scan.gravity,
                                   scan.standing_gyro);
   result.map_from_odom = result.update.map_from_odom;
+  result.anchor = graph_.anchor();
   judge(scan, result.update);
   // Lost in a saved map: the robot is searched for everywhere the map's robot drove; found, the next scan
   // starts there (and confirms it or not).

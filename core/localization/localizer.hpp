@@ -34,6 +34,8 @@ struct LocalizedScan {
   std::optional<Pose2> velocity;  ///< a lidar alone's, per second: what carries its pose between scans
   LocalizationHealth health;
   std::vector<RelocalizationReport> searches;  ///< what searches for the robot ran at this scan
+  /// The keyframe `update.pose` follows, for a map rebuild to move the scan with (none without a graph).
+  std::optional<KeyframeAnchor> anchor;
   /// The scan belongs in the map: registered (whole or partly) or the first. A scan fault control
   /// refused is at the guess, which would smear the map with the very error the check caught.
   [[nodiscard]] bool mappable() const {

@@ -277,7 +277,7 @@ void LocalizerWorker::process(ScanEvent event) {
   if (sink_ && localized.mappable()) {
     const Eigen::Isometry3d map_from_sensor = localized.update.pose * preprocessed.event.sensor_to_base;
     preprocessed.points = std::move(scan.points);  // deskewed
-    sink_(std::move(preprocessed), map_from_sensor);
+    sink_(std::move(preprocessed), map_from_sensor, localized.anchor);
   }
   // Published after the scan is handed on: whoever sees the count can queue a map command (a save) knowing
   // it runs after this scan is mapped. A lidar alone's pose between scans is carried on by its velocity.

@@ -51,8 +51,10 @@ class LocalizerWorker final : public LocalizationCommands {
   /// control rejected are not handed on: their pose is the odometry guess, which would smear the map with
   /// the very error the check caught (the first scan, which has nothing to register against, is).
   /// The scan comes preprocessed (step 1, in the base frame): nothing after the localizer does it again.
+  /// `anchor`: the keyframe it came after, which a map rebuild moves it with (none without a pose graph).
   using RegisteredScanSink =
-      std::function<void(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor)>;
+      std::function<void(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor,
+                         const std::optional<KeyframeAnchor>& anchor)>;
   /// Before start().
   void set_registered_scan_sink(RegisteredScanSink sink) { sink_ = std::move(sink); }
   /// Where the keyframes go after the pose graph moved them (the mapping worker, to rebuild the map from

@@ -55,7 +55,8 @@ void MappingWorker::submit(ScanEvent scan, const Eigen::Isometry3d& map_from_sen
   submit(preprocess(std::move(scan), options_.min_range), map_from_sensor);
 }
 
-void MappingWorker::submit(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
+void MappingWorker::submit(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor,
+                           std::optional<KeyframeAnchor> anchor) {
   {
     std::lock_guard lock(mutex_);
     std::vector<Eigen::Vector3d> passed;
@@ -79,7 +80,7 @@ void MappingWorker::submit(PreprocessedScan scan, const Eigen::Isometry3d& map_f
       --waiting_scans_;
       ++status_.dropped;
     }
-    queue_.emplace_back(Scan{std::move(scan), map_from_sensor, std::move(passed)});
+    queue_.emplace_back(Scan{std::move(scan), map_from_sensor, std::move(passed), std::move(anchor)});
     ++waiting_scans_;
   }
   wake_.notify_all();
@@ -200,7 +201,8 @@ void MappingWorker::map_scan(const Scan& scan) {
   }
   // Behind a burst, the next scans first and one refresh for all of them; but never an older drivable map
   // and tiles than max_refresh_delay.
-  if (more_waiting && std::chrono::steady_clock::now() - last_refresh_ < options_.max_refresh_delay)
+  if (more_waiting && last_refresh_ &&
+      std::chrono::steady_clock::now() - *last_refresh_ < options_.max_refresh_delay)
     return;
   if (!refresh_pending(times))
     return;
@@ -252,13 +254,14 @@ bool MappingWorker::rebuild_from(const std::vector<KeyframePose>& keyframes) {
       return;
     }
     // The scans no keyframe holds: those mapped after the newest keyframe, before the rebuild started
-    // and while the keyframes were being put in; they went into the map just replaced. At the poses they
-    // were mapped with: the next rebuild moves them with their keyframe.
+    // and while the keyframes were being put in; they went into the map just replaced. Moved as the
+    // keyframe they came after moved: at the poses they were mapped with, they stayed where the loop
+    // closure moved the map from.
     for (const std::vector<Scan>* scans :
          std::initializer_list<const std::vector<Scan>*>{&after_keyframes, &meanwhile}) {
       for (const Scan& scan : *scans) {
         MappingTimes times;
-        again += insert(scan, times) ? 1 : 0;
+        again += insert(moved_with_keyframe(scan, keyframes), times) ? 1 : 0;
       }
     }
     swapped = true;
@@ -283,6 +286,24 @@ bool MappingWorker::rebuild_from(const std::vector<KeyframePose>& keyframes) {
       "{:.2f} s, {} scans newer than the keyframes mapped again",
       moves.keyframes, moves.moved, moves.largest_shift, build_seconds, again);
   return true;
+}
+
+MappingWorker::Scan MappingWorker::moved_with_keyframe(const Scan& scan,
+                                                       const std::vector<KeyframePose>& keyframes) {
+  if (!scan.anchor)
+    return scan;
+  // The scans to move came after the newest keyframes: look from the back.
+  const auto found = std::find_if(keyframes.rbegin(), keyframes.rend(), [&](const KeyframePose& keyframe) {
+    return keyframe.keyframe == scan.anchor->keyframe;
+  });
+  if (found == keyframes.rend())
+    return scan;
+  const Eigen::Isometry3d moved = found->pose * scan.anchor->pose.inverse();
+  Scan out = scan;
+  out.map_from_sensor = moved * scan.map_from_sensor;
+  for (Eigen::Vector3d& ground : out.passed)
+    ground = moved * ground;
+  return out;
 }
 
 void MappingWorker::publish() {

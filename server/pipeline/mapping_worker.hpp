@@ -83,9 +83,10 @@ class MappingWorker final : public MapCommands {
   /// Finishes the scan or command under way, abandons waiting scans, fails waiting commands.
   void stop();
 
-  /// A registered scan, preprocessed by the localizer (step 1), and where its sensor was in the map frame.
-  /// Returns at once.
-  void submit(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor);
+  /// A registered scan, preprocessed by the localizer (step 1), and where its sensor was in the map frame;
+  /// `anchor` the keyframe it came after, which a rebuild moves it with. Returns at once.
+  void submit(PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor,
+              std::optional<KeyframeAnchor> anchor = std::nullopt);
   /// The same for a scan as the driver took it (sensor frame): preprocessed here with
   /// MappingOptions::min_range (tests, tools), and mapped as measured: deskewing needs the motion, which
   /// the localizer knows and this worker does not.
@@ -93,8 +94,9 @@ class MappingWorker final : public MapCommands {
   /// The pose graph moved keyframes (docs/architecture.md 4.1, "the map follows"): when any moved from
   /// where the map has them, builds the map anew from them on the caller's thread (mapping goes on
   /// meanwhile and the old map stays served), then swaps it in on the mapping thread and maps again the
-  /// scans newer than the newest keyframe (mapped before the rebuild or in the meantime). Does nothing after
-  /// a map was loaded: the keyframes do not hold it. True when the map was rebuilt.
+  /// scans newer than the newest keyframe (mapped before the rebuild or in the meantime), moved as the
+  /// keyframe they came after moved. Does nothing after a map was loaded: the keyframes do not hold it.
+  /// True when the map was rebuilt.
   bool rebuild_from(const std::vector<KeyframePose>& keyframes);
   /// Waits until everything submitted before is done (tests, tools, a replay as fast as possible). False
   /// when the worker is not running.
@@ -123,7 +125,11 @@ class MappingWorker final : public MapCommands {
     /// Where the robot stood at the scans dropped from the queue just before this one, oldest first: the
     /// way it drove is marked through them (LiveMap::mark_passed).
     std::vector<Eigen::Vector3d> passed;
+    std::optional<KeyframeAnchor> anchor;
   };
+  /// `scan` where the rebuild's `keyframes` put the keyframe it came after; as it was when that keyframe is
+  /// not among them (none, or one made after the rebuild started, in the frame the rebuild left).
+  static Scan moved_with_keyframe(const Scan& scan, const std::vector<KeyframePose>& keyframes);
   using Task = std::function<void()>;
   using Item = std::variant<Scan, Task>;
 
@@ -172,8 +178,10 @@ class MappingWorker final : public MapCommands {
   mutable std::condition_variable wake_;
   mutable std::deque<Item> queue_;
   std::size_t waiting_scans_ = 0;
-  /// Mapping thread only: when the map was last refreshed (MappingOptions::max_refresh_delay).
-  std::chrono::steady_clock::time_point last_refresh_{};
+  /// Mapping thread only: when the map was last refreshed (MappingOptions::max_refresh_delay); none before
+  /// the first refresh. Not the clock's epoch: steady_clock counts from boot, and on a machine up for less
+  /// than the delay the first scans behind one another were never refreshed until the last.
+  std::optional<std::chrono::steady_clock::time_point> last_refresh_;
   MappingStatus status_;
   bool running_ = false;
   std::thread thread_;

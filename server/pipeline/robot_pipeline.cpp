@@ -94,10 +94,10 @@ void RobotPipeline::take_scans_from_the_driver() {
 }
 
 void RobotPipeline::map_the_registered_scans() {
-  localizer_.set_registered_scan_sink(
-      [this](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
-        mapping_.submit(std::move(scan), map_from_sensor);
-      });
+  localizer_.set_registered_scan_sink([this](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor,
+                                             const std::optional<KeyframeAnchor>& anchor) {
+    mapping_.submit(std::move(scan), map_from_sensor, anchor);
+  });
   // The map follows the pose graph: rebuilt from the keyframes when a loop closure moved them. A goal
   // the old map refuses meanwhile waits for the rebuilt one.
   localizer_.set_keyframes_moved_sink([this](const std::vector<KeyframePose>& keyframes) {

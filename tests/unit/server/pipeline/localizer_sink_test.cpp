@@ -6,6 +6,8 @@
 #include <memory>
 #include <mutex>
 #include <numbers>
+#include <optional>
+#include <tuple>
 #include <vector>
 
 #include "server/pipeline/localizer_worker.hpp"
@@ -28,10 +30,11 @@ TEST(LocalizerWorkerSink, HandsOnRegisteredScansWithTheirSensorPose) {
 
   std::mutex mutex;
   std::condition_variable arrived;
-  std::vector<std::pair<PreprocessedScan, Eigen::Isometry3d>> received;
-  localizer.set_registered_scan_sink([&](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
+  std::vector<std::tuple<PreprocessedScan, Eigen::Isometry3d, std::optional<KeyframeAnchor>>> received;
+  localizer.set_registered_scan_sink([&](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor,
+                                         const std::optional<KeyframeAnchor>& anchor) {
     std::lock_guard lock(mutex);
-    received.emplace_back(std::move(scan), map_from_sensor);
+    received.emplace_back(std::move(scan), map_from_sensor, anchor);
     arrived.notify_all();
   });
   localizer.start();
@@ -45,14 +48,23 @@ TEST(LocalizerWorkerSink, HandsOnRegisteredScansWithTheirSensorPose) {
   localizer.stop();
   ASSERT_EQ(received.size(), 2U);  // the first, with nothing to register against, and a registered one
   for (std::size_t i = 0; i < received.size(); ++i) {
-    const auto& [scan, map_from_sensor] = received[i];
+    const auto& [scan, map_from_sensor, anchor] = received[i];
     // Full resolution, preprocessed once (step 1) for the mapping worker too; the raw points released.
     EXPECT_EQ(scan.points.size(), points_in_base(scans[i]).size());
     EXPECT_FALSE(scan.points.empty());
     EXPECT_TRUE(scan.event.points.empty());
     const Eigen::Isometry3d truth = scan.event.truth->to_isometry() * scan.event.sensor_to_base;
     EXPECT_LT((map_from_sensor.translation() - truth.translation()).norm(), 0.3);
+    // The keyframe the scan came after, for a map rebuild to move it with: the first scan is one itself,
+    // at the pose it is mapped with.
+    ASSERT_TRUE(anchor.has_value()) << "scan " << i;
+    ASSERT_NE(anchor->keyframe, nullptr);
+    EXPECT_LE(anchor->keyframe->stamp, scan.event.stamp);
+    if (anchor->keyframe->stamp == scan.event.stamp) {
+      EXPECT_TRUE(anchor->pose.isApprox(map_from_sensor * scan.event.sensor_to_base.inverse(), 1e-9));
+    }
   }
+  EXPECT_EQ(std::get<2>(received[0])->keyframe->stamp, scans[0].stamp);
 }
 
 // A registration that diverges (issue #10): one scan arrives with an odometry guess 3 m and 60 degrees off
@@ -69,7 +81,8 @@ TEST(LocalizerWorkerSink, ADivergedRegistrationIsRejectedAndNotMappedAndTheNextS
   std::mutex mutex;
   std::condition_variable arrived;
   std::vector<ScanEvent> mapped;
-  localizer.set_registered_scan_sink([&](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
+  localizer.set_registered_scan_sink([&](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor,
+                                         const std::optional<KeyframeAnchor>&) {
     const Eigen::Isometry3d truth = scan.event.truth->to_isometry() * scan.event.sensor_to_base;
     EXPECT_LT((map_from_sensor.translation() - truth.translation()).norm(), 0.3)
         << "at t=" << scan.event.stamp;

@@ -43,7 +43,8 @@ TEST(LocalizerWorker, ARobotLostInASavedMapIsFoundAgain) {
   RobotState state;
   LocalizerWorker worker(state, GraphLocalizerOptions{}, believed);
   std::optional<double> last_error;
-  worker.set_registered_scan_sink([&](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor) {
+  worker.set_registered_scan_sink([&](PreprocessedScan scan, const Eigen::Isometry3d& map_from_sensor,
+                                      const std::optional<KeyframeAnchor>&) {
     const Eigen::Isometry3d truth = scan.event.truth->to_isometry() * scan.event.sensor_to_base;
     last_error = (map_from_sensor.translation() - truth.translation()).norm();
   });

@@ -497,6 +497,30 @@ TEST(MappingWorker, ARebuildKeepsTheScansNewerThanItsKeyframes) {
   EXPECT_GT(after->patches, 0U) << "the scan after the keyframe is in the rebuilt map";
 }
 
+TEST(MappingWorker, ARebuildMovesTheScansNewerThanItsKeyframesWithTheKeyframeTheyCameAfter) {
+  // A loop closure moved the newest keyframe: the scans after it were mapped in the frame from before,
+  // where the keyframe was elsewhere. Mapped again as they were, a ramp's deck stood 0.17 m above the
+  // rebuilt map's and closed the robot's way; they move with their keyframe.
+  ScratchMapsDir dir;
+  MapState state;
+  MappingWorker worker(state, dir.path());
+  worker.start();
+  const Eigen::Isometry3d sensor(Eigen::Translation3d(0.0, 0.0, 1.0));
+  const Eigen::Isometry3d moved_on(Eigen::Translation3d(7.0, 0.0, 0.0));
+  const KeyframePtr first = strata::testing::room_keyframe(Eigen::Isometry3d::Identity(), 1.0);
+  const KeyframeAnchor after_first{first, Eigen::Isometry3d::Identity()};
+  worker.submit(preprocess(room_scan(1.0), 0.3), sensor, after_first);
+  worker.submit(preprocess(room_scan(2.0), 0.3), moved_on * sensor, after_first);  // far wall at x = 10 m
+  ASSERT_TRUE(worker.flush());
+  ASSERT_EQ(tile_at(*state.snapshot(), 13.0), nullptr) << "nothing mapped beyond x = 12.8 m yet";
+
+  // The graph put the keyframe 3.2 m on, a tile's width: the scan after it goes with it, to x = 13.2 m.
+  ASSERT_TRUE(worker.rebuild_from({{first, Eigen::Isometry3d(Eigen::Translation3d(3.2, 0.0, 0.0))}}));
+  const auto beyond = tile_at(*state.snapshot(), 13.0);
+  ASSERT_NE(beyond, nullptr) << "the scan after the keyframe moved with it";
+  EXPECT_GT(beyond->patches, 0U);
+}
+
 // A map saved with the pose graph's keyframes can be localized in: loading it so hands its points to the
 // localizer and the scans after it leave it as it was. A map without them loads for mapping with a note,
 // and is refused for localizing with the reason.
