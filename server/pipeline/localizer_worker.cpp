@@ -93,7 +93,7 @@ void LocalizerWorker::close_loops() {
         const PoseGraphStatus graph = localizer_.graph_status();
         if (graph.optimizations > optimizations) {  // a loop closed; else the keyframes took the heights
           spdlog::info(
-              "localization: loop closed at t={:.1f}, {:.2f} m of drift corrected ({} loops over {} "
+              "localization: loop closed at t={:.1f}, the estimate moved {:.2f} m ({} loops over {} "
               "keyframes, optimized in {:.2f} s; the odometry's heading drifts {:.1f} degrees an hour; the "
               "IMU is mounted {:.2f} degrees rolled, {:.2f} pitched)",
               graph.last_loop_stamp, graph.last_correction, graph.loops, graph.keyframes,
