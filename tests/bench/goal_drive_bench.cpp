@@ -11,7 +11,8 @@
 //                           [--goals-at X,Y,Z;X,Y,Z...] [--imu-calibration FILE]
 //   defaults: yard, tilting, 60 simulated seconds of demo route, 20 goals, 240 simulated seconds per goal,
 //   time scale 20, seed 1 (picks the goals; the simulator's own seed is the server's default); with --dump,
-//   the map downloaded before each goal that was not reached is saved as DIR/goal_<i>.strata; with
+//   the map downloaded before each goal that was not reached is saved as DIR/goal_<i>.strata, and the one
+//   downloaded when it ended, where the robot stands, as DIR/goal_<i>_end.strata; with
 //   --record, the server records its scans and odometry there (`strata serve --replay` plays them again);
 //   with --goals-at, the goals are these places (true coordinates) in turn instead of random seen ground,
 //   e.g. up and down the campus bridge ramp: --goals-at "84,-28.75,3;44,-28.75,0" (issue 58); with
@@ -252,8 +253,12 @@ int main(int argc, char** argv) {
     if (outcome.phase != "reached") {
       ++failed[outcome.phase + (outcome.reason.empty() ? "" : ":" + outcome.reason)];
       if (!options.dump.empty()) {
-        std::ofstream out(options.dump + "/goal_" + std::to_string(i) + ".strata", std::ios::binary);
-        out << map_file;
+        std::ofstream(options.dump + "/goal_" + std::to_string(i) + ".strata", std::ios::binary) << map_file;
+        // The map the goal failed on: a way blocked on the drive is in this one, not in the one before.
+        std::string end_file;
+        static_cast<void>(download_graph(port, end_file));
+        std::ofstream(options.dump + "/goal_" + std::to_string(i) + "_end.strata", std::ios::binary)
+            << end_file;
       }
     }
     std::printf(

@@ -18,6 +18,8 @@
 //                localizer thread's own, so --threads 1 is a scan's whole cost on one core
 //        strata_sequence_bench --all [--data DIR] [options]: every sequence in DATA/sequences
 //        strata_sequence_bench DIR --lay-out OUT: only writes OUT/scans.csv, for `strata serve --replay OUT`
+//        strata_sequence_bench DIR --direct: each scan registered straight onto the first and the chain of
+//        consecutive pairs, against the reference: whose tilt drifts, the reference's or a chain's
 // DIR: a scans.csv with truth_* columns, or a layout of ../shared/data/sequences
 // (tests/support/sequence_layout.hpp).
 #include <spdlog/sinks/stdout_color_sinks.h>
@@ -39,6 +41,7 @@
 #include <vector>
 
 #include "bench/trajectory_errors.hpp"
+#include "core/registration/register_scan.hpp"
 #include "drivers/replay/dataset.hpp"
 #include "drivers/replay/replay_driver.hpp"
 #include "server/app/memory_policy.hpp"
@@ -169,10 +172,56 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
   std::fflush(stdout);
 }
 
+/// A third opinion on the reference's tilt (`--direct`): scan k registered straight onto scan 0 from the
+/// reference's relative pose, and the chain of consecutive pairs registered the same way, against the
+/// reference. A lidar-odometry reference (A-LOAM's for KAIST03) drifts as the scan path may: the direct
+/// registration shares no step with either. Prints, per k, each estimate's rotation from the reference's
+/// (degrees about scan 0's x and y axes) and its position's offset, in metres.
+void direct_check(const fs::path& dir, std::size_t every) {
+  const fs::path scratch = fs::temp_directory_path() / ("strata-sequence-" + std::to_string(::getpid()));
+  const replay::Dataset dataset = replay::open_dataset(test::scan_list_for(dir, scratch, every));
+  const auto cloud = [&](std::size_t i) {
+    PointCloud points;
+    for (const Eigen::Vector3f& p : replay::load_points(dataset.scans[i]))
+      points.push_back(p.cast<double>());
+    return points;
+  };
+  const auto reference = [&](std::size_t i) { return dataset.scans[i].reference->to_isometry(); };
+  const auto print = [](const char* what, std::size_t k, const Eigen::Isometry3d& estimate,
+                        const Eigen::Isometry3d& truth, const RegistrationResult* result) {
+    const Eigen::AngleAxisd turn(estimate.linear() * truth.linear().transpose());
+    const Eigen::Vector3d degrees = turn.axis() * turn.angle() * 180.0 / M_PI;
+    std::printf("%s scan %zu about_x %+.3f about_y %+.3f deg offset %.3f m dz %+.3f m", what, k, degrees.x(),
+                degrees.y(), (estimate.translation() - truth.translation()).norm(),
+                estimate.translation().z() - truth.translation().z());
+    if (result != nullptr)
+      std::printf(" rmse %.3f pairs %zu", result->rmse, result->pairs);
+    std::printf("\n");
+  };
+  if (dataset.scans.empty() || !dataset.scans.front().reference)
+    throw std::runtime_error("no reference poses");
+  const PointCloud first = cloud(0);
+  Eigen::Isometry3d chain = Eigen::Isometry3d::Identity();
+  PointCloud previous = first;
+  for (std::size_t k = 1; k < dataset.scans.size(); ++k) {
+    const PointCloud scan = cloud(k);
+    const Eigen::Isometry3d truth = reference(0).inverse() * reference(k);
+    const RegistrationResult direct = register_scan(scan, first, truth);
+    const Eigen::Isometry3d step_truth = reference(k - 1).inverse() * reference(k);
+    const RegistrationResult step = register_scan(scan, previous, step_truth);
+    chain = chain * step.refined;
+    print("direct", k, direct.refined, truth, &direct);
+    print("chain", k, chain, truth, nullptr);
+    previous = scan;
+  }
+  fs::remove_all(scratch);
+}
+
 int usage() {
-  std::fprintf(stderr,
-               "usage: strata_sequence_bench DIR|--all [--data DIR] [--pace max|recorded] [--time-scale X] "
-               "[--mount estimate|identity] [--every N] [--threads N] [--quiet] [--lay-out OUT]\n");
+  std::fprintf(
+      stderr,
+      "usage: strata_sequence_bench DIR|--all [--data DIR] [--pace max|recorded] [--time-scale X] "
+      "[--mount estimate|identity] [--every N] [--threads N] [--quiet] [--lay-out OUT] [--direct]\n");
   return 2;
 }
 
@@ -186,6 +235,7 @@ int main(int argc, char** argv) {
   fs::path data = STRATA_DATA_DIR;
   std::vector<fs::path> dirs;
   bool all = false;
+  bool direct = false;
   std::optional<fs::path> lay_out;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
@@ -194,6 +244,8 @@ int main(int argc, char** argv) {
       all = true;
     else if (arg == "--quiet")
       settings.quiet = true;
+    else if (arg == "--direct")
+      direct = true;
     else if (arg == "--every" && has_value)
       settings.every = static_cast<std::size_t>(std::max(1, std::atoi(argv[++i])));
     else if (arg == "--threads" && has_value)
@@ -233,6 +285,11 @@ int main(int argc, char** argv) {
   if (lay_out) {
     const fs::path list = test::scan_list_for(dirs.front(), *lay_out, settings.every);
     std::printf("%s\n", (list / "scans.csv").c_str());
+    return 0;
+  }
+  if (direct) {
+    for (const fs::path& dir : dirs)
+      direct_check(dir, settings.every);
     return 0;
   }
   std::printf("[\n");
