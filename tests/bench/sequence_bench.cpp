@@ -2,10 +2,10 @@
 // replay driver, the localizer and the mapping worker of `strata serve --replay DIR --replay-odometry none`
 // (RobotPipeline, without the network), paced as fast as the pipeline takes the scans (none dropped) or by
 // the recorded clock (a busy localizer drops scans, as on a robot). Prints a line per processed scan (time,
-// verdict, localization state, CPU, errors against the reference: horizontal, 3D, the height signed, and
-// the tilt as pitch and roll in the reference's body frame) and a JSON summary: maximum horizontal
-// and 3D error, heading, relative error per 10 m, KITTI-style drift, scans dropped, whether the track was
-// ever lost. A benchmark: prints numbers, never fails on them.
+// verdict, localization state, CPU, errors against the reference: horizontal, 3D, the height signed, the
+// offset along and across the reference's heading, and the tilt as pitch and roll in the reference's body
+// frame) and a JSON summary: maximum horizontal and 3D error, heading, relative error per 10 m, KITTI-style
+// drift, scans dropped, whether the track was ever lost. A benchmark: prints numbers, never fails on them.
 //
 // Usage: strata_sequence_bench DIR [--pace max|recorded] [--time-scale X] [--mount estimate|identity]
 //        [--every N] [--quiet]   (--every N: every n-th scan only: scans dropped, turns n times as sharp)
@@ -144,13 +144,17 @@ void run(const fs::path& dir, const Settings& settings, bool first) {
       // The tilt error as the estimate's up axis seen in the reference's body frame: x is pitch, y is roll.
       const Eigen::Vector3d up_seen = track.back().reference.linear().transpose() * o.pose.linear().col(2);
       constexpr double kDeg = 180.0 / 3.141592653589793;
+      // The offset along the reference's heading and across it: a pose taken at another moment of the
+      // sweep is off along the way, by the speed times the time between.
+      const Eigen::Vector3d in_body = track.back().reference.linear().transpose() * offset;
       std::fprintf(stderr,
                    "%s scan %zu t=%.3f cpu %.1f ms %s rmse %.3f m %s horizontal %.3f m 3d %.3f m dz %+.3f m "
-                   "tilt %+.2f %+.2f deg\n",
+                   "along %+.3f across %+.3f m tilt %+.2f %+.2f deg\n",
                    dir.filename().c_str(), i, o.stamp, o.cpu_ms,
                    o.registered ? std::string(to_string(o.correction)).c_str() : "first", o.rmse,
                    std::string(to_string(o.state)).c_str(), offset.head<2>().norm(), offset.norm(),
-                   offset.z(), std::asin(up_seen.x()) * kDeg, std::asin(up_seen.y()) * kDeg);
+                   offset.z(), in_body.x(), in_body.y(), std::asin(up_seen.x()) * kDeg,
+                   std::asin(up_seen.y()) * kDeg);
     }
   }
   const bench::TrajectoryErrors errors = bench::trajectory_errors(track);
