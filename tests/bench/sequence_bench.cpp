@@ -26,6 +26,7 @@
 #include <spdlog/spdlog.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -202,8 +203,9 @@ void direct_check(const fs::path& dir, std::size_t every) {
       std::printf(" rmse %.3f pairs %zu", result->rmse, result->pairs);
     std::printf("\n");
   };
-  if (dataset.scans.empty() || !dataset.scans.front().reference)
-    throw std::runtime_error("no reference poses");
+  if (dataset.scans.empty() || std::any_of(dataset.scans.begin(), dataset.scans.end(),
+                                           [](const auto& scan) { return !scan.reference; }))
+    throw std::runtime_error("--direct needs a reference pose for every scan");
   const PointCloud first = cloud(0);
   Eigen::Isometry3d chain = Eigen::Isometry3d::Identity();
   PointCloud previous = first;
