@@ -138,12 +138,17 @@ Eigen::Vector3d truth_of(const nlohmann::json& pose) {
 }
 
 /// The live map as a user downloads it (the file's bytes), and its planner graph as the navigator builds it.
-PatchGraph download_graph(std::uint16_t port, std::string& file) {
+/// The server's map as Download "strata" gives it.
+std::string download_map(std::uint16_t port) {
   const auto response =
       http_request(port, http::verb::get, "/api/v1/map?format=strata", {}, kTestOperatorToken);
   if (response.result_int() != 200)
     throw std::runtime_error("map download: HTTP " + std::to_string(response.result_int()));
-  file = response.body();
+  return response.body();
+}
+
+PatchGraph download_graph(std::uint16_t port, std::string& file) {
+  file = download_map(port);
   const MlsMap map = deserialize_mls_map(file, "the downloaded map");
   return PatchGraph(std::make_shared<const SurfaceGrid>(map, CellRegion::of_tiles(map.tile_indices()),
                                                         kNavigatorGraph.traversability),
@@ -255,10 +260,8 @@ int main(int argc, char** argv) {
       if (!options.dump.empty()) {
         std::ofstream(options.dump + "/goal_" + std::to_string(i) + ".strata", std::ios::binary) << map_file;
         // The map the goal failed on: a way blocked on the drive is in this one, not in the one before.
-        std::string end_file;
-        static_cast<void>(download_graph(port, end_file));
         std::ofstream(options.dump + "/goal_" + std::to_string(i) + "_end.strata", std::ios::binary)
-            << end_file;
+            << download_map(port);
       }
     }
     std::printf(
